@@ -1,0 +1,31 @@
+#pragma once
+// Shared helpers of the ecoterra subcommands: provenance, timing, messages.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace ecoterra::app {
+
+/// The version compiled in.
+const char* version();
+/// The command line as one string, set once by main.
+void set_command_line(int argc, char** argv);
+const std::string& command_line();
+/// {software, version, command_line} plus `extra` merged in.
+nlohmann::json provenance(const nlohmann::json& extra = nlohmann::json::object());
+/// Prints each warning to stderr as "warning: ...".
+void print_warnings(const std::vector<std::string>& warnings);
+
+class Stopwatch {
+public:
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    }
+
+private:
+    std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
+};
+
+} // namespace ecoterra::app

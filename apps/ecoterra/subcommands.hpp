@@ -1,0 +1,9 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace ecoterra::app {
+
+/// `ecoterra terrain generate|analyze|missions|convert`.
+void add_terrain_command(CLI::App& app);
+
+} // namespace ecoterra::app

@@ -1,0 +1,31 @@
+#pragma once
+// The one exception type of ecoterra. Messages name the file, the field and the value; callers
+// add context as the error propagates ("while reading mf.h5: ...").
+#include <stdexcept>
+#include <string>
+
+namespace ecoterra {
+
+class Error : public std::runtime_error {
+public:
+    explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// Bad input from a user: an option, a file or a value outside its valid range.
+class InputError : public Error {
+public:
+    using Error::Error;
+};
+
+/// A file that cannot be read or written.
+class IoError : public Error {
+public:
+    using Error::Error;
+};
+
+/// Returns "<context>: <message>" for re-throwing with more context.
+inline std::string with_context(const std::string& context, const std::exception& e) {
+    return context + ": " + e.what();
+}
+
+} // namespace ecoterra

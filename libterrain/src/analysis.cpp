@@ -1,0 +1,131 @@
+#include "ecoterra/terrain/analysis.hpp"
+
+#include "ecoterra/terrain/picture.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace ecoterra::terrain {
+
+void AnalysisOptions::validate() const {
+    thresholds.validate();
+    psd.validate();
+    fd.validate();
+    if (!(border_m >= 0)) throw InputError("--border must be >= 0 m");
+    if (!(closing_radius_m >= 0)) throw InputError("--closing-radius must be >= 0 m");
+}
+
+TerrainAnalysis analyze_terrain(const RasterD& z, const AnalysisOptions& opt) {
+    opt.validate();
+    require_valid_cells(z, "terrain analysis");
+    TerrainAnalysis a;
+    a.elevation = stats(z);
+    a.rms = rms_roughness(z, opt.rms);
+    const RasterD g = max_gradient_map(z);
+    a.class_map = classify_gradient(g, opt.thresholds);
+    a.classes = class_areas(a.class_map, opt.border_m);
+    a.closed_class_map = close_classes(a.class_map, opt.closing_radius_m);
+    a.closed_classes = class_areas(a.closed_class_map, opt.border_m);
+    a.psd = radial_psd(z, opt.psd);
+    a.fd = fractal_dimension(z, opt.fd);
+    const auto sa = slope_aspect(z);
+    const auto ss = stats(sa.slope);
+    a.mean_slope = ss.mean;
+    a.max_slope = ss.max;
+    return a;
+}
+
+nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
+    using nlohmann::json;
+    json bins = json::array();
+    for (const auto& b : psd.bins)
+        bins.push_back({{"k_cycles_per_m", b.k_cpm}, {"psd_m4", b.power}, {"count", b.count},
+                        {"fitted", b.fitted}});
+    json curve = json::array();
+    for (std::size_t k = 0; k < fd.lag_m.size(); ++k)
+        curve.push_back({{"lag_m", fd.lag_m[k]}, {"value_m", fd.structure_m[k]}});
+    auto areas = [](const ClassAreas& c) {
+        return json{{"low", c.low_pct}, {"semi", c.semi_pct}, {"high", c.high_pct},
+                    {"cells_counted", c.cells}};
+    };
+    return {
+        {"elevation_m",
+         {{"min", elevation.min}, {"max", elevation.max}, {"mean", elevation.mean},
+          {"std", elevation.stddev}, {"valid_cells", elevation.valid}}},
+        {"rms_m", rms.rms_m},
+        {"rms_detrended_m", rms.rms_detrended_m},
+        {"rms_band_limited_m", rms.rms_band_limited_m},
+        {"rms_options",
+         {{"detrend_window_m", opt.rms.detrend_window_m},
+          {"band_long_cutoff_m", opt.rms.band_long_cutoff_m},
+          {"band_short_cutoff_m", opt.rms.band_short_cutoff_m}}},
+        {"classes_pct", areas(classes)},
+        {"closed_classes_pct", areas(closed_classes)},
+        {"class_options",
+         {{"low_max_slope", opt.thresholds.low},
+          {"semi_max_slope", opt.thresholds.high},
+          {"border_m", opt.border_m},
+          {"closing_radius_m", opt.closing_radius_m}}},
+        {"slope", {{"mean", mean_slope}, {"max", max_slope}}},
+        {"psd_slope", psd.slope},
+        {"psd",
+         {{"slope", psd.slope}, {"r2", psd.r2}, {"fit_min_cycles_per_m", psd.fit_min_cpm},
+          {"fit_max_cycles_per_m", psd.fit_max_cpm}, {"implied_dimension", psd.dimension},
+          {"bin_ratio", opt.psd.bin_ratio}, {"bins", bins}}},
+        {"fractal_dimension",
+         {{"value", fd.dimension},
+          {"hurst", fd.hurst},
+          {"range_m", {fd.range_min_m, fd.range_max_m}},
+          {"r2", fd.r2},
+          {"estimator", opt.fd.estimator == DimensionEstimator::variogram ? "variogram"
+                                                                          : "madogram"},
+          {"curve", curve}}}};
+}
+
+std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
+    char buf[2048];
+    std::snprintf(
+        buf, sizeof buf,
+        "elevation        %.4g .. %.4g m (mean %.4g, std %.4g), %lld valid cells\n"
+        "RMS roughness    %.4g m plain, %.4g m detrended (%.3g m window), %.4g m band-limited "
+        "(< %.3g m)\n"
+        "slope            mean %.3f, max %.3f (rise over run)\n"
+        "classes          low %.2f %%, semi %.2f %%, high %.2f %% (slope <= %.3f / <= %.3f, "
+        "%.3g m border)\n"
+        "closed classes   low %.2f %%, semi %.2f %%, high %.2f %% (disk radius %.3g m)\n"
+        "PSD slope        %.3f over %.3g..%.3g cycles/m (r2 %.4f, implies D = %.3f)\n"
+        "fractal dim.     D = %.3f (H = %.3f) over %.3g..%.3g m, r2 %.4f\n",
+        elevation.min, elevation.max, elevation.mean, elevation.stddev,
+        static_cast<long long>(elevation.valid), rms.rms_m, rms.rms_detrended_m,
+        opt.rms.detrend_window_m, rms.rms_band_limited_m, opt.rms.band_long_cutoff_m, mean_slope,
+        max_slope, classes.low_pct, classes.semi_pct, classes.high_pct, opt.thresholds.low,
+        opt.thresholds.high, opt.border_m, closed_classes.low_pct, closed_classes.semi_pct,
+        closed_classes.high_pct, opt.closing_radius_m, psd.slope, psd.fit_min_cpm,
+        psd.fit_max_cpm, psd.r2, psd.dimension, fd.dimension, fd.hurst, fd.range_min_m,
+        fd.range_max_m, fd.r2);
+    return buf;
+}
+
+std::vector<std::filesystem::path> write_analysis_pictures(const RasterD& z,
+                                                           const TerrainAnalysis& a,
+                                                           const AnalysisOptions& opt,
+                                                           const std::filesystem::path& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    std::vector<std::filesystem::path> out;
+    auto put = [&](const Image& img, const char* name) {
+        out.push_back(dir / name);
+        write_png_rgb(img, out.back());
+    };
+    const RasterD shade = hillshade(z);
+    const int border = static_cast<int>(std::ceil(opt.border_m / z.cell_size() - 1e-9));
+    put(hillshade_image(z), "hillshade.png");
+    put(colormap_image(z), "elevation.png");
+    put(colormap_image(slope_aspect(z).slope, 0.0, 2.0 * opt.thresholds.high), "slope.png");
+    put(classes_image(a.class_map, &shade, border), "gradient_classes.png");
+    put(classes_image(a.closed_class_map, &shade, border), "closed_classes.png");
+    return out;
+}
+
+} // namespace ecoterra::terrain

@@ -1,0 +1,258 @@
+#include "ecoterra/terrain/generate.hpp"
+
+#include "ecoterra/json_util.hpp"
+#include "ecoterra/terrain/noise.hpp"
+#include "ecoterra/terrain/spectral.hpp"
+#include "ecoterra/terrain/weierstrass.hpp"
+
+#include <numbers>
+
+namespace ecoterra::terrain {
+
+namespace {
+
+using nlohmann::json;
+
+/// Largest grid side accepted before the memory check (keeps nx * ny within int64 products).
+constexpr long long kMaxSide = 1LL << 20;
+
+json wm_json(const WMParams& p) {
+    return {{"M", p.M}, {"n_max", p.n_max}, {"gamma", p.gamma}, {"D", p.D},
+            {"L_m", p.L_m}, {"G_m", p.G_m}, {"phase_max_rad", p.phase_max_rad}};
+}
+
+WMParams wm_from(const json& j, WMParams d, const std::string& where) {
+    require_known_keys(j, {"M", "n_max", "gamma", "D", "L_m", "G_m", "phase_max_rad"}, where);
+    WMParams p;
+    p.M = static_cast<int>(get_integer(j, "M", d.M, where, 1, 4096));
+    p.n_max = static_cast<int>(get_integer(j, "n_max", d.n_max, where, 0, 100000));
+    p.gamma = get_number(j, "gamma", d.gamma, where);
+    p.D = get_number(j, "D", d.D, where);
+    p.L_m = get_number(j, "L_m", d.L_m, where);
+    p.G_m = get_number(j, "G_m", d.G_m, where);
+    p.phase_max_rad = get_number(j, "phase_max_rad", d.phase_max_rad, where);
+    validate(p);
+    return p;
+}
+
+json multifractal_json(const MultifractalParams& p) {
+    return {{"low", wm_json(p.low)},
+            {"mid", wm_json(p.mid)},
+            {"high", wm_json(p.high)},
+            {"filter_sigma_m", p.filter_sigma_m},
+            {"relief_m", p.relief_m},
+            {"base_elevation_m", p.base_elevation_m}};
+}
+
+MultifractalParams multifractal_from(const json& j, const std::string& where) {
+    require_known_keys(j, {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m",
+                           "base_elevation_m"},
+                       where);
+    MultifractalParams d;
+    MultifractalParams p = d;
+    if (j.contains("low")) p.low = wm_from(j["low"], d.low, where + ".low");
+    if (j.contains("mid")) p.mid = wm_from(j["mid"], d.mid, where + ".mid");
+    if (j.contains("high")) p.high = wm_from(j["high"], d.high, where + ".high");
+    if (j.contains("d_high")) {
+        if (j.contains("high") && j["high"].contains("D"))
+            throw InputError(where + ": give d_high or high.D, not both");
+        p.high.D = get_number(j, "d_high", d.high.D, where);
+        validate(p.high);
+    }
+    p.filter_sigma_m = get_number(j, "filter_sigma_m", d.filter_sigma_m, where);
+    p.relief_m = get_number(j, "relief_m", d.relief_m, where);
+    p.base_elevation_m = get_number(j, "base_elevation_m", d.base_elevation_m, where);
+    validate(p);
+    return p;
+}
+
+json perlin_json(const PerlinSurfaceParams& p) {
+    return {{"hi_wavelength_m", p.hi_wavelength_m}, {"hi_magnitude_m", p.hi_magnitude_m},
+            {"lo_wavelength_m", p.lo_wavelength_m}, {"lo_magnitude_m", p.lo_magnitude_m},
+            {"mavs_compat", p.mavs_compat}};
+}
+PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
+    require_known_keys(j, {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m",
+                           "lo_magnitude_m", "mavs_compat"},
+                       where);
+    PerlinSurfaceParams d, p;
+    p.hi_wavelength_m = get_number(j, "hi_wavelength_m", d.hi_wavelength_m, where);
+    p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
+    p.lo_wavelength_m = get_number(j, "lo_wavelength_m", d.lo_wavelength_m, where);
+    p.lo_magnitude_m = get_number(j, "lo_magnitude_m", d.lo_magnitude_m, where);
+    p.mavs_compat = get_bool(j, "mavs_compat", d.mavs_compat, where);
+    validate(p);
+    return p;
+}
+
+json gaussian_json(const GaussianSurfaceParams& p) {
+    return {{"rms_m", p.rms_m}, {"correlation_length_m", p.correlation_length_m},
+            {"lo_wavelength_m", p.lo_wavelength_m}, {"lo_magnitude_m", p.lo_magnitude_m}};
+}
+GaussianSurfaceParams gaussian_from(const json& j, const std::string& where) {
+    require_known_keys(j, {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"},
+                       where);
+    GaussianSurfaceParams d, p;
+    p.rms_m = get_number(j, "rms_m", d.rms_m, where);
+    p.correlation_length_m = get_number(j, "correlation_length_m", d.correlation_length_m, where);
+    p.lo_wavelength_m = get_number(j, "lo_wavelength_m", d.lo_wavelength_m, where);
+    p.lo_magnitude_m = get_number(j, "lo_magnitude_m", d.lo_magnitude_m, where);
+    validate(p);
+    return p;
+}
+
+json variable_json(const VariableSurfaceParams& p) {
+    return {{"hi_magnitude_m", p.hi_magnitude_m},
+            {"spectral_exponent", p.mavs_compat ? 3.0 : p.spectral_exponent},
+            {"max_wavelength_m", p.max_wavelength_m},
+            {"envelope_wavelength_m", p.envelope_wavelength_m},
+            {"mavs_compat", p.mavs_compat}};
+}
+VariableSurfaceParams variable_from(const json& j, const std::string& where) {
+    require_known_keys(j, {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
+                           "envelope_wavelength_m", "mavs_compat"},
+                       where);
+    VariableSurfaceParams d, p;
+    p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
+    p.spectral_exponent = get_number(j, "spectral_exponent", d.spectral_exponent, where);
+    p.max_wavelength_m = get_number(j, "max_wavelength_m", d.max_wavelength_m, where);
+    p.envelope_wavelength_m = get_number(j, "envelope_wavelength_m", d.envelope_wavelength_m, where);
+    p.mavs_compat = get_bool(j, "mavs_compat", d.mavs_compat, where);
+    if (p.mavs_compat && j.contains("spectral_exponent") && p.spectral_exponent != 3.0)
+        throw InputError(where + ": mavs_compat fixes spectral_exponent at 3; do not set both");
+    validate(p);
+    return p;
+}
+
+json fbm_json(const FbmParams& p) {
+    return {{"hurst", p.hurst}, {"D", 3.0 - p.hurst}, {"rms_m", p.rms_m}};
+}
+FbmParams fbm_from(const json& j, const std::string& where) {
+    require_known_keys(j, {"hurst", "D", "rms_m"}, where);
+    FbmParams d, p;
+    const double rms = get_number(j, "rms_m", d.rms_m, where);
+    if (j.contains("D") && j.contains("hurst") &&
+        std::abs(j["D"].get<double>() + j["hurst"].get<double>() - 3.0) > 1e-12)
+        throw InputError(where + ": D and hurst disagree (D = 3 - hurst); give one");
+    if (j.contains("D")) p = FbmParams::from_dimension(get_number(j, "D", 2.3, where), rms);
+    else p = FbmParams{get_number(j, "hurst", d.hurst, where), rms};
+    validate(p);
+    return p;
+}
+
+/// Default grid per method: the paper's grid for W-M and multifractal, 512 x 512 at 0.25 m else.
+GridSpec default_grid(const std::string& method) {
+    if (method == "multifractal" || method == "wm") return majhor2023_grid();
+    return GridSpec{512, 512, 0.25, 0.0, 0.0};
+}
+
+} // namespace
+
+const std::vector<std::string>& terrain_methods() {
+    static const std::vector<std::string> m = {"multifractal", "wm",       "perlin",
+                                               "gaussian",     "variable", "fbm"};
+    return m;
+}
+
+json resolve_terrain_spec(const json& spec) {
+    require_known_keys(spec, {"method", "preset", "nx", "ny", "size", "cell_size_m", "origin_x_m",
+                              "origin_y_m", "seed", "params"},
+                       "");
+    std::string preset = get_string(spec, "preset", "", "");
+    if (!preset.empty() && preset != "majhor2023")
+        throw InputError("preset: unknown preset '" + preset + "' (known: majhor2023)");
+    std::string method = get_string(spec, "method", preset.empty() ? "" : "multifractal", "");
+    if (method.empty()) throw InputError("method: no generation method given (" +
+                                         std::string("multifractal, wm, perlin, gaussian, "
+                                                     "variable, fbm)"));
+    const auto& ms = terrain_methods();
+    if (std::find(ms.begin(), ms.end(), method) == ms.end()) {
+        std::string best;
+        std::size_t bd = 4;
+        for (const auto& m : ms)
+            if (edit_distance(method, m) < bd) bd = edit_distance(method, m), best = m;
+        throw InputError("method: unknown method '" + method + "'" +
+                         (best.empty() ? "" : " (did you mean '" + best + "'?)") +
+                         "; known: multifractal, wm, perlin, gaussian, variable, fbm");
+    }
+    if (!preset.empty() && method != "multifractal")
+        throw InputError("preset majhor2023 is a multifractal setting; method is '" + method + "'");
+    GridSpec g = default_grid(method);
+    if (spec.contains("size")) {
+        g.nx = g.ny = static_cast<int>(get_integer(spec, "size", g.nx, "", 1, kMaxSide));
+    }
+    g.nx = static_cast<int>(get_integer(spec, "nx", g.nx, "", 1, kMaxSide));
+    g.ny = static_cast<int>(get_integer(spec, "ny", g.ny, "", 1, kMaxSide));
+    g.cell_size_m = get_number(spec, "cell_size_m", g.cell_size_m, "", 1e-300);
+    g.origin_x_m = get_number(spec, "origin_x_m", 0.0, "");
+    g.origin_y_m = get_number(spec, "origin_y_m", 0.0, "");
+    g.validate("grid");
+    const long long seed = get_integer(spec, "seed", 1, "", 0);
+    const json params = spec.value("params", json::object());
+    const std::string where = "params";
+    json p;
+    if (method == "multifractal") p = multifractal_json(multifractal_from(params, where));
+    else if (method == "wm") p = wm_json(wm_from(params, WMParams{}, where));
+    else if (method == "perlin") p = perlin_json(perlin_from(params, where));
+    else if (method == "gaussian") p = gaussian_json(gaussian_from(params, where));
+    else if (method == "variable") p = variable_json(variable_from(params, where));
+    else p = fbm_json(fbm_from(params, where));
+    json r = {{"method", method},      {"nx", g.nx},
+              {"ny", g.ny},            {"cell_size_m", g.cell_size_m},
+              {"origin_x_m", g.origin_x_m}, {"origin_y_m", g.origin_y_m},
+              {"seed", seed},          {"params", p}};
+    if (!preset.empty()) r["preset"] = preset;
+    if (method == "fbm") r["params"].erase("D"); // hurst is the resolved key
+    return r;
+}
+
+std::vector<std::string> terrain_param_keys(const std::string& method) {
+    if (method == "multifractal")
+        return {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
+    if (method == "wm") return {"M", "n_max", "gamma", "D", "L_m", "G_m", "phase_max_rad"};
+    if (method == "perlin")
+        return {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m", "lo_magnitude_m",
+                "mavs_compat"};
+    if (method == "gaussian")
+        return {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"};
+    if (method == "variable")
+        return {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
+                "envelope_wavelength_m", "mavs_compat"};
+    if (method == "fbm") return {"hurst", "D", "rms_m"};
+    throw InputError("unknown method '" + method + "'");
+}
+
+GeneratedTerrain generate_terrain(const json& spec) {
+    GeneratedTerrain out;
+    out.resolved = resolve_terrain_spec(spec);
+    const json& r = out.resolved;
+    const std::string method = r["method"];
+    const GridSpec g{r["nx"].get<int>(), r["ny"].get<int>(), r["cell_size_m"].get<double>(),
+                     r["origin_x_m"].get<double>(), r["origin_y_m"].get<double>()};
+    ensure_fits_in_memory(g.size(), method == "multifractal" ? 40.0 : 24.0,
+                          "grid " + std::to_string(g.nx) + "x" + std::to_string(g.ny));
+    const auto seed = r["seed"].get<std::uint64_t>();
+    const json& p = r["params"];
+    if (method == "multifractal") {
+        auto res = multifractal_generate(g, multifractal_from(p, "params"), seed);
+        out.z = std::move(res.z);
+        out.warnings = std::move(res.warnings);
+    } else if (method == "wm") {
+        auto res = wm_generate(g, wm_from(p, WMParams{}, "params"), seed);
+        out.z = std::move(res.z);
+        out.warnings = std::move(res.warnings);
+        out.info["n_max"] = res.n_max;
+        out.info["terms_evaluated"] = res.terms_evaluated;
+    } else if (method == "perlin") {
+        out.z = perlin_surface(g, perlin_from(p, "params"), seed);
+    } else if (method == "gaussian") {
+        out.z = gaussian_surface(g, gaussian_from(p, "params"), seed);
+    } else if (method == "variable") {
+        out.z = variable_surface(g, variable_from(p, "params"), seed);
+    } else {
+        out.z = fbm_surface(g, fbm_from(p, "params"), seed);
+    }
+    return out;
+}
+
+} // namespace ecoterra::terrain

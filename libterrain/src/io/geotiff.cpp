@@ -1,0 +1,121 @@
+// GeoTIFF (and any raster GDAL can open) through GDAL's C API.
+#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+
+#include <mutex>
+#include <vector>
+
+namespace ecoterra::terrain::io {
+
+namespace {
+
+void init_gdal() {
+    static std::once_flag once;
+    std::call_once(once, [] { GDALAllRegister(); });
+}
+
+/// Silences GDAL's own printing for the lifetime of the object; the last message is kept.
+struct QuietGdal {
+    QuietGdal() {
+        CPLPushErrorHandler(CPLQuietErrorHandler);
+        CPLErrorReset();
+    }
+    ~QuietGdal() { CPLPopErrorHandler(); }
+    static std::string last() {
+        const char* m = CPLGetLastErrorMsg();
+        return (m && *m) ? std::string(m) : std::string("unknown GDAL error");
+    }
+};
+
+struct DatasetCloser {
+    void operator()(void* d) const {
+        if (d) GDALClose(d);
+    }
+};
+using Dataset = std::unique_ptr<void, DatasetCloser>;
+
+} // namespace
+
+RasterD read_gdal(const std::filesystem::path& path) {
+    init_gdal();
+    QuietGdal quiet;
+    const std::string where = path.string();
+    if (!std::filesystem::exists(path)) throw IoError(where + ": no such file");
+    Dataset ds(GDALOpen(where.c_str(), GA_ReadOnly));
+    if (!ds) throw IoError(where + ": GDAL cannot read it: " + QuietGdal::last());
+    const int nx = GDALGetRasterXSize(ds.get()), ny = GDALGetRasterYSize(ds.get());
+    if (GDALGetRasterCount(ds.get()) < 1) throw IoError(where + ": has no raster band");
+    double gt[6];
+    if (GDALGetGeoTransform(ds.get(), gt) != CE_None) {
+        gt[0] = 0; gt[1] = 1; gt[2] = 0; gt[3] = ny; gt[4] = 0; gt[5] = -1;
+    }
+    if (gt[2] != 0.0 || gt[4] != 0.0)
+        throw IoError(where + ": rotated rasters are not supported (geotransform terms " +
+                      std::to_string(gt[2]) + ", " + std::to_string(gt[4]) + ")");
+    const double dx = gt[1], dy = gt[5];
+    if (std::abs(std::abs(dx) - std::abs(dy)) > 1e-6 * std::abs(dx))
+        throw IoError(where + ": non-square cells (" + std::to_string(dx) + " x " +
+                      std::to_string(std::abs(dy)) + ") are not supported; resample first");
+    GridSpec g{nx, ny, std::abs(dx), dx > 0 ? gt[0] : gt[0] + nx * dx,
+               dy < 0 ? gt[3] + ny * dy : gt[3]};
+    g.validate(where);
+    ensure_fits_in_memory(g.size(), 16.0, where);
+    GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
+    int has_nodata = 0;
+    const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+    std::vector<double> buf(static_cast<std::size_t>(g.size()));
+    if (GDALRasterIO(band, GF_Read, 0, 0, nx, ny, buf.data(), nx, ny, GDT_Float64, 0, 0) !=
+        CE_None)
+        throw IoError(where + ": GDAL read failed: " + QuietGdal::last());
+    RasterD z(g, 0.0);
+    for (int r = 0; r < ny; ++r) {
+        const int j = dy < 0 ? ny - 1 - r : r;
+        for (int c = 0; c < nx; ++c) {
+            const int i = dx > 0 ? c : nx - 1 - c;
+            const double v = buf[static_cast<std::size_t>(r) * nx + c];
+            z(i, j) = (has_nodata && (v == nodata || (std::isnan(nodata) && std::isnan(v))))
+                          ? std::nan("")
+                          : v;
+        }
+    }
+    return z;
+}
+
+void write_geotiff(const RasterD& z, const std::filesystem::path& path) {
+    init_gdal();
+    QuietGdal quiet;
+    AtomicOutput out(path);
+    GDALDriverH drv = GDALGetDriverByName("GTiff");
+    if (!drv) throw IoError("GDAL has no GTiff driver");
+    char** opts = nullptr;
+    opts = CSLSetNameValue(opts, "TILED", "YES");
+    opts = CSLSetNameValue(opts, "COMPRESS", "DEFLATE");
+    opts = CSLSetNameValue(opts, "PREDICTOR", "3");
+    Dataset ds(GDALCreate(drv, out.temp_path().c_str(), z.nx(), z.ny(), 1, GDT_Float32, opts));
+    CSLDestroy(opts);
+    if (!ds) throw IoError(path.string() + ": GDAL cannot create it: " + QuietGdal::last());
+    const double h = z.cell_size();
+    double gt[6] = {z.grid().origin_x_m, h, 0.0, z.grid().origin_y_m + z.ny() * h, 0.0, -h};
+    GDALSetGeoTransform(ds.get(), gt);
+    GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
+    GDALSetRasterNoDataValue(band, std::nan(""));
+    GDALSetMetadataItem(ds.get(), "UNITS", "m", nullptr);
+    std::vector<float> buf(static_cast<std::size_t>(z.size()));
+    for (int r = 0; r < z.ny(); ++r)
+        for (int i = 0; i < z.nx(); ++i)
+            buf[static_cast<std::size_t>(r) * z.nx() + i] = static_cast<float>(z(i, z.ny() - 1 - r));
+    if (GDALRasterIO(band, GF_Write, 0, 0, z.nx(), z.ny(), buf.data(), z.nx(), z.ny(),
+                     GDT_Float32, 0, 0) != CE_None)
+        throw IoError(path.string() + ": GDAL write failed: " + QuietGdal::last());
+    ds.reset(); // flush and close before the rename
+    if (CPLGetLastErrorType() >= CE_Failure)
+        throw IoError(path.string() + ": GDAL write failed: " + QuietGdal::last());
+    out.commit();
+}
+
+} // namespace ecoterra::terrain::io

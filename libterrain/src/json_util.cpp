@@ -1,0 +1,100 @@
+#include "ecoterra/json_util.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ecoterra {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        cur[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j)
+            cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+        std::swap(prev, cur);
+    }
+    return prev[b.size()];
+}
+
+namespace {
+std::string key_path(const std::string& where, const std::string& key) {
+    return where.empty() ? key : where + "." + key;
+}
+std::string num(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+} // namespace
+
+void require_known_keys(const nlohmann::json& obj, const std::vector<std::string>& allowed,
+                        const std::string& where) {
+    if (!obj.is_object())
+        throw InputError((where.empty() ? std::string("configuration") : where) +
+                         " must be a JSON object");
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+        if (std::find(allowed.begin(), allowed.end(), it.key()) != allowed.end()) continue;
+        std::string best;
+        std::size_t best_d = 3;
+        for (const auto& a : allowed) {
+            const std::size_t d = edit_distance(it.key(), a);
+            if (d < best_d) best_d = d, best = a;
+        }
+        throw InputError("unknown key '" + key_path(where, it.key()) + "'" +
+                         (best.empty() ? "" : " (did you mean '" + key_path(where, best) + "'?)"));
+    }
+}
+
+double get_number(const nlohmann::json& obj, const std::string& key, double fallback,
+                  const std::string& where, double min, double max) {
+    if (!obj.contains(key)) return fallback;
+    const auto& v = obj.at(key);
+    if (!v.is_number())
+        throw InputError(key_path(where, key) + " must be a number, got " + v.dump());
+    const double d = v.get<double>();
+    if (!(d >= min && d <= max))
+        throw InputError(key_path(where, key) + " = " + num(d) + " is outside [" + num(min) +
+                         ", " + num(max) + "]");
+    return d;
+}
+
+long long get_integer(const nlohmann::json& obj, const std::string& key, long long fallback,
+                      const std::string& where, long long min, long long max) {
+    if (!obj.contains(key)) return fallback;
+    const auto& v = obj.at(key);
+    if (!v.is_number_integer() && !(v.is_number() && v.get<double>() == std::floor(v.get<double>())))
+        throw InputError(key_path(where, key) + " must be an integer, got " + v.dump());
+    const long long d = v.get<long long>();
+    if (d < min || d > max)
+        throw InputError(key_path(where, key) + " = " + std::to_string(d) + " is outside [" +
+                         std::to_string(min) + ", " + std::to_string(max) + "]");
+    return d;
+}
+
+bool get_bool(const nlohmann::json& obj, const std::string& key, bool fallback,
+              const std::string& where) {
+    if (!obj.contains(key)) return fallback;
+    const auto& v = obj.at(key);
+    if (!v.is_boolean())
+        throw InputError(key_path(where, key) + " must be true or false, got " + v.dump());
+    return v.get<bool>();
+}
+
+std::string get_string(const nlohmann::json& obj, const std::string& key,
+                       const std::string& fallback, const std::string& where) {
+    if (!obj.contains(key)) return fallback;
+    const auto& v = obj.at(key);
+    if (!v.is_string()) throw InputError(key_path(where, key) + " must be a string, got " + v.dump());
+    return v.get<std::string>();
+}
+
+nlohmann::json parse_json(const std::string& text, const std::string& source) {
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(source + ": not valid JSON: " + e.what());
+    }
+}
+
+} // namespace ecoterra

@@ -93,6 +93,8 @@ RasterD gaussian_filter(const RasterD& r, double sigma_m) {
     return separable_normalised(r, k, k);
 }
 
+double gaussian_kernel_radius_m(double sigma_m) { return kGaussianTruncation * sigma_m; }
+
 RasterD box_mean(const RasterD& r, double window_m) {
     int w = static_cast<int>(std::lround(window_m / r.cell_size()));
     if (w % 2 == 0) ++w;

@@ -32,15 +32,18 @@ std::array<double, 2> horn_gradient(const RasterD& z, int i, int j) {
 
 } // namespace
 
-double rms_about_zero(const RasterD& r) {
+double rms_about_zero(const RasterD& r, int margin) {
+    // Leave out the edge cells where a filter window was truncated, if enough cells remain.
+    if (2 * margin >= r.nx() || 2 * margin >= r.ny()) margin = 0;
     double ss = 0.0;
     std::int64_t n = 0;
-    for (std::int64_t k = 0; k < r.size(); ++k) {
-        const double v = r.data()[k];
-        if (std::isnan(v)) continue;
-        ss += v * v;
-        ++n;
-    }
+    for (int j = margin; j < r.ny() - margin; ++j)
+        for (int i = margin; i < r.nx() - margin; ++i) {
+            const double v = r(i, j);
+            if (std::isnan(v)) continue;
+            ss += v * v;
+            ++n;
+        }
     return n ? std::sqrt(ss / static_cast<double>(n)) : std::nan("");
 }
 
@@ -58,9 +61,11 @@ RmsResult rms_roughness(const RasterD& z, const RmsOptions& opt) {
     RasterD local = box_mean(z, opt.detrend_window_m);
     RasterD resid(z.grid());
     resid.array() = z.array() - local.array();
-    r.rms_detrended_m = rms_about_zero(resid);
+    r.rms_detrended_m =
+        rms_about_zero(resid, static_cast<int>(std::ceil(0.5 * opt.detrend_window_m / z.cell_size())));
 
-    RasterD longwave = gaussian_filter(z, gaussian_sigma_for_cutoff(opt.band_long_cutoff_m));
+    const double sigma_long = gaussian_sigma_for_cutoff(opt.band_long_cutoff_m);
+    RasterD longwave = gaussian_filter(z, sigma_long);
     RasterD band(z.grid());
     if (opt.band_short_cutoff_m > 0.0) {
         RasterD smooth = gaussian_filter(z, gaussian_sigma_for_cutoff(opt.band_short_cutoff_m));
@@ -68,7 +73,8 @@ RmsResult rms_roughness(const RasterD& z, const RmsOptions& opt) {
     } else {
         band.array() = z.array() - longwave.array();
     }
-    r.rms_band_limited_m = rms_about_zero(band);
+    r.rms_band_limited_m = rms_about_zero(
+        band, static_cast<int>(std::ceil(gaussian_kernel_radius_m(sigma_long) / z.cell_size())));
     return r;
 }
 

@@ -12,6 +12,9 @@ namespace ecoterra::terrain {
 /// stay NaN. sigma_m <= 0 returns a copy.
 RasterD gaussian_filter(const RasterD& r, double sigma_m);
 
+/// Radius (m) of the truncated Gaussian kernel used by gaussian_filter: 4 sigma.
+double gaussian_kernel_radius_m(double sigma_m);
+
 /// Mean over a square window of side window_m (m, rounded to an odd number of cells >= 1), using
 /// only valid cells; edges use the part of the window inside the grid.
 RasterD box_mean(const RasterD& r, double window_m);

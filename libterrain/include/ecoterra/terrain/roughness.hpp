@@ -6,6 +6,8 @@
 //   plain (zbar = the global mean), detrended (zbar = the local mean over a square window) and
 //   band-limited (wavelengths longer than a cutoff, 3.0 m = 10 ft by default, removed with the
 //   ISO 16610-21 Gaussian filter; optionally wavelengths shorter than a second cutoff removed too).
+//   The filtered variants leave out the edge cells where the window is truncated (half a window
+//   for the local mean, the 4-sigma kernel radius for the Gaussian).
 // - Gradient map (Majhor & Bos eqs 3-4): P_grad = max_i |z_P - z_Qi| / dist(P, Qi) over the Moore
 //   neighbourhood, a dimensionless rise-over-run slope. Classes: low <= t_low < semi <= t_high <
 //   high. The paper's thresholds 50 and 140 were in 16-bit units per cm with one unit = 0.75/128
@@ -37,8 +39,9 @@ struct RmsResult {
 
 RmsResult rms_roughness(const RasterD& z, const RmsOptions& opt = {});
 
-/// RMS of the valid cells of r about zero (r is a residual field), m.
-double rms_about_zero(const RasterD& r);
+/// RMS of the valid cells of r about zero (r is a residual field), m, leaving out `margin` cells
+/// at each edge (unless that leaves nothing).
+double rms_about_zero(const RasterD& r, int margin = 0);
 
 /// Moore-neighbourhood maximum absolute gradient (eqs 3-4), dimensionless. NaN where the cell is
 /// NODATA; NODATA neighbours are left out.

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Installs what is missing (Debian 12, as root), then configures and builds ecoterra in ./build.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$root/scripts/install-deps.sh"
+jobs="$(nproc 2>/dev/null || echo 2)"
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$root/build" -j "$jobs"

@@ -1,0 +1,152 @@
+// End-to-end runs of `ecoterra terrain ...` as a user types them.
+#include "support/temp_dir.hpp"
+
+#include "ecoterra/json_util.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+
+using namespace ecoterra;
+using ecoterra::test::TempDir;
+
+namespace {
+struct Run {
+    int code = -1;
+    std::string out; ///< stdout and stderr
+};
+
+Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+    const std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" ECOTERRA_BIN "' " +
+                            args + " 2>&1";
+    Run r;
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::array<char, 4096> buf{};
+    while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string slurp(const std::filesystem::path& p) { return terrain::io::read_text(p); }
+} // namespace
+
+TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]") {
+    TempDir d;
+    const char* cmds[] = {
+        "terrain generate --preset majhor2023 --d-high 2.45 --seed 7 -o mf.h5",
+        "terrain generate --method wm --D 2.45 --M 64 --G 1e-8 --gamma 1.5 --L 100.9 --size 1009 "
+        "--cell 0.05 --seed 7 -o wm.h5",
+        "terrain generate --method variable --size 512 --cell 0.25 --seed 3 -o var.png",
+        "terrain generate --method fbm --D 2.3 --size 1024 --cell 0.5 --seed 3 -o fbm.tif",
+        "terrain analyze mf.h5 --json report.json --png pictures/",
+        "terrain missions mf.h5 --count 20 --length 35 --border 5 --seed 1 -o missions.csv",
+        "terrain convert mf.h5 mf.asc",
+    };
+    for (const char* c : cmds) {
+        const Run r = run(d, c);
+        INFO(c << "\n" << r.out);
+        REQUIRE(r.code == 0);
+    }
+    const auto rep = parse_json(slurp(d / "report.json"), "report.json");
+    for (const char* k : {"rms_m", "rms_detrended_m", "classes_pct", "fractal_dimension", "psd_slope"})
+        CHECK(rep.contains(k));
+    for (const char* k : {"low", "semi", "high"}) CHECK(rep["classes_pct"].contains(k));
+    CHECK(rep["fractal_dimension"].contains("value"));
+    CHECK(rep["fractal_dimension"]["range_m"].size() == 2);
+    const double total = rep["classes_pct"]["low"].get<double>() +
+                         rep["classes_pct"]["semi"].get<double>() +
+                         rep["classes_pct"]["high"].get<double>();
+    CHECK(total == Approx(100.0));
+    for (const char* p : {"hillshade.png", "gradient_classes.png", "closed_classes.png"})
+        CHECK(std::filesystem::exists(d / "pictures" / p));
+    // 20 missions plus a header.
+    const std::string csv = slurp(d / "missions.csv");
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == 21);
+    CHECK(csv.rfind("id,start_x_m,start_y_m,goal_x_m,goal_y_m,heading_deg", 0) == 0);
+    // The converted ASCII grid holds the same heights as the HDF5 file.
+    const auto a = terrain::io::read_raster(d / "mf.h5");
+    const auto b = terrain::io::read_raster(d / "mf.asc");
+    CHECK(b(500, 321) == Approx(a(500, 321)).margin(1e-5));
+    CHECK(a.nx() == 1009);
+    CHECK(a.cell_size() == Approx(0.05));
+    CHECK(std::filesystem::exists(d / "var.png.json"));
+}
+
+TEST_CASE("Generation is deterministic across runs and thread counts", "[cli][determinism]") {
+    TempDir d;
+    for (const char* m : {"multifractal --size 129 --cell 0.05", "gaussian --size 100",
+                          "variable --size 100", "fbm --size 64", "perlin --size 100",
+                          "wm --size 100 --cell 0.05"}) {
+        const std::string base = std::string("terrain generate --method ") + m + " --seed 5 -o ";
+        REQUIRE(run(d, base + "a.asc", "OMP_NUM_THREADS=1").code == 0);
+        REQUIRE(run(d, base + "b.asc", "OMP_NUM_THREADS=2").code == 0);
+        INFO(m);
+        CHECK(slurp(d / "a.asc") == slurp(d / "b.asc"));
+    }
+}
+
+TEST_CASE("Bad input: clear errors, non-zero exit, earlier output kept", "[cli][errors]") {
+    TempDir d;
+    REQUIRE(run(d, "terrain generate --method fbm --size 64 --seed 1 -o keep.asc").code == 0);
+    const std::string before = slurp(d / "keep.asc");
+    struct Case {
+        const char* args;
+        const char* expect;
+    };
+    const Case cases[] = {
+        {"terrain generate --method wm --D 3.5 --size 32 -o keep.asc", "3.5"},
+        {"terrain generate --method wm --gamma 1 --size 32 -o keep.asc", "gamma"},
+        {"terrain generate --method wm --size 0 -o keep.asc", "size"},
+        {"terrain generate --method fbm --cell -1 -o keep.asc", "cell_size_m"},
+        {"terrain generate --method perlinn -o keep.asc", "did you mean 'perlin'"},
+        {"terrain generate --method perlin --D 2.5 -o keep.asc", "--D does not apply"},
+        {"terrain generate --method fbm --size 64 -o keep.xyz", "unknown raster format"},
+        {"terrain generate --method fbm --size 64 -o nodir/out.asc", "does not exist"},
+        {"terrain generate --method fbm --size 1048576 -o keep.asc", "GiB"},
+        {"terrain generate --method fbm --bogus 1 -o keep.asc", "bogus"},
+        {"terrain analyze missing.h5", "missing.h5"},
+        {"terrain generate --config missing.json -o keep.asc", "missing.json"},
+    };
+    for (const auto& c : cases) {
+        const Run r = run(d, c.args);
+        INFO(c.args << "\n" << r.out);
+        CHECK(r.code != 0);
+        CHECK_THAT(r.out, Catch::Contains(c.expect));
+        CHECK(r.out.find("terminate") == std::string::npos);
+    }
+    CHECK(slurp(d / "keep.asc") == before);
+    {
+        std::ofstream(d / "nodata.asc") << "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\n"
+                                           "cellsize 1\nNODATA_value -9999\n-9999 -9999\n"
+                                           "-9999 -9999\n";
+        std::ofstream(d / "bad.json") << "{\"method\": \"wm\", \"params\": {\"D\": 2.4, \"Gm\": 1}}";
+    }
+    Run r = run(d, "terrain analyze nodata.asc");
+    CHECK(r.code != 0);
+    CHECK_THAT(r.out, Catch::Contains("nodata.asc") && Catch::Contains("NODATA"));
+    r = run(d, "terrain generate --config bad.json -o x.h5");
+    CHECK(r.code != 0);
+    CHECK_THAT(r.out, Catch::Contains("params.Gm") && Catch::Contains("params.G_m"));
+}
+
+TEST_CASE("A JSON specification gives the same terrain as the flags", "[cli]") {
+    TempDir d;
+    std::ofstream(d / "spec.json")
+        << R"({"method": "wm", "size": 64, "cell_size_m": 0.05, "seed": 3,
+               "params": {"D": 2.3, "M": 16, "G_m": 1e-6}})";
+    REQUIRE(run(d, "terrain generate --config spec.json -o a.asc").code == 0);
+    REQUIRE(run(d, "terrain generate --method wm --size 64 --cell 0.05 --seed 3 --D 2.3 --M 16 "
+                   "--G 1e-6 -o b.asc")
+                .code == 0);
+    CHECK(slurp(d / "a.asc") == slurp(d / "b.asc"));
+    const Run help = run(d, "terrain generate --help");
+    CHECK(help.code == 0);
+    CHECK_THAT(help.out, Catch::Contains("m per pixel") && Catch::Contains("--relief"));
+}

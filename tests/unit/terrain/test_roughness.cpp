@@ -1,0 +1,171 @@
+#include "ecoterra/terrain/filters.hpp"
+#include "ecoterra/terrain/missions.hpp"
+#include "ecoterra/terrain/roughness.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+using namespace ecoterra;
+using namespace ecoterra::terrain;
+
+namespace {
+RasterD plane(const GridSpec& g, double a, double b) {
+    RasterD z(g);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) z(i, j) = a * g.x_of(i) + b * g.y_of(j);
+    return z;
+}
+RasterD wave(const GridSpec& g, double amp, double wavelength) {
+    RasterD z(g);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            z(i, j) = amp * std::sin(2 * std::numbers::pi * g.x_of(i) / wavelength);
+    return z;
+}
+} // namespace
+
+TEST_CASE("Moore gradient map of a plane (eqs 3-4)", "[roughness]") {
+    const GridSpec g{20, 20, 0.05, 0, 0};
+    const RasterD z = plane(g, 0.3, -0.4);
+    const RasterD grad = max_gradient_map(z);
+    // Edge neighbours give |0.3| and |0.4|; diagonals |0.3 +- 0.4| / sqrt 2 = 0.495 at most.
+    const double expect = std::max({0.3, 0.4, 0.7 / std::sqrt(2.0)});
+    CHECK(grad(10, 10) == Approx(expect));
+    // At the south-west corner only (1,0), (0,1) and (1,1) exist: max(0.3, 0.4, 0.1 / sqrt 2).
+    CHECK(grad(0, 0) == Approx(0.4));
+}
+
+TEST_CASE("Gradient classes use the paper's thresholds converted to slopes", "[roughness]") {
+    CHECK(kDefaultLowThreshold == Approx(50 * 0.75 / 128));
+    CHECK(kDefaultHighThreshold == Approx(140 * 0.75 / 128));
+    RasterD grad(GridSpec{4, 1, 1.0, 0, 0});
+    grad(0, 0) = 0.29;
+    grad(1, 0) = 0.30;
+    grad(2, 0) = 0.83;
+    grad(3, 0) = std::nan("");
+    const RasterU8 c = classify_gradient(grad);
+    CHECK(c(0, 0) == 0);
+    CHECK(c(1, 0) == 1);
+    CHECK(c(2, 0) == 2);
+    CHECK(c(3, 0) == 255);
+    CHECK_THROWS_WITH(classify_gradient(grad, ClassThresholds{0.5, 0.2}),
+                      Catch::Contains("low=0.5"));
+}
+
+TEST_CASE("Class areas leave out the border", "[roughness]") {
+    RasterU8 c(GridSpec{100, 100, 0.1, 0, 0}, 2); // all high
+    for (int j = 10; j < 90; ++j)
+        for (int i = 10; i < 90; ++i) c(i, j) = i < 50 ? 0 : 1;
+    const ClassAreas a = class_areas(c, 1.0); // 1 m = 10 cells
+    CHECK(a.cells == 80 * 80);
+    CHECK(a.low_pct == Approx(50.0));
+    CHECK(a.semi_pct == Approx(50.0));
+    CHECK(a.high_pct == Approx(0.0));
+    CHECK_THROWS_WITH(class_areas(c, 6.0), Catch::Contains("border"));
+}
+
+TEST_CASE("Closing fills gaps narrower than the disk and keeps wide ones", "[roughness]") {
+    RasterU8 c(GridSpec{60, 20, 0.05, 0, 0}, 0);
+    for (int j = 0; j < 20; ++j) {
+        for (int i = 10; i < 20; ++i) c(i, j) = 2;
+        for (int i = 22; i < 32; ++i) c(i, j) = 2; // 2-cell gap at 20, 21
+        for (int i = 50; i < 60; ++i) c(i, j) = 2; // 18-cell gap at 32..49
+    }
+    const RasterU8 closed = close_classes(c, 0.1); // radius 2 cells
+    CHECK(closed(20, 10) == 2);
+    CHECK(closed(21, 10) == 2);
+    CHECK(closed(40, 10) == 0);
+    CHECK(closed(5, 10) == 0);
+    // Closing never shrinks the rough areas (extensive).
+    for (int j = 0; j < 20; ++j)
+        for (int i = 0; i < 60; ++i) CHECK(closed(i, j) >= c(i, j));
+}
+
+TEST_CASE("RMS roughness: plain, detrended and band-limited", "[roughness][verification]") {
+    const GridSpec g{400, 120, 0.1, 0, 0};
+    // A sine of amplitude A has RMS A / sqrt 2.
+    const RasterD short_wave = wave(g, 0.05, 1.0);
+    const RasterD long_wave = wave(g, 0.5, 10.0);
+    RmsOptions opt; // 3 m window and 3 m cutoff
+    CHECK(rms_roughness(short_wave, opt).rms_m == Approx(0.05 / std::sqrt(2.0)).epsilon(0.01));
+    // The band filter passes the 1 m wave and removes the 10 m wave.
+    CHECK(rms_roughness(short_wave, opt).rms_band_limited_m ==
+          Approx(0.05 / std::sqrt(2.0)).epsilon(0.02));
+    // The Gaussian low-pass passes exp(-2 pi^2 sigma^2 / lambda^2) of a wave: 94 % at 10 m, so
+    // the high-pass residual is 6 % of the 10 m wave's RMS.
+    const double sigma = gaussian_sigma_for_cutoff(3.0);
+    const double pass10 = std::exp(-2 * std::pow(std::numbers::pi * sigma / 10.0, 2));
+    CHECK(rms_roughness(long_wave, opt).rms_band_limited_m ==
+          Approx(0.5 / std::sqrt(2.0) * (1 - pass10)).epsilon(0.03));
+    // A tilted plane has no roughness once detrended, whatever its slope.
+    const RmsResult p = rms_roughness(plane(g, 0.2, 0.1), opt);
+    CHECK(p.rms_m > 1.0);
+    CHECK(p.rms_detrended_m == Approx(0.0).margin(1e-9));
+    CHECK(p.rms_band_limited_m == Approx(0.0).margin(1e-6));
+}
+
+TEST_CASE("Gaussian filter: 50 % transmission at the cutoff wavelength", "[filters]") {
+    const GridSpec g{600, 8, 0.05, 0, 0};
+    const double cutoff = 3.0;
+    const RasterD z = wave(g, 1.0, cutoff);
+    const RasterD f = gaussian_filter(z, gaussian_sigma_for_cutoff(cutoff));
+    double num = 0, den = 0;
+    for (int i = 150; i < 450; ++i) num += f(i, 4) * f(i, 4), den += z(i, 4) * z(i, 4);
+    CHECK(std::sqrt(num / den) == Approx(0.5).margin(0.01));
+    // NODATA stays NODATA and does not leak into its neighbours.
+    RasterD h(GridSpec{9, 9, 1.0, 0, 0}, 2.0);
+    h(4, 4) = std::nan("");
+    const RasterD fh = gaussian_filter(h, 1.5);
+    CHECK(std::isnan(fh(4, 4)));
+    CHECK(fh(3, 4) == Approx(2.0));
+    CHECK(box_mean(h, 3.0)(0, 0) == Approx(2.0));
+}
+
+TEST_CASE("Slope and aspect of planes", "[roughness]") {
+    const GridSpec g{10, 10, 2.0, 0, 0};
+    // z falls towards the east: downslope direction is east (90 deg).
+    const auto east = slope_aspect(plane(g, -0.5, 0.0));
+    CHECK(east.slope(5, 5) == Approx(0.5));
+    CHECK(east.slope_deg(5, 5) == Approx(std::atan(0.5) * 180 / std::numbers::pi));
+    CHECK(east.aspect_deg(5, 5) == Approx(90.0));
+    const auto north = slope_aspect(plane(g, 0.0, -1.0));
+    CHECK(north.aspect_deg(5, 5) == Approx(0.0).margin(1e-9));
+    const auto sw = slope_aspect(plane(g, 1.0, 1.0)); // rises to the north-east
+    CHECK(sw.aspect_deg(5, 5) == Approx(225.0));
+    CHECK(std::isnan(slope_aspect(plane(g, 0, 0)).aspect_deg(3, 3)));
+}
+
+TEST_CASE("Missions start low, end low or semi, and keep their length and border",
+          "[missions]") {
+    const GridSpec g{400, 400, 0.125, 0, 0}; // 50 m square
+    RasterU8 raw(g, 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            raw(i, j) = ((i / 40 + j / 40) % 3 == 0) ? 2 : ((i / 40 + j / 40) % 3 == 1 ? 1 : 0);
+    MissionOptions opt;
+    opt.count = 30;
+    opt.seed = 4;
+    const auto ms = plan_missions(raw, raw, opt);
+    REQUIRE(ms.size() == 30);
+    for (const auto& m : ms) {
+        CHECK(raw(raw.cell_at(m.start_x_m, m.start_y_m)[0], raw.cell_at(m.start_x_m, m.start_y_m)[1]) == 0);
+        const auto gc = raw.cell_at(m.goal_x_m, m.goal_y_m);
+        CHECK(raw(gc[0], gc[1]) <= 1);
+        CHECK(std::hypot(m.goal_x_m - m.start_x_m, m.goal_y_m - m.start_y_m) == Approx(35.0));
+        for (double v : {m.start_x_m, m.start_y_m, m.goal_x_m, m.goal_y_m}) {
+            CHECK(v >= 5.0);
+            CHECK(v <= 45.0);
+        }
+        CHECK(m.class_fraction[0] + m.class_fraction[1] + m.class_fraction[2] == Approx(1.0));
+        CHECK(m.heading_deg >= 0.0);
+        CHECK(m.heading_deg < 360.0);
+    }
+    const auto again = plan_missions(raw, raw, opt);
+    CHECK(again[7].goal_x_m == ms[7].goal_x_m);
+    RasterU8 rough(g, 2);
+    CHECK_THROWS_WITH(plan_missions(rough, rough, opt), Catch::Contains("no low-roughness"));
+    opt.length_m = 80;
+    CHECK_THROWS_WITH(plan_missions(raw, raw, opt), Catch::Contains("cannot fit"));
+}

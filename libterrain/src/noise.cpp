@@ -1,6 +1,7 @@
 #include "ecoterra/terrain/noise.hpp"
 
 #include "ecoterra/random.hpp"
+#include "ecoterra/terrain/fft.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -17,6 +18,8 @@ constexpr double kMavsHiWavelengthFactor = 1.25 * std::numbers::pi;
 constexpr double kMavsHiMagnitudeFactor = 4.0;
 /// sqrt(2) brings 2D gradient noise with unit gradients from about +-0.71 to about +-1.
 constexpr double kPerlinScale = std::numbers::sqrt2;
+/// Padding of the gaussian surface's FFT grid, in correlation lengths (correlation e^-8 there).
+constexpr double kGaussianPadLengths = 8.0;
 
 std::string num(double v) {
     std::ostringstream s;
@@ -123,31 +126,39 @@ RasterD gaussian_surface(const GridSpec& grid, const GaussianSurfaceParams& p,
                          std::uint64_t seed) {
     validate(p);
     grid.validate("surface grid");
-    ensure_fits_in_memory(grid.size(), 8.0, "surface grid");
-    const double rho = std::exp(-grid.cell_size_m / p.correlation_length_m);
-    const double innov = std::sqrt(1.0 - rho * rho);
-    RasterD z(grid, 0.0);
-    // AR(1) along each row (x), one random stream per row.
-#pragma omp parallel for schedule(static)
-    for (int j = 0; j < grid.ny; ++j) {
-        Rng rng(seed, "terrain.gaussian.rows", static_cast<std::uint64_t>(j));
-        double* row = z.row(j);
-        row[0] = rng.normal();
-        for (int i = 1; i < grid.nx; ++i) row[i] = rho * row[i - 1] + innov * rng.normal();
+    // Spectral synthesis on a grid padded by a few correlation lengths (the FFT field is periodic;
+    // the padding keeps the wrap-around out of the part that is kept).
+    const double beta = p.correlation_length_m;
+    const int pad = static_cast<int>(
+        std::min(std::ceil(kGaussianPadLengths * beta / grid.cell_size_m), 4.0 * std::max(grid.nx, grid.ny)));
+    const GridSpec big{grid.nx + pad, grid.ny + pad, grid.cell_size_m, 0.0, 0.0};
+    ensure_fits_in_memory(big.size(), 8.0 * 4, "surface grid");
+    const double wx = big.width_m(), wy = big.height_m();
+    HalfSpectrum spec(big.nx, big.ny);
+    Rng rng(seed, "terrain.gaussian");
+    for (int b = 0; b < big.ny; ++b) {
+        const double ky = (b <= big.ny / 2 ? b : b - big.ny) / wy;
+        for (int a = 0; a < spec.nxh(); ++a) {
+            const double k = std::hypot(a / wx, ky);
+            // 2D spectral density of the covariance exp(-r / beta), cycles per metre.
+            const double tb = 2.0 * std::numbers::pi * beta * k;
+            const double amp = (a == 0 && b == 0) ? 0.0 : std::pow(1.0 + tb * tb, -0.75);
+            const double re = rng.normal(), im = rng.normal();
+            spec.at(a, b) = {amp * re, amp * im};
+        }
     }
-    // AR(1) along columns (y): keeps unit variance and makes the covariance separable.
-    for (int j = 1; j < grid.ny; ++j) {
-        const double* prev = z.row(j - 1);
-        double* row = z.row(j);
-        for (int i = 0; i < grid.nx; ++i) row[i] = rho * prev[i] + innov * row[i];
-    }
+    RasterD field(big, 0.0);
+    inverse_real_fft(spec, field);
+    const auto st = stats(field);
+    const double scale = st.stddev > 0 ? p.rms_m / st.stddev : 0.0;
     const Perlin2D lo(seed, 2);
+    RasterD z(grid, 0.0);
 #pragma omp parallel for schedule(static)
     for (int j = 0; j < grid.ny; ++j) {
         double* row = z.row(j);
         const double y = grid.y_of(j) / p.lo_wavelength_m;
         for (int i = 0; i < grid.nx; ++i)
-            row[i] = p.rms_m * row[i] +
+            row[i] = scale * (field(i, j) - st.mean) +
                      p.lo_magnitude_m * lo(grid.x_of(i) / p.lo_wavelength_m, y);
     }
     return z;

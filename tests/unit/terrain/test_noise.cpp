@@ -61,7 +61,8 @@ TEST_CASE("Perlin noise vanishes on the lattice and stays within about [-1, 1]",
     CHECK(p(3.3, 4.7) != q(3.3, 4.7));
 }
 
-TEST_CASE("The gaussian surface has the requested RMS and exponential correlation", "[noise]") {
+TEST_CASE("The gaussian surface has the requested RMS and isotropic exponential correlation",
+          "[noise]") {
     const GridSpec g{600, 600, 0.25, 0, 0};
     GaussianSurfaceParams p;
     p.rms_m = 0.2;
@@ -70,23 +71,20 @@ TEST_CASE("The gaussian surface has the requested RMS and exponential correlatio
     const RasterD z = gaussian_surface(g, p, 4);
     const auto s = stats(z);
     CHECK(s.stddev == Approx(0.2).epsilon(0.1));
-    // Correlation at lag 4 cells (1 m) along x: exp(-1 / 2) = 0.607.
-    double c = 0, v = 0;
-    for (int j = 0; j < g.ny; ++j)
-        for (int i = 0; i + 4 < g.nx; ++i) {
-            c += (z(i, j) - s.mean) * (z(i + 4, j) - s.mean);
-            v += (z(i, j) - s.mean) * (z(i, j) - s.mean);
-        }
-    CHECK(c / v == Approx(std::exp(-1.0 / 2.0)).margin(0.05));
-    // and along y (the field is isotropic)
-    c = 0;
-    v = 0;
-    for (int j = 0; j + 4 < g.ny; ++j)
-        for (int i = 0; i < g.nx; ++i) {
-            c += (z(i, j) - s.mean) * (z(i, j + 4) - s.mean);
-            v += (z(i, j) - s.mean) * (z(i, j) - s.mean);
-        }
-    CHECK(c / v == Approx(std::exp(-1.0 / 2.0)).margin(0.05));
+    auto corr = [&](int di, int dj) {
+        double c = 0, v = 0;
+        for (int j = 0; j + dj < g.ny; ++j)
+            for (int i = 0; i + di < g.nx; ++i) {
+                c += (z(i, j) - s.mean) * (z(i + di, j + dj) - s.mean);
+                v += (z(i, j) - s.mean) * (z(i, j) - s.mean);
+            }
+        return c / v;
+    };
+    // rho(r) = exp(-r / beta) along x, along y and along a diagonal (isotropy).
+    CHECK(corr(4, 0) == Approx(std::exp(-1.0 / 2.0)).margin(0.05));
+    CHECK(corr(0, 4) == Approx(std::exp(-1.0 / 2.0)).margin(0.05));
+    CHECK(corr(6, 8) == Approx(std::exp(-2.5 / 2.0)).margin(0.05));
+    CHECK(corr(16, 0) == Approx(std::exp(-4.0 / 2.0)).margin(0.05));
 }
 
 TEST_CASE("Variable roughness follows Van Deussen's Omega^-2; mavs_compat gives Omega^-3",

@@ -6,10 +6,12 @@
 //   2D gradient noise P (Perlin 2002, quintic fade) in about [-1, 1]. Defaults lambda_hi = 2 m,
 //   lambda_lo = 50 m. With mavs_compat the high band uses MAVS's frequency 1 / (1.25 pi lambda_hi)
 //   and magnitude 4 a_hi.
-// - gaussian: a separable Ornstein-Uhlenbeck (exponentially correlated) field with
-//   cov(dx, dy) = s^2 exp(-|dx| / beta) exp(-|dy| / beta): an AR(1) recursion
-//   z_k = rho z_{k-1} + sqrt(1 - rho^2) w_k, rho = exp(-h / beta), along rows then columns
-//   (h = cell size; dimensionally correct, unlike MAVS's rho = exp(-2 beta^2)), plus the low Perlin.
+// - gaussian: a Gaussian field with the isotropic exponential covariance s^2 exp(-r / beta), the 2D
+//   form of the Ornstein-Uhlenbeck process (Matern nu = 1/2), plus the low-frequency Perlin. It is
+//   synthesised spectrally: 2D spectral density proportional to (1 + (2 pi beta k)^2)^{-3/2}, on a
+//   grid padded by 8 beta so the periodic wrap does not show, then scaled to RMS s. The correlation
+//   length beta is in metres, so rho(r) = exp(-r / beta) whatever the cell size (MAVS's AR(1)
+//   chain uses rho = exp(-2 beta^2), which is not dimensionally consistent, and is anisotropic).
 // - variable: octaves of Perlin noise with wavelengths lambda_n = 2^n * 2h from 2h up to
 //   min(100 m, extent / 4), amplitudes a_n = a_0 (lambda_n / lambda_0)^{(alpha - 1) / 2}, multiplied
 //   by the envelope 0.5 (1 + P(x / 100 m, y / 100 m)). An octave carries variance a_n^2 over a band

@@ -155,7 +155,9 @@ void run_analyze(AnalyzeArgs& a) {
     a.opt.validate();
     if (!a.json_out.empty()) { terrain::io::AtomicOutput probe(a.json_out); }
     Stopwatch sw;
-    const RasterD z = terrain::io::read_raster(a.input);
+    std::vector<std::string> warnings;
+    const RasterD z = terrain::io::read_raster(a.input, &warnings);
+    print_warnings(warnings);
     const TerrainAnalysis r = analyze_terrain(z, a.opt);
     std::printf("%s: %d x %d cells of %.4g m\n%s", a.input.c_str(), z.nx(), z.ny(), z.cell_size(),
                 r.summary(a.opt).c_str());
@@ -185,7 +187,9 @@ void run_missions(MissionArgs& a) {
     a.opt.validate();
     a.m.border_m = a.opt.border_m;
     a.m.validate();
-    const RasterD z = terrain::io::read_raster(a.input);
+    std::vector<std::string> warnings;
+    const RasterD z = terrain::io::read_raster(a.input, &warnings);
+    print_warnings(warnings);
     const RasterU8 classes = classify_gradient(max_gradient_map(z), a.opt.thresholds);
     const RasterU8 closed = close_classes(classes, a.opt.closing_radius_m);
     const auto missions = plan_missions(closed, classes, a.m);
@@ -225,8 +229,8 @@ struct ConvertArgs {
 void run_convert(const ConvertArgs& a) {
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
                                          : terrain::io::format_from_name(a.format);
-    const RasterD z = terrain::io::read_raster(a.input);
     std::vector<std::string> warnings;
+    const RasterD z = terrain::io::read_raster(a.input, &warnings);
     terrain::io::WriteOptions wo;
     wo.provenance = provenance({{"converted_from", a.input}});
     wo.warnings = &warnings;

@@ -6,6 +6,7 @@
 #include <cpl_error.h>
 #include <cpl_string.h>
 #include <gdal.h>
+#include <ogr_srs_api.h>
 
 #include <mutex>
 #include <vector>
@@ -41,7 +42,7 @@ using Dataset = std::unique_ptr<void, DatasetCloser>;
 
 } // namespace
 
-RasterD read_gdal(const std::filesystem::path& path) {
+RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* warnings) {
     init_gdal();
     QuietGdal quiet;
     const std::string where = path.string();
@@ -65,6 +66,14 @@ RasterD read_gdal(const std::filesystem::path& path) {
                dy < 0 ? gt[3] + ny * dy : gt[3]};
     g.validate(where);
     ensure_fits_in_memory(g.size(), 16.0, where);
+    if (warnings) {
+        OGRSpatialReferenceH srs = GDALGetSpatialRef(ds.get());
+        if (srs && OSRIsGeographic(srs))
+            warnings->push_back(where + ": the coordinate system is geographic; cell size " +
+                                std::to_string(g.cell_size_m) +
+                                " is in degrees, but ecoterra treats it as metres (reproject to a "
+                                "projected system for slopes and roughness)");
+    }
     GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
     int has_nodata = 0;
     const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);

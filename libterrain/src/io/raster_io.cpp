@@ -50,15 +50,15 @@ std::string format_name(RasterFormat f) {
     return "unknown";
 }
 
-RasterD read_raster(const std::filesystem::path& path) {
+RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>* warnings) {
     if (!std::filesystem::exists(path)) throw IoError(path.string() + ": no such file");
     const std::string name = lower(path.filename().string());
     RasterD z;
     if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) z = read_hdf5(path);
     else if (ends_with(name, ".asc")) z = read_esri_ascii(path);
-    else if (ends_with(name, ".png")) z = read_png16(path);
+    else if (ends_with(name, ".png")) z = read_png16(path, warnings);
     else if (ends_with(name, ".obj")) z = read_obj(path);
-    else z = read_gdal(path); // GeoTIFF and anything else GDAL opens
+    else z = read_gdal(path, warnings); // GeoTIFF and anything else GDAL opens
     require_valid_cells(z, path.string());
     return z;
 }

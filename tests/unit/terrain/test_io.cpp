@@ -115,7 +115,9 @@ TEST_CASE("Gazebo PNGs are square with side 2^n + 1", "[io]") {
 }
 
 TEST_CASE("Real DEMs from Debian packages read with their georeference", "[io][data]") {
-    const RasterD olinda = tio::read_raster(test::data_dir() / "dem/olinda_dem_utm25s.tif");
+    std::vector<std::string> none;
+    const RasterD olinda = tio::read_raster(test::data_dir() / "dem/olinda_dem_utm25s.tif", &none);
+    CHECK(none.empty()); // UTM: metres
     CHECK(olinda.nx() == 111);
     CHECK(olinda.ny() == 111);
     CHECK(olinda.cell_size() == Approx(89.994).epsilon(1e-4));
@@ -123,7 +125,10 @@ TEST_CASE("Real DEMs from Debian packages read with their georeference", "[io][d
     CHECK(so.min == Approx(-1.0).margin(0.5));
     CHECK(so.max == Approx(88.0).margin(1.0));
     CHECK(so.mean == Approx(21.67).margin(0.05));
-    const RasterD lux = tio::read_raster(test::data_dir() / "dem/luxembourg_elev.tif");
+    std::vector<std::string> warn;
+    const RasterD lux = tio::read_raster(test::data_dir() / "dem/luxembourg_elev.tif", &warn);
+    REQUIRE(warn.size() == 1);
+    CHECK_THAT(warn[0], Catch::Contains("geographic") && Catch::Contains("degrees"));
     CHECK(lux.nx() == 95);
     CHECK(lux.ny() == 90);
     const auto sl = stats(lux);

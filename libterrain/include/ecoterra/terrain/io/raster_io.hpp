@@ -35,7 +35,9 @@ struct WriteOptions {
 };
 
 /// Reads an elevation raster (m); NODATA becomes NaN. Throws IoError/InputError naming the file.
-RasterD read_raster(const std::filesystem::path& path);
+/// Notes (a PNG without sidecar, a geographic coordinate system) go to `warnings` if given.
+RasterD read_raster(const std::filesystem::path& path,
+                    std::vector<std::string>* warnings = nullptr);
 /// Writes atomically (temporary name, then rename).
 void write_raster(const RasterD& z, const std::filesystem::path& path, RasterFormat format,
                   const WriteOptions& opt = {});
@@ -49,7 +51,8 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset 
 void write_hdf5(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);
 RasterD read_esri_ascii(const std::filesystem::path& path);
 void write_esri_ascii(const RasterD& z, const std::filesystem::path& path);
-RasterD read_gdal(const std::filesystem::path& path);
+RasterD read_gdal(const std::filesystem::path& path,
+                  std::vector<std::string>* warnings = nullptr);
 void write_geotiff(const RasterD& z, const std::filesystem::path& path);
 RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
 void write_png16(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);

@@ -23,7 +23,8 @@ double best_of(int reps, const std::function<void()>& f) {
     for (int r = 0; r < reps; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
         f();
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     return best;
 }
@@ -45,10 +46,12 @@ int main(int argc, char** argv) {
 
     // The paper's multifractal: three W-M DEMs of 1009 x 1009 (M = 16/32/64, n_max = 17).
     const GridSpec paper = majhor2023_grid();
-    const double mf2 = best_of(3, [&] { multifractal_generate(paper, majhor2023_params(2.45), 7); });
+    const double mf2 =
+        best_of(3, [&] { multifractal_generate(paper, majhor2023_params(2.45), 7); });
     report("majhor2023 multifractal (3 W-M DEMs)", 1009, mf2);
     omp_set_num_threads(1);
-    const double mf1 = best_of(3, [&] { multifractal_generate(paper, majhor2023_params(2.45), 7); });
+    const double mf1 =
+        best_of(3, [&] { multifractal_generate(paper, majhor2023_params(2.45), 7); });
     omp_set_num_threads(threads);
     report("majhor2023 multifractal, 1 thread", 1009, mf1);
     std::printf("  -> speed-up on %d threads: %.2fx; W-M terms per second: %.3e\n", threads,
@@ -61,8 +64,9 @@ int main(int argc, char** argv) {
         const std::string note = reps == 1 ? " (1 run)" : "";
         const GridSpec g5{n, n, 0.05, 0, 0};
         const GridSpec g25{n, n, 0.25, 0, 0};
-        report("wm M=64 D=2.45 (n_max 17, 0.05 m)" + note, n,
-               best_of(reps, [&] { wm_generate(g5, WMParams{64, 0, 1.5, 2.45, 100.9, 1e-8}, 1); }));
+        report("wm M=64 D=2.45 (n_max 17, 0.05 m)" + note, n, best_of(reps, [&] {
+                   wm_generate(g5, WMParams{64, 0, 1.5, 2.45, 100.9, 1e-8}, 1);
+               }));
         report("multifractal (0.05 m)" + note, n,
                best_of(reps, [&] { multifractal_generate(g5, majhor2023_params(2.45), 1); }));
         report("perlin (0.25 m)" + note, n,

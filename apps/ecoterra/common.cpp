@@ -11,7 +11,9 @@ std::string& command_line_storage() {
 }
 } // namespace
 
-const char* version() { return ECOTERRA_VERSION; }
+const char* version() {
+    return ECOTERRA_VERSION;
+}
 
 void set_command_line(int argc, char** argv) {
     std::string s;
@@ -22,11 +24,13 @@ void set_command_line(int argc, char** argv) {
     command_line_storage() = s;
 }
 
-const std::string& command_line() { return command_line_storage(); }
+const std::string& command_line() {
+    return command_line_storage();
+}
 
 nlohmann::json provenance(const nlohmann::json& extra) {
-    nlohmann::json p = {{"software", "ecoterra"}, {"version", version()},
-                        {"command_line", command_line()}};
+    nlohmann::json p = {
+        {"software", "ecoterra"}, {"version", version()}, {"command_line", command_line()}};
     for (auto& [k, v] : extra.items()) p[k] = v;
     return p;
 }

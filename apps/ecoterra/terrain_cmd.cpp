@@ -41,8 +41,14 @@ struct GenerateArgs {
         {"--gamma", "gamma", "W-M frequency density gamma > 1 (wm)", {}},
         {"--L", "L_m", "W-M sampling length L, m (wm)", {}},
         {"--n-max", "n_max", "W-M highest frequency index (wm; default: Nyquist cutoff)", {}},
-        {"--phase-max", "phase_max_rad", "W-M phases uniform in [0, this], rad (wm; default pi)", {}},
-        {"--d-high", "d_high", "D of the high-frequency layer (multifractal; paper: 2.3, 2.45, 2.6)", {}},
+        {"--phase-max",
+         "phase_max_rad",
+         "W-M phases uniform in [0, this], rad (wm; default pi)",
+         {}},
+        {"--d-high",
+         "d_high",
+         "D of the high-frequency layer (multifractal; paper: 2.3, 2.45, 2.6)",
+         {}},
         {"--sigma", "filter_sigma_m", "Gaussian low-pass standard deviation, m (multifractal)", {}},
         {"--relief", "relief_m", "total relief max - min, m (multifractal)", {}},
         {"--base", "base_elevation_m", "lowest elevation, m (multifractal)", {}},
@@ -52,17 +58,25 @@ struct GenerateArgs {
         {"--lo-magnitude", "lo_magnitude_m", "rolling-hill amplitude, m (perlin, gaussian)", {}},
         {"--rms", "rms_m", "RMS height, m (gaussian, fbm)", {}},
         {"--correlation-length", "correlation_length_m", "correlation length, m (gaussian)", {}},
-        {"--spectral-exponent", "spectral_exponent", "alpha in profile PSD ~ Omega^-alpha (variable; default 2)", {}},
-        {"--max-wavelength", "max_wavelength_m", "longest octave, m (variable; capped at extent/4)", {}},
-        {"--envelope-wavelength", "envelope_wavelength_m", "roughness envelope wavelength, m (variable; 0 = none)", {}},
+        {"--spectral-exponent",
+         "spectral_exponent",
+         "alpha in profile PSD ~ Omega^-alpha (variable; default 2)",
+         {}},
+        {"--max-wavelength",
+         "max_wavelength_m",
+         "longest octave, m (variable; capped at extent/4)",
+         {}},
+        {"--envelope-wavelength",
+         "envelope_wavelength_m",
+         "roughness envelope wavelength, m (variable; 0 = none)",
+         {}},
         {"--hurst", "hurst", "Hurst exponent H in (0, 1), D = 3 - H (fbm)", {}},
     };
 };
 
 json build_spec(const GenerateArgs& a) {
     json spec = json::object();
-    if (!a.config.empty())
-        spec = parse_json(terrain::io::read_text(a.config), a.config);
+    if (!a.config.empty()) spec = parse_json(terrain::io::read_text(a.config), a.config);
     if (!spec.is_object()) throw InputError(a.config + ": must hold a JSON object");
     if (!a.preset.empty()) spec["preset"] = a.preset;
     if (!a.method.empty()) spec["method"] = a.method;
@@ -126,8 +140,8 @@ void run_generate(const GenerateArgs& a) {
                 t.resolved["method"].get<std::string>().c_str(), t.z.nx(), t.z.ny(),
                 t.z.cell_size(), t.z.grid().width_m(), t.z.grid().height_m(),
                 static_cast<unsigned long long>(t.resolved["seed"].get<std::uint64_t>()));
-    std::printf("elevation %.4g .. %.4g m, std %.4g m; %.3f s to generate (%.3g cells/s)\n",
-                s.min, s.max, s.stddev, gen_s, static_cast<double>(t.z.size()) / gen_s);
+    std::printf("elevation %.4g .. %.4g m, std %.4g m; %.3f s to generate (%.3g cells/s)\n", s.min,
+                s.max, s.stddev, gen_s, static_cast<double>(t.z.size()) / gen_s);
     std::printf("wrote %s (%s)\n", a.output.c_str(), terrain::io::format_name(format).c_str());
 }
 
@@ -149,11 +163,16 @@ void add_analysis_options(CLI::App* c, AnalysisOptions& o) {
 }
 
 void run_analyze(AnalyzeArgs& a) {
-    if (a.estimator == "variogram") a.opt.fd.estimator = DimensionEstimator::variogram;
-    else if (a.estimator == "madogram") a.opt.fd.estimator = DimensionEstimator::madogram;
-    else throw InputError("--fd-estimator must be variogram or madogram, got '" + a.estimator + "'");
+    if (a.estimator == "variogram")
+        a.opt.fd.estimator = DimensionEstimator::variogram;
+    else if (a.estimator == "madogram")
+        a.opt.fd.estimator = DimensionEstimator::madogram;
+    else
+        throw InputError("--fd-estimator must be variogram or madogram, got '" + a.estimator + "'");
     a.opt.validate();
-    if (!a.json_out.empty()) { terrain::io::AtomicOutput probe(a.json_out); }
+    if (!a.json_out.empty()) {
+        terrain::io::AtomicOutput probe(a.json_out);
+    }
     Stopwatch sw;
     std::vector<std::string> warnings;
     const RasterD z = terrain::io::read_raster(a.input, &warnings);
@@ -164,8 +183,11 @@ void run_analyze(AnalyzeArgs& a) {
     if (!a.json_out.empty()) {
         json j = r.to_json(a.opt);
         j["input"] = a.input;
-        j["grid"] = {{"nx", z.nx()}, {"ny", z.ny()}, {"cell_size_m", z.cell_size()},
-                     {"origin_x_m", z.grid().origin_x_m}, {"origin_y_m", z.grid().origin_y_m}};
+        j["grid"] = {{"nx", z.nx()},
+                     {"ny", z.ny()},
+                     {"cell_size_m", z.cell_size()},
+                     {"origin_x_m", z.grid().origin_x_m},
+                     {"origin_y_m", z.grid().origin_y_m}};
         j["provenance"] = provenance();
         terrain::io::write_text_atomic(a.json_out, j.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
@@ -200,9 +222,10 @@ void run_missions(MissionArgs& a) {
                        {"goal_m", {m.goal_x_m, m.goal_y_m}},
                        {"heading_deg", m.heading_deg},
                        {"length_m", m.length_m},
-                       {"fraction", {{"low", m.class_fraction[0]},
-                                     {"semi", m.class_fraction[1]},
-                                     {"high", m.class_fraction[2]}}},
+                       {"fraction",
+                        {{"low", m.class_fraction[0]},
+                         {"semi", m.class_fraction[1]},
+                         {"high", m.class_fraction[2]}}},
                        {"classes_crossed", m.classes_crossed}});
     const json doc = {{"input", a.input},
                       {"heading_convention", "degrees counter-clockwise from east (+x)"},
@@ -261,8 +284,9 @@ void add_terrain_command(CLI::App& app) {
     gen->add_option("--origin-y", g->origin_y, "y of the south-west corner, m");
     gen->add_option("--seed", g->seed, "random seed (non-negative integer)");
     for (auto& p : g->params) gen->add_option(p.flag, p.value, p.help);
-    gen->add_flag("--mavs-compat", g->mavs_compat,
-                  "reproduce MAVS's own scaling (perlin: 1.25 pi and 4x; variable: PSD ~ Omega^-3)");
+    gen->add_flag(
+        "--mavs-compat", g->mavs_compat,
+        "reproduce MAVS's own scaling (perlin: 1.25 pi and 4x; variable: PSD ~ Omega^-3)");
     gen->add_option("-o,--output", g->output,
                     "output file; the extension picks the format (.h5 .asc .tif .png "
                     ".gazebo.png .obj)")

@@ -39,47 +39,57 @@ nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
     using nlohmann::json;
     json bins = json::array();
     for (const auto& b : psd.bins)
-        bins.push_back({{"k_cycles_per_m", b.k_cpm}, {"psd_m4", b.power}, {"count", b.count},
+        bins.push_back({{"k_cycles_per_m", b.k_cpm},
+                        {"psd_m4", b.power},
+                        {"count", b.count},
                         {"fitted", b.fitted}});
     json curve = json::array();
     for (std::size_t k = 0; k < fd.lag_m.size(); ++k)
         curve.push_back({{"lag_m", fd.lag_m[k]}, {"value_m", fd.structure_m[k]}});
     auto areas = [](const ClassAreas& c) {
-        return json{{"low", c.low_pct}, {"semi", c.semi_pct}, {"high", c.high_pct},
+        return json{{"low", c.low_pct},
+                    {"semi", c.semi_pct},
+                    {"high", c.high_pct},
                     {"cells_counted", c.cells}};
     };
-    return {
-        {"elevation_m",
-         {{"min", elevation.min}, {"max", elevation.max}, {"mean", elevation.mean},
-          {"std", elevation.stddev}, {"valid_cells", elevation.valid}}},
-        {"rms_m", rms.rms_m},
-        {"rms_detrended_m", rms.rms_detrended_m},
-        {"rms_band_limited_m", rms.rms_band_limited_m},
-        {"rms_options",
-         {{"detrend_window_m", opt.rms.detrend_window_m},
-          {"band_long_cutoff_m", opt.rms.band_long_cutoff_m},
-          {"band_short_cutoff_m", opt.rms.band_short_cutoff_m}}},
-        {"classes_pct", areas(classes)},
-        {"closed_classes_pct", areas(closed_classes)},
-        {"class_options",
-         {{"low_max_slope", opt.thresholds.low},
-          {"semi_max_slope", opt.thresholds.high},
-          {"border_m", opt.border_m},
-          {"closing_radius_m", opt.closing_radius_m}}},
-        {"slope", {{"mean", mean_slope}, {"max", max_slope}}},
-        {"psd_slope", psd.slope},
-        {"psd",
-         {{"slope", psd.slope}, {"r2", psd.r2}, {"fit_min_cycles_per_m", psd.fit_min_cpm},
-          {"fit_max_cycles_per_m", psd.fit_max_cpm}, {"implied_dimension", psd.dimension},
-          {"bin_ratio", opt.psd.bin_ratio}, {"bins", bins}}},
-        {"fractal_dimension",
-         {{"value", fd.dimension},
-          {"hurst", fd.hurst},
-          {"range_m", {fd.range_min_m, fd.range_max_m}},
-          {"r2", fd.r2},
-          {"estimator", opt.fd.estimator == DimensionEstimator::variogram ? "variogram"
-                                                                          : "madogram"},
-          {"curve", curve}}}};
+    return {{"elevation_m",
+             {{"min", elevation.min},
+              {"max", elevation.max},
+              {"mean", elevation.mean},
+              {"std", elevation.stddev},
+              {"valid_cells", elevation.valid}}},
+            {"rms_m", rms.rms_m},
+            {"rms_detrended_m", rms.rms_detrended_m},
+            {"rms_band_limited_m", rms.rms_band_limited_m},
+            {"rms_options",
+             {{"detrend_window_m", opt.rms.detrend_window_m},
+              {"band_long_cutoff_m", opt.rms.band_long_cutoff_m},
+              {"band_short_cutoff_m", opt.rms.band_short_cutoff_m}}},
+            {"classes_pct", areas(classes)},
+            {"closed_classes_pct", areas(closed_classes)},
+            {"class_options",
+             {{"low_max_slope", opt.thresholds.low},
+              {"semi_max_slope", opt.thresholds.high},
+              {"border_m", opt.border_m},
+              {"closing_radius_m", opt.closing_radius_m}}},
+            {"slope", {{"mean", mean_slope}, {"max", max_slope}}},
+            {"psd_slope", psd.slope},
+            {"psd",
+             {{"slope", psd.slope},
+              {"r2", psd.r2},
+              {"fit_min_cycles_per_m", psd.fit_min_cpm},
+              {"fit_max_cycles_per_m", psd.fit_max_cpm},
+              {"implied_dimension", psd.dimension},
+              {"bin_ratio", opt.psd.bin_ratio},
+              {"bins", bins}}},
+            {"fractal_dimension",
+             {{"value", fd.dimension},
+              {"hurst", fd.hurst},
+              {"range_m", {fd.range_min_m, fd.range_max_m}},
+              {"r2", fd.r2},
+              {"estimator",
+               opt.fd.estimator == DimensionEstimator::variogram ? "variogram" : "madogram"},
+              {"curve", curve}}}};
 }
 
 std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
@@ -100,9 +110,8 @@ std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
         opt.rms.detrend_window_m, rms.rms_band_limited_m, opt.rms.band_long_cutoff_m, mean_slope,
         max_slope, classes.low_pct, classes.semi_pct, classes.high_pct, opt.thresholds.low,
         opt.thresholds.high, opt.border_m, closed_classes.low_pct, closed_classes.semi_pct,
-        closed_classes.high_pct, opt.closing_radius_m, psd.slope, psd.fit_min_cpm,
-        psd.fit_max_cpm, psd.r2, psd.dimension, fd.dimension, fd.hurst, fd.range_min_m,
-        fd.range_max_m, fd.r2);
+        closed_classes.high_pct, opt.closing_radius_m, psd.slope, psd.fit_min_cpm, psd.fit_max_cpm,
+        psd.r2, psd.dimension, fd.dimension, fd.hurst, fd.range_min_m, fd.range_max_m, fd.r2);
     return buf;
 }
 

@@ -93,7 +93,9 @@ RasterD gaussian_filter(const RasterD& r, double sigma_m) {
     return separable_normalised(r, k, k);
 }
 
-double gaussian_kernel_radius_m(double sigma_m) { return kGaussianTruncation * sigma_m; }
+double gaussian_kernel_radius_m(double sigma_m) {
+    return kGaussianTruncation * sigma_m;
+}
 
 RasterD box_mean(const RasterD& r, double window_m) {
     int w = static_cast<int>(std::lround(window_m / r.cell_size()));
@@ -116,8 +118,12 @@ std::vector<std::array<int, 2>> disk_offsets(double radius_px) {
     return o;
 }
 
-RasterU8 dilate_disk(const RasterU8& r, double radius_px) { return morph<true>(r, radius_px); }
-RasterU8 erode_disk(const RasterU8& r, double radius_px) { return morph<false>(r, radius_px); }
+RasterU8 dilate_disk(const RasterU8& r, double radius_px) {
+    return morph<true>(r, radius_px);
+}
+RasterU8 erode_disk(const RasterU8& r, double radius_px) {
+    return morph<false>(r, radius_px);
+}
 RasterU8 close_disk(const RasterU8& r, double radius_px) {
     return erode_disk(dilate_disk(r, radius_px), radius_px);
 }

@@ -23,8 +23,15 @@ RasterD detrend_plane(const RasterD& z) {
         for (int i = 0; i < z.nx(); ++i) {
             const double v = z(i, j);
             if (std::isnan(v)) continue;
-            s1 += 1; sx += i; sy += j; sxx += double(i) * i; syy += double(j) * j;
-            sxy += double(i) * j; sz += v; sxz += i * v; syz += j * v;
+            s1 += 1;
+            sx += i;
+            sy += j;
+            sxx += double(i) * i;
+            syy += double(j) * j;
+            sxy += double(i) * j;
+            sz += v;
+            sxz += i * v;
+            syz += j * v;
         }
     Eigen::Matrix3d A;
     A << s1, sx, sy, sx, sxx, sxy, sy, sxy, syy;
@@ -105,9 +112,8 @@ PsdResult radial_psd(const RasterD& z, const PsdOptions& opt) {
         }
     }
     PsdResult res;
-    res.fit_min_cpm = opt.fit_min_cpm > 0
-                          ? opt.fit_min_cpm
-                          : kDefaultFitMinCyclesPerExtent / std::min(wx, wy);
+    res.fit_min_cpm =
+        opt.fit_min_cpm > 0 ? opt.fit_min_cpm : kDefaultFitMinCyclesPerExtent / std::min(wx, wy);
     // By default the fit stops at the last annulus that lies wholly below Nyquist: a truncated
     // annulus averages a line spectrum over too few coefficients and biases the slope.
     res.fit_max_cpm = opt.fit_max_cpm > 0 ? opt.fit_max_cpm : nyquist / std::sqrt(opt.bin_ratio);

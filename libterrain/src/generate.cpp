@@ -17,8 +17,13 @@ using nlohmann::json;
 constexpr long long kMaxSide = 1LL << 20;
 
 json wm_json(const WMParams& p) {
-    return {{"M", p.M}, {"n_max", p.n_max}, {"gamma", p.gamma}, {"D", p.D},
-            {"L_m", p.L_m}, {"G_m", p.G_m}, {"phase_max_rad", p.phase_max_rad}};
+    return {{"M", p.M},
+            {"n_max", p.n_max},
+            {"gamma", p.gamma},
+            {"D", p.D},
+            {"L_m", p.L_m},
+            {"G_m", p.G_m},
+            {"phase_max_rad", p.phase_max_rad}};
 }
 
 WMParams wm_from(const json& j, WMParams d, const std::string& where) {
@@ -36,18 +41,15 @@ WMParams wm_from(const json& j, WMParams d, const std::string& where) {
 }
 
 json multifractal_json(const MultifractalParams& p) {
-    return {{"low", wm_json(p.low)},
-            {"mid", wm_json(p.mid)},
-            {"high", wm_json(p.high)},
-            {"filter_sigma_m", p.filter_sigma_m},
-            {"relief_m", p.relief_m},
-            {"base_elevation_m", p.base_elevation_m}};
+    return {{"low", wm_json(p.low)},   {"mid", wm_json(p.mid)},
+            {"high", wm_json(p.high)}, {"filter_sigma_m", p.filter_sigma_m},
+            {"relief_m", p.relief_m},  {"base_elevation_m", p.base_elevation_m}};
 }
 
 MultifractalParams multifractal_from(const json& j, const std::string& where) {
-    require_known_keys(j, {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m",
-                           "base_elevation_m"},
-                       where);
+    require_known_keys(
+        j, {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"},
+        where);
     MultifractalParams d;
     MultifractalParams p = d;
     if (j.contains("low")) p.low = wm_from(j["low"], d.low, where + ".low");
@@ -67,14 +69,17 @@ MultifractalParams multifractal_from(const json& j, const std::string& where) {
 }
 
 json perlin_json(const PerlinSurfaceParams& p) {
-    return {{"hi_wavelength_m", p.hi_wavelength_m}, {"hi_magnitude_m", p.hi_magnitude_m},
-            {"lo_wavelength_m", p.lo_wavelength_m}, {"lo_magnitude_m", p.lo_magnitude_m},
+    return {{"hi_wavelength_m", p.hi_wavelength_m},
+            {"hi_magnitude_m", p.hi_magnitude_m},
+            {"lo_wavelength_m", p.lo_wavelength_m},
+            {"lo_magnitude_m", p.lo_magnitude_m},
             {"mavs_compat", p.mavs_compat}};
 }
 PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
-    require_known_keys(j, {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m",
-                           "lo_magnitude_m", "mavs_compat"},
-                       where);
+    require_known_keys(
+        j,
+        {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m", "lo_magnitude_m", "mavs_compat"},
+        where);
     PerlinSurfaceParams d, p;
     p.hi_wavelength_m = get_number(j, "hi_wavelength_m", d.hi_wavelength_m, where);
     p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
@@ -86,8 +91,10 @@ PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
 }
 
 json gaussian_json(const GaussianSurfaceParams& p) {
-    return {{"rms_m", p.rms_m}, {"correlation_length_m", p.correlation_length_m},
-            {"lo_wavelength_m", p.lo_wavelength_m}, {"lo_magnitude_m", p.lo_magnitude_m}};
+    return {{"rms_m", p.rms_m},
+            {"correlation_length_m", p.correlation_length_m},
+            {"lo_wavelength_m", p.lo_wavelength_m},
+            {"lo_magnitude_m", p.lo_magnitude_m}};
 }
 GaussianSurfaceParams gaussian_from(const json& j, const std::string& where) {
     require_known_keys(j, {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"},
@@ -109,14 +116,16 @@ json variable_json(const VariableSurfaceParams& p) {
             {"mavs_compat", p.mavs_compat}};
 }
 VariableSurfaceParams variable_from(const json& j, const std::string& where) {
-    require_known_keys(j, {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
-                           "envelope_wavelength_m", "mavs_compat"},
+    require_known_keys(j,
+                       {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
+                        "envelope_wavelength_m", "mavs_compat"},
                        where);
     VariableSurfaceParams d, p;
     p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
     p.spectral_exponent = get_number(j, "spectral_exponent", d.spectral_exponent, where);
     p.max_wavelength_m = get_number(j, "max_wavelength_m", d.max_wavelength_m, where);
-    p.envelope_wavelength_m = get_number(j, "envelope_wavelength_m", d.envelope_wavelength_m, where);
+    p.envelope_wavelength_m =
+        get_number(j, "envelope_wavelength_m", d.envelope_wavelength_m, where);
     p.mavs_compat = get_bool(j, "mavs_compat", d.mavs_compat, where);
     if (p.mavs_compat && j.contains("spectral_exponent") && p.spectral_exponent != 3.0)
         throw InputError(where + ": mavs_compat fixes spectral_exponent at 3; do not set both");
@@ -134,8 +143,10 @@ FbmParams fbm_from(const json& j, const std::string& where) {
     if (j.contains("D") && j.contains("hurst") &&
         std::abs(j["D"].get<double>() + j["hurst"].get<double>() - 3.0) > 1e-12)
         throw InputError(where + ": D and hurst disagree (D = 3 - hurst); give one");
-    if (j.contains("D")) p = FbmParams::from_dimension(get_number(j, "D", 2.3, where), rms);
-    else p = FbmParams{get_number(j, "hurst", d.hurst, where), rms};
+    if (j.contains("D"))
+        p = FbmParams::from_dimension(get_number(j, "D", 2.3, where), rms);
+    else
+        p = FbmParams{get_number(j, "hurst", d.hurst, where), rms};
     validate(p);
     return p;
 }
@@ -155,16 +166,18 @@ const std::vector<std::string>& terrain_methods() {
 }
 
 json resolve_terrain_spec(const json& spec) {
-    require_known_keys(spec, {"method", "preset", "nx", "ny", "size", "cell_size_m", "origin_x_m",
-                              "origin_y_m", "seed", "params"},
+    require_known_keys(spec,
+                       {"method", "preset", "nx", "ny", "size", "cell_size_m", "origin_x_m",
+                        "origin_y_m", "seed", "params"},
                        "");
     std::string preset = get_string(spec, "preset", "", "");
     if (!preset.empty() && preset != "majhor2023")
         throw InputError("preset: unknown preset '" + preset + "' (known: majhor2023)");
     std::string method = get_string(spec, "method", preset.empty() ? "" : "multifractal", "");
-    if (method.empty()) throw InputError("method: no generation method given (" +
-                                         std::string("multifractal, wm, perlin, gaussian, "
-                                                     "variable, fbm)"));
+    if (method.empty())
+        throw InputError("method: no generation method given (" +
+                         std::string("multifractal, wm, perlin, gaussian, "
+                                     "variable, fbm)"));
     const auto& ms = terrain_methods();
     if (std::find(ms.begin(), ms.end(), method) == ms.end()) {
         std::string best;
@@ -191,16 +204,26 @@ json resolve_terrain_spec(const json& spec) {
     const json params = spec.value("params", json::object());
     const std::string where = "params";
     json p;
-    if (method == "multifractal") p = multifractal_json(multifractal_from(params, where));
-    else if (method == "wm") p = wm_json(wm_from(params, WMParams{}, where));
-    else if (method == "perlin") p = perlin_json(perlin_from(params, where));
-    else if (method == "gaussian") p = gaussian_json(gaussian_from(params, where));
-    else if (method == "variable") p = variable_json(variable_from(params, where));
-    else p = fbm_json(fbm_from(params, where));
-    json r = {{"method", method},      {"nx", g.nx},
-              {"ny", g.ny},            {"cell_size_m", g.cell_size_m},
-              {"origin_x_m", g.origin_x_m}, {"origin_y_m", g.origin_y_m},
-              {"seed", seed},          {"params", p}};
+    if (method == "multifractal")
+        p = multifractal_json(multifractal_from(params, where));
+    else if (method == "wm")
+        p = wm_json(wm_from(params, WMParams{}, where));
+    else if (method == "perlin")
+        p = perlin_json(perlin_from(params, where));
+    else if (method == "gaussian")
+        p = gaussian_json(gaussian_from(params, where));
+    else if (method == "variable")
+        p = variable_json(variable_from(params, where));
+    else
+        p = fbm_json(fbm_from(params, where));
+    json r = {{"method", method},
+              {"nx", g.nx},
+              {"ny", g.ny},
+              {"cell_size_m", g.cell_size_m},
+              {"origin_x_m", g.origin_x_m},
+              {"origin_y_m", g.origin_y_m},
+              {"seed", seed},
+              {"params", p}};
     if (!preset.empty()) r["preset"] = preset;
     if (method == "fbm") r["params"].erase("D"); // hurst is the resolved key
     return r;
@@ -216,8 +239,8 @@ std::vector<std::string> terrain_param_keys(const std::string& method) {
     if (method == "gaussian")
         return {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"};
     if (method == "variable")
-        return {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
-                "envelope_wavelength_m", "mavs_compat"};
+        return {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m", "envelope_wavelength_m",
+                "mavs_compat"};
     if (method == "fbm") return {"hurst", "D", "rms_m"};
     throw InputError("unknown method '" + method + "'");
 }

@@ -54,8 +54,8 @@ double get_number(const nlohmann::json& obj, const std::string& key, double fall
         throw InputError(key_path(where, key) + " must be a number, got " + v.dump());
     const double d = v.get<double>();
     if (!(d >= min && d <= max))
-        throw InputError(key_path(where, key) + " = " + num(d) + " is outside [" + num(min) +
-                         ", " + num(max) + "]");
+        throw InputError(key_path(where, key) + " = " + num(d) + " is outside [" + num(min) + ", " +
+                         num(max) + "]");
     return d;
 }
 
@@ -63,7 +63,8 @@ long long get_integer(const nlohmann::json& obj, const std::string& key, long lo
                       const std::string& where, long long min, long long max) {
     if (!obj.contains(key)) return fallback;
     const auto& v = obj.at(key);
-    if (!v.is_number_integer() && !(v.is_number() && v.get<double>() == std::floor(v.get<double>())))
+    if (!v.is_number_integer() &&
+        !(v.is_number() && v.get<double>() == std::floor(v.get<double>())))
         throw InputError(key_path(where, key) + " must be an integer, got " + v.dump());
     const long long d = v.get<long long>();
     if (d < min || d > max)
@@ -85,7 +86,8 @@ std::string get_string(const nlohmann::json& obj, const std::string& key,
                        const std::string& fallback, const std::string& where) {
     if (!obj.contains(key)) return fallback;
     const auto& v = obj.at(key);
-    if (!v.is_string()) throw InputError(key_path(where, key) + " must be a string, got " + v.dump());
+    if (!v.is_string())
+        throw InputError(key_path(where, key) + " must be a string, got " + v.dump());
     return v.get<std::string>();
 }
 

@@ -81,8 +81,8 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
         m.goal_y_m = gy;
         m.heading_deg = heading;
         m.length_m = opt.length_m;
-        const int steps =
-            std::max(1, static_cast<int>(std::ceil(opt.length_m / (kPathStepCells * g.cell_size_m))));
+        const int steps = std::max(
+            1, static_cast<int>(std::ceil(opt.length_m / (kPathStepCells * g.cell_size_m))));
         std::array<int, 3> n{0, 0, 0};
         for (int k = 0; k <= steps; ++k) {
             const double t = static_cast<double>(k) / steps;
@@ -110,9 +110,9 @@ std::string missions_csv(const std::vector<Mission>& missions) {
     s << std::setprecision(10);
     for (const auto& m : missions)
         s << m.id << ',' << m.start_x_m << ',' << m.start_y_m << ',' << m.goal_x_m << ','
-          << m.goal_y_m << ',' << m.heading_deg << ',' << m.length_m << ','
-          << m.class_fraction[0] << ',' << m.class_fraction[1] << ',' << m.class_fraction[2]
-          << ',' << m.classes_crossed << '\n';
+          << m.goal_y_m << ',' << m.heading_deg << ',' << m.length_m << ',' << m.class_fraction[0]
+          << ',' << m.class_fraction[1] << ',' << m.class_fraction[2] << ',' << m.classes_crossed
+          << '\n';
     return s.str();
 }
 

@@ -36,7 +36,9 @@ void require_nonnegative(double v, const char* name) {
         throw InputError(std::string(name) + " must be >= 0, got " + num(v));
 }
 
-double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+double fade(double t) {
+    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+}
 
 /// Fills a raster by evaluating f(x, y) at every cell centre, rows in parallel.
 template <class F>
@@ -112,25 +114,25 @@ void validate(const VariableSurfaceParams& p) {
 RasterD perlin_surface(const GridSpec& grid, const PerlinSurfaceParams& p, std::uint64_t seed) {
     validate(p);
     const Perlin2D hi(seed, 0), lo(seed, 1);
-    const double hi_wl = p.mavs_compat ? kMavsHiWavelengthFactor * p.hi_wavelength_m
-                                       : p.hi_wavelength_m;
-    const double hi_mag = p.mavs_compat ? kMavsHiMagnitudeFactor * p.hi_magnitude_m
-                                        : p.hi_magnitude_m;
+    const double hi_wl =
+        p.mavs_compat ? kMavsHiWavelengthFactor * p.hi_wavelength_m : p.hi_wavelength_m;
+    const double hi_mag =
+        p.mavs_compat ? kMavsHiMagnitudeFactor * p.hi_magnitude_m : p.hi_magnitude_m;
     return evaluate(grid, [&](double x, double y) {
         return hi_mag * hi(x / hi_wl, y / hi_wl) +
                p.lo_magnitude_m * lo(x / p.lo_wavelength_m, y / p.lo_wavelength_m);
     });
 }
 
-RasterD gaussian_surface(const GridSpec& grid, const GaussianSurfaceParams& p,
-                         std::uint64_t seed) {
+RasterD gaussian_surface(const GridSpec& grid, const GaussianSurfaceParams& p, std::uint64_t seed) {
     validate(p);
     grid.validate("surface grid");
     // Spectral synthesis on a grid padded by a few correlation lengths (the FFT field is periodic;
     // the padding keeps the wrap-around out of the part that is kept).
     const double beta = p.correlation_length_m;
-    const int pad = static_cast<int>(
-        std::min(std::ceil(kGaussianPadLengths * beta / grid.cell_size_m), 4.0 * std::max(grid.nx, grid.ny)));
+    const int pad =
+        static_cast<int>(std::min(std::ceil(kGaussianPadLengths * beta / grid.cell_size_m),
+                                  4.0 * std::max(grid.nx, grid.ny)));
     const GridSpec big{grid.nx + pad, grid.ny + pad, grid.cell_size_m, 0.0, 0.0};
     ensure_fits_in_memory(big.size(), 8.0 * 4, "surface grid");
     const double wx = big.width_m(), wy = big.height_m();
@@ -175,8 +177,7 @@ std::vector<double> variable_octave_wavelengths(const GridSpec& grid,
     return wl;
 }
 
-RasterD variable_surface(const GridSpec& grid, const VariableSurfaceParams& p,
-                         std::uint64_t seed) {
+RasterD variable_surface(const GridSpec& grid, const VariableSurfaceParams& p, std::uint64_t seed) {
     validate(p);
     const auto wl = variable_octave_wavelengths(grid, p);
     const double alpha = p.mavs_compat ? 3.0 : p.spectral_exponent;

@@ -20,7 +20,8 @@ Rgb viridis(double t) {
     const int k = std::min(7, static_cast<int>(t));
     const double f = t - k;
     auto c = [&](int ch) {
-        return static_cast<std::uint8_t>(std::lround(kViridis[k][ch] * (1 - f) + kViridis[k + 1][ch] * f));
+        return static_cast<std::uint8_t>(
+            std::lround(kViridis[k][ch] * (1 - f) + kViridis[k + 1][ch] * f));
     };
     return {c(0), c(1), c(2)};
 }
@@ -61,7 +62,8 @@ Image classes_image(const RasterU8& classes, const RasterD* shade, int border_ce
             double f = 1.0;
             if (shade && !std::isnan((*shade)(i, j))) f = 0.55 + 0.45 * (*shade)(i, j);
             const bool border = i < border_cells || j < border_cells ||
-                                i >= classes.nx() - border_cells || j >= classes.ny() - border_cells;
+                                i >= classes.nx() - border_cells ||
+                                j >= classes.ny() - border_cells;
             if (border) f *= 0.45;
             p = {static_cast<std::uint8_t>(p.r * f), static_cast<std::uint8_t>(p.g * f),
                  static_cast<std::uint8_t>(p.b * f)};

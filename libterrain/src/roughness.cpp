@@ -23,10 +23,12 @@ std::array<double, 2> horn_gradient(const RasterD& z, int i, int j) {
         return std::isnan(v) ? c : v;
     };
     const double h = z.cell_size();
-    const double dzdx = ((at(1, 1) + 2 * at(1, 0) + at(1, -1)) -
-                         (at(-1, 1) + 2 * at(-1, 0) + at(-1, -1))) / (8 * h);
-    const double dzdy = ((at(-1, 1) + 2 * at(0, 1) + at(1, 1)) -
-                         (at(-1, -1) + 2 * at(0, -1) + at(1, -1))) / (8 * h);
+    const double dzdx =
+        ((at(1, 1) + 2 * at(1, 0) + at(1, -1)) - (at(-1, 1) + 2 * at(-1, 0) + at(-1, -1))) /
+        (8 * h);
+    const double dzdy =
+        ((at(-1, 1) + 2 * at(0, 1) + at(1, 1)) - (at(-1, -1) + 2 * at(0, -1) + at(1, -1))) /
+        (8 * h);
     return {dzdx, dzdy};
 }
 
@@ -61,8 +63,8 @@ RmsResult rms_roughness(const RasterD& z, const RmsOptions& opt) {
     RasterD local = box_mean(z, opt.detrend_window_m);
     RasterD resid(z.grid());
     resid.array() = z.array() - local.array();
-    r.rms_detrended_m =
-        rms_about_zero(resid, static_cast<int>(std::ceil(0.5 * opt.detrend_window_m / z.cell_size())));
+    r.rms_detrended_m = rms_about_zero(
+        resid, static_cast<int>(std::ceil(0.5 * opt.detrend_window_m / z.cell_size())));
 
     const double sigma_long = gaussian_sigma_for_cutoff(opt.band_long_cutoff_m);
     RasterD longwave = gaussian_filter(z, sigma_long);
@@ -118,7 +120,7 @@ RasterU8 classify_gradient(const RasterD& g, const ClassThresholds& t) {
     RasterU8 c(g.grid(), 0);
     for (std::int64_t k = 0; k < g.size(); ++k) {
         const double v = g.data()[k];
-        RoughnessClass cl = std::isnan(v)  ? RoughnessClass::nodata
+        RoughnessClass cl = std::isnan(v) ? RoughnessClass::nodata
                             : v <= t.low  ? RoughnessClass::low
                             : v <= t.high ? RoughnessClass::semi
                                           : RoughnessClass::high;

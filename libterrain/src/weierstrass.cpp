@@ -36,9 +36,9 @@ int resolve_nmax(const GridSpec& grid, const WMParams& p, std::vector<std::strin
     }
     if (p.n_max > nyq)
         warnings.push_back("W-M: n_max = " + std::to_string(p.n_max) +
-                           " is above the Nyquist cutoff " + std::to_string(nyq) +
-                           " for cell " + num(grid.cell_size_m) + " m; terms n > " +
-                           std::to_string(nyq) + " alias into pseudo-noise on the grid");
+                           " is above the Nyquist cutoff " + std::to_string(nyq) + " for cell " +
+                           num(grid.cell_size_m) + " m; terms n > " + std::to_string(nyq) +
+                           " alias into pseudo-noise on the grid");
     return p.n_max;
 }
 
@@ -119,8 +119,8 @@ WMResult wm_generate(const GridSpec& grid, const WMParams& p, const Eigen::Matri
         }
     res.terms_negligible = p.M * (n_max - n_used);
     if (res.terms_negligible > 0)
-        res.warnings.push_back("W-M: " + std::to_string(res.terms_negligible) +
-                               " terms with n > " + std::to_string(n_used) +
+        res.warnings.push_back("W-M: " + std::to_string(res.terms_negligible) + " terms with n > " +
+                               std::to_string(n_used) +
                                " are below 1e-17 of the n = 1 amplitude and were skipped");
     const int T = p.M * n_used;
     res.terms_evaluated = T;
@@ -190,8 +190,7 @@ void validate(const MultifractalParams& p) {
     validate(p.mid);
     validate(p.high);
     if (!(p.filter_sigma_m >= 0.0) || !std::isfinite(p.filter_sigma_m))
-        throw InputError("multifractal: filter sigma must be >= 0 m, got " +
-                         num(p.filter_sigma_m));
+        throw InputError("multifractal: filter sigma must be >= 0 m, got " + num(p.filter_sigma_m));
     if (!(p.relief_m > 0.0) || !std::isfinite(p.relief_m))
         throw InputError("multifractal: relief must be > 0 m, got " + num(p.relief_m));
     if (!std::isfinite(p.base_elevation_m))
@@ -231,6 +230,8 @@ MultifractalParams majhor2023_params(double d_high) {
     return p;
 }
 
-GridSpec majhor2023_grid() { return GridSpec{1009, 1009, 0.05, 0.0, 0.0}; }
+GridSpec majhor2023_grid() {
+    return GridSpec{1009, 1009, 0.05, 0.0, 0.0};
+}
 
 } // namespace ecoterra::terrain

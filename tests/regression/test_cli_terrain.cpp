@@ -22,8 +22,8 @@ struct Run {
 };
 
 Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
-    const std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" ECOTERRA_BIN "' " +
-                            args + " 2>&1";
+    const std::string cmd =
+        "cd '" + dir.path().string() + "' && " + env + " '" ECOTERRA_BIN "' " + args + " 2>&1";
     Run r;
     FILE* p = popen(cmd.c_str(), "r");
     REQUIRE(p != nullptr);
@@ -34,7 +34,9 @@ Run run(const TempDir& dir, const std::string& args, const std::string& env = ""
     return r;
 }
 
-std::string slurp(const std::filesystem::path& p) { return terrain::io::read_text(p); }
+std::string slurp(const std::filesystem::path& p) {
+    return terrain::io::read_text(p);
+}
 } // namespace
 
 TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]") {
@@ -55,7 +57,8 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
         REQUIRE(r.code == 0);
     }
     const auto rep = parse_json(slurp(d / "report.json"), "report.json");
-    for (const char* k : {"rms_m", "rms_detrended_m", "classes_pct", "fractal_dimension", "psd_slope"})
+    for (const char* k :
+         {"rms_m", "rms_detrended_m", "classes_pct", "fractal_dimension", "psd_slope"})
         CHECK(rep.contains(k));
     for (const char* k : {"low", "semi", "high"}) CHECK(rep["classes_pct"].contains(k));
     CHECK(rep["fractal_dimension"].contains("value"));
@@ -81,9 +84,9 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
 
 TEST_CASE("Generation is deterministic across runs and thread counts", "[cli][determinism]") {
     TempDir d;
-    for (const char* m : {"multifractal --size 129 --cell 0.05", "gaussian --size 100",
-                          "variable --size 100", "fbm --size 64", "perlin --size 100",
-                          "wm --size 100 --cell 0.05"}) {
+    for (const char* m :
+         {"multifractal --size 129 --cell 0.05", "gaussian --size 100", "variable --size 100",
+          "fbm --size 64", "perlin --size 100", "wm --size 100 --cell 0.05"}) {
         const std::string base = std::string("terrain generate --method ") + m + " --seed 5 -o ";
         REQUIRE(run(d, base + "a.asc", "OMP_NUM_THREADS=1").code == 0);
         REQUIRE(run(d, base + "b.asc", "OMP_NUM_THREADS=2").code == 0);
@@ -126,7 +129,8 @@ TEST_CASE("Bad input: clear errors, non-zero exit, earlier output kept", "[cli][
         std::ofstream(d / "nodata.asc") << "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\n"
                                            "cellsize 1\nNODATA_value -9999\n-9999 -9999\n"
                                            "-9999 -9999\n";
-        std::ofstream(d / "bad.json") << "{\"method\": \"wm\", \"params\": {\"D\": 2.4, \"Gm\": 1}}";
+        std::ofstream(d / "bad.json")
+            << "{\"method\": \"wm\", \"params\": {\"D\": 2.4, \"Gm\": 1}}";
     }
     Run r = run(d, "terrain analyze nodata.asc");
     CHECK(r.code != 0);

@@ -28,6 +28,8 @@ private:
 };
 
 /// The folder holding the repository's data/ (set by CMake).
-inline std::filesystem::path data_dir() { return ECOTERRA_DATA_DIR; }
+inline std::filesystem::path data_dir() {
+    return ECOTERRA_DATA_DIR;
+}
 
 } // namespace ecoterra::test

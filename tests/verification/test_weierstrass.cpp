@@ -15,11 +15,14 @@ using namespace ecoterra::terrain;
 namespace {
 constexpr double kRel = 1e-6; // the tolerance for the oracle values
 
-Eigen::MatrixXd zero_phases(int M, int n) { return Eigen::MatrixXd::Zero(M, n); }
+Eigen::MatrixXd zero_phases(int M, int n) {
+    return Eigen::MatrixXd::Zero(M, n);
+}
 Eigen::MatrixXd mn_phases(int M, int n) {
     Eigen::MatrixXd p(M, n);
     for (int m = 1; m <= M; ++m)
-        for (int k = 1; k <= n; ++k) p(m - 1, k - 1) = std::fmod(double(m) * k, 2 * std::numbers::pi);
+        for (int k = 1; k <= n; ++k)
+            p(m - 1, k - 1) = std::fmod(double(m) * k, 2 * std::numbers::pi);
     return p;
 }
 } // namespace
@@ -39,8 +42,10 @@ TEST_CASE("W-M oracle, case a: all phases zero", "[wm][verification]") {
     };
     for (const auto& r : rows) {
         CAPTURE(r.x, r.y);
-        CHECK(wm_evaluate_point(low, zero_phases(16, 17), r.x, r.y) == Approx(r.low17).epsilon(kRel));
-        CHECK(wm_evaluate_point(low, zero_phases(16, 60), r.x, r.y) == Approx(r.low60).epsilon(kRel));
+        CHECK(wm_evaluate_point(low, zero_phases(16, 17), r.x, r.y) ==
+              Approx(r.low17).epsilon(kRel));
+        CHECK(wm_evaluate_point(low, zero_phases(16, 60), r.x, r.y) ==
+              Approx(r.low60).epsilon(kRel));
         CHECK(wm_evaluate_point(high, zero_phases(64, 17), r.x, r.y) ==
               Approx(r.high17).epsilon(kRel));
         CHECK(wm_evaluate_point(high, zero_phases(64, 60), r.x, r.y) ==

@@ -89,7 +89,9 @@ public:
     void set_state(const std::array<std::uint64_t, 4>& s) { m_state = s; }
 
 private:
-    static constexpr std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+    static constexpr std::uint64_t rotl(std::uint64_t x, int k) {
+        return (x << k) | (x >> (64 - k));
+    }
     std::array<std::uint64_t, 4> m_state{};
 };
 

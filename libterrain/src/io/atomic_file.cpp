@@ -40,8 +40,9 @@ AtomicOutput::~AtomicOutput() {
 void AtomicOutput::commit() {
     std::error_code ec;
     fs::rename(m_temp, m_target, ec);
-    if (ec) throw IoError(m_target.string() + ": cannot move the finished file into place: " +
-                          ec.message());
+    if (ec)
+        throw IoError(m_target.string() +
+                      ": cannot move the finished file into place: " + ec.message());
     m_committed = true;
 }
 
@@ -49,7 +50,8 @@ void write_text_atomic(const fs::path& target, const std::string& text) {
     AtomicOutput out(target);
     {
         std::ofstream f(out.temp_path(), std::ios::binary);
-        if (!f) throw IoError(target.string() + ": cannot open for writing: " + std::strerror(errno));
+        if (!f)
+            throw IoError(target.string() + ": cannot open for writing: " + std::strerror(errno));
         f << text;
         f.flush();
         if (!f) throw IoError(target.string() + ": write failed (disk full?)");

@@ -39,8 +39,8 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
     std::map<std::string, std::string> h;
     std::string key;
     // Header: key value pairs until the first token that is not a known key.
-    const char* keys[] = {"ncols", "nrows", "xllcorner", "yllcorner", "xllcenter", "yllcenter",
-                          "cellsize", "nodata_value", "dx", "dy"};
+    const char* keys[] = {"ncols",     "nrows",    "xllcorner",    "yllcorner", "xllcenter",
+                          "yllcenter", "cellsize", "nodata_value", "dx",        "dy"};
     std::streampos data_start = in.tellg();
     while (in >> key) {
         const std::string k = lower(key);
@@ -58,7 +58,8 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
     if (h.count("cellsize")) {
         g.cell_size_m = parse_number(h["cellsize"], where, "cellsize");
     } else if (h.count("dx") && h.count("dy")) {
-        const double dx = parse_number(h["dx"], where, "dx"), dy = parse_number(h["dy"], where, "dy");
+        const double dx = parse_number(h["dx"], where, "dx"),
+                     dy = parse_number(h["dy"], where, "dy");
         if (std::abs(dx - dy) > 1e-9 * std::abs(dx))
             throw IoError(where + ": non-square cells (dx " + h["dx"] + ", dy " + h["dy"] +
                           ") are not supported");
@@ -66,17 +67,21 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
     } else {
         throw IoError(where + ": header lacks cellsize");
     }
-    if (h.count("xllcorner")) g.origin_x_m = parse_number(h["xllcorner"], where, "xllcorner");
+    if (h.count("xllcorner"))
+        g.origin_x_m = parse_number(h["xllcorner"], where, "xllcorner");
     else if (h.count("xllcenter"))
         g.origin_x_m = parse_number(h["xllcenter"], where, "xllcenter") - 0.5 * g.cell_size_m;
-    else throw IoError(where + ": header lacks xllcorner or xllcenter");
-    if (h.count("yllcorner")) g.origin_y_m = parse_number(h["yllcorner"], where, "yllcorner");
+    else
+        throw IoError(where + ": header lacks xllcorner or xllcenter");
+    if (h.count("yllcorner"))
+        g.origin_y_m = parse_number(h["yllcorner"], where, "yllcorner");
     else if (h.count("yllcenter"))
         g.origin_y_m = parse_number(h["yllcenter"], where, "yllcenter") - 0.5 * g.cell_size_m;
-    else throw IoError(where + ": header lacks yllcorner or yllcenter");
-    const double nodata =
-        h.count("nodata_value") ? parse_number(h["nodata_value"], where, "nodata_value")
-                                : kDefaultNodata;
+    else
+        throw IoError(where + ": header lacks yllcorner or yllcenter");
+    const double nodata = h.count("nodata_value")
+                              ? parse_number(h["nodata_value"], where, "nodata_value")
+                              : kDefaultNodata;
     g.validate(where);
     ensure_fits_in_memory(g.size(), 16.0, where);
     RasterD z(g, 0.0);
@@ -90,9 +95,8 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
                 throw IoError(where + ": data ends early at row " + std::to_string(r + 1) +
                               ", column " + std::to_string(i + 1) + " (expected " +
                               std::to_string(g.nx) + " x " + std::to_string(g.ny) + " values)");
-            const double v = parse_number(tok, where,
-                                          "row " + std::to_string(r + 1) + " column " +
-                                              std::to_string(i + 1));
+            const double v = parse_number(
+                tok, where, "row " + std::to_string(r + 1) + " column " + std::to_string(i + 1));
             z(i, j) = (v == nodata) ? std::nan("") : v;
         }
     }
@@ -106,8 +110,9 @@ void write_esri_ascii(const RasterD& z, const std::filesystem::path& path) {
     {
         std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
         if (!f) throw IoError(path.string() + ": cannot open for writing");
-        std::fprintf(f, "ncols %d\nnrows %d\nxllcorner %.10g\nyllcorner %.10g\ncellsize %.10g\n"
-                        "NODATA_value %.10g\n",
+        std::fprintf(f,
+                     "ncols %d\nnrows %d\nxllcorner %.10g\nyllcorner %.10g\ncellsize %.10g\n"
+                     "NODATA_value %.10g\n",
                      z.nx(), z.ny(), z.grid().origin_x_m, z.grid().origin_y_m, z.cell_size(),
                      kDefaultNodata);
         for (int j = z.ny() - 1; j >= 0; --j) {
@@ -118,7 +123,8 @@ void write_esri_ascii(const RasterD& z, const std::filesystem::path& path) {
             std::fputc('\n', f);
         }
         const bool bad = std::ferror(f) != 0;
-        if (std::fclose(f) != 0 || bad) throw IoError(path.string() + ": write failed (disk full?)");
+        if (std::fclose(f) != 0 || bad)
+            throw IoError(path.string() + ": write failed (disk full?)");
     }
     out.commit();
 }

@@ -53,7 +53,12 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     if (GDALGetRasterCount(ds.get()) < 1) throw IoError(where + ": has no raster band");
     double gt[6];
     if (GDALGetGeoTransform(ds.get(), gt) != CE_None) {
-        gt[0] = 0; gt[1] = 1; gt[2] = 0; gt[3] = ny; gt[4] = 0; gt[5] = -1;
+        gt[0] = 0;
+        gt[1] = 1;
+        gt[2] = 0;
+        gt[3] = ny;
+        gt[4] = 0;
+        gt[5] = -1;
     }
     if (gt[2] != 0.0 || gt[4] != 0.0)
         throw IoError(where + ": rotated rasters are not supported (geotransform terms " +
@@ -78,8 +83,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     int has_nodata = 0;
     const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
     std::vector<double> buf(static_cast<std::size_t>(g.size()));
-    if (GDALRasterIO(band, GF_Read, 0, 0, nx, ny, buf.data(), nx, ny, GDT_Float64, 0, 0) !=
-        CE_None)
+    if (GDALRasterIO(band, GF_Read, 0, 0, nx, ny, buf.data(), nx, ny, GDT_Float64, 0, 0) != CE_None)
         throw IoError(where + ": GDAL read failed: " + QuietGdal::last());
     RasterD z(g, 0.0);
     for (int r = 0; r < ny; ++r) {
@@ -117,9 +121,10 @@ void write_geotiff(const RasterD& z, const std::filesystem::path& path) {
     std::vector<float> buf(static_cast<std::size_t>(z.size()));
     for (int r = 0; r < z.ny(); ++r)
         for (int i = 0; i < z.nx(); ++i)
-            buf[static_cast<std::size_t>(r) * z.nx() + i] = static_cast<float>(z(i, z.ny() - 1 - r));
-    if (GDALRasterIO(band, GF_Write, 0, 0, z.nx(), z.ny(), buf.data(), z.nx(), z.ny(),
-                     GDT_Float32, 0, 0) != CE_None)
+            buf[static_cast<std::size_t>(r) * z.nx() + i] =
+                static_cast<float>(z(i, z.ny() - 1 - r));
+    if (GDALRasterIO(band, GF_Write, 0, 0, z.nx(), z.ny(), buf.data(), z.nx(), z.ny(), GDT_Float32,
+                     0, 0) != CE_None)
         throw IoError(path.string() + ": GDAL write failed: " + QuietGdal::last());
     ds.reset(); // flush and close before the rename
     if (CPLGetLastErrorType() >= CE_Failure)

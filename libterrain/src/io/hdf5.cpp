@@ -48,8 +48,7 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
     try {
         if (!H5::H5File::isHdf5(where)) throw IoError(where + ": not an HDF5 file");
         H5::H5File f(where, H5F_ACC_RDONLY);
-        if (!f.nameExists(dataset))
-            throw IoError(where + ": has no dataset " + dataset);
+        if (!f.nameExists(dataset)) throw IoError(where + ": has no dataset " + dataset);
         H5::DataSet ds = f.openDataSet(dataset);
         H5::DataSpace sp = ds.getSpace();
         if (sp.getSimpleExtentNdims() != 2)
@@ -66,8 +65,10 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
         g.validate(where + " " + dataset);
         const std::string order = read_string_attr(ds, "row_order");
         if (!order.empty() && order != "south_to_north" && order != "north_to_south")
-            throw IoError(where + ": attribute row_order must be south_to_north or "
-                                  "north_to_south, got '" + order + "'");
+            throw IoError(where +
+                          ": attribute row_order must be south_to_north or "
+                          "north_to_south, got '" +
+                          order + "'");
         ensure_fits_in_memory(g.size(), 12.0, where);
         RasterD z(g, 0.0);
         ds.read(z.data(), H5::PredType::NATIVE_DOUBLE);

@@ -16,8 +16,8 @@ void write_obj(const RasterD& z, const std::filesystem::path& path) {
     {
         std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
         if (!f) throw IoError(path.string() + ": cannot open for writing");
-        std::fprintf(f, "# ecoterra terrain mesh: %d x %d cells of %.9g m, Z up, metres\n",
-                     z.nx(), z.ny(), z.cell_size());
+        std::fprintf(f, "# ecoterra terrain mesh: %d x %d cells of %.9g m, Z up, metres\n", z.nx(),
+                     z.ny(), z.cell_size());
         std::fprintf(f, "o terrain\n");
         std::vector<std::int64_t> index(static_cast<std::size_t>(z.size()), 0);
         std::int64_t next = 1;
@@ -31,13 +31,14 @@ void write_obj(const RasterD& z, const std::filesystem::path& path) {
         for (int j = 0; j + 1 < z.ny(); ++j)
             for (int i = 0; i + 1 < z.nx(); ++i) {
                 const auto a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-                if (a && b && c) std::fprintf(f, "f %lld %lld %lld\n", (long long)a, (long long)b,
-                                              (long long)c);
-                if (a && c && d) std::fprintf(f, "f %lld %lld %lld\n", (long long)a, (long long)c,
-                                              (long long)d);
+                if (a && b && c)
+                    std::fprintf(f, "f %lld %lld %lld\n", (long long)a, (long long)b, (long long)c);
+                if (a && c && d)
+                    std::fprintf(f, "f %lld %lld %lld\n", (long long)a, (long long)c, (long long)d);
             }
         const bool bad = std::ferror(f) != 0;
-        if (std::fclose(f) != 0 || bad) throw IoError(path.string() + ": write failed (disk full?)");
+        if (std::fclose(f) != 0 || bad)
+            throw IoError(path.string() + ": write failed (disk full?)");
     }
     out.commit();
 }
@@ -64,7 +65,8 @@ RasterD read_obj(const std::filesystem::path& path) {
     for (auto& p : v) xs.insert(p[0]), ys.insert(p[1]);
     auto spacing = [&](const std::set<double>& s) {
         double h = std::numeric_limits<double>::infinity();
-        for (auto it = std::next(s.begin()); it != s.end(); ++it) h = std::min(h, *it - *std::prev(it));
+        for (auto it = std::next(s.begin()); it != s.end(); ++it)
+            h = std::min(h, *it - *std::prev(it));
         return h;
     };
     const double hx = spacing(xs), hy = spacing(ys);

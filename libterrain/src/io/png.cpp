@@ -37,8 +37,8 @@ std::string write_png_raw(const char* file, int w, int h, int bit_depth, int col
     PngError err;
     std::FILE* fp = std::fopen(file, "wb");
     if (!fp) return std::string("cannot open for writing: ") + std::strerror(errno);
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error,
-                                              on_png_warning);
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error, on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     std::vector<png_bytep> ptrs(static_cast<std::size_t>(h));
     for (int y = 0; y < h; ++y)
@@ -74,8 +74,8 @@ std::string read_png_raw(const char* file, RawPng& out) {
         std::fclose(fp);
         return "not a PNG file";
     }
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error,
-                                             on_png_warning);
+    png_structp png =
+        png_create_read_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error, on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     std::vector<png_bytep> ptrs;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
@@ -129,10 +129,9 @@ void encode_png16(const RasterD& z, const std::filesystem::path& path, const Wri
     for (int r = 0; r < z.ny(); ++r)
         for (int i = 0; i < z.nx(); ++i) {
             const double v = z(i, z.ny() - 1 - r);
-            const auto code = std::isnan(v)
-                                  ? std::uint16_t{0}
-                                  : static_cast<std::uint16_t>(std::lround(
-                                        std::clamp((v - offset) / scale, lo_code, kUint16Max)));
+            const auto code = std::isnan(v) ? std::uint16_t{0}
+                                            : static_cast<std::uint16_t>(std::lround(std::clamp(
+                                                  (v - offset) / scale, lo_code, kUint16Max)));
             const std::size_t k = (static_cast<std::size_t>(r) * z.nx() + i) * 2;
             rows[k] = static_cast<std::uint8_t>(code >> 8);
             rows[k + 1] = static_cast<std::uint8_t>(code & 0xff);
@@ -188,7 +187,9 @@ std::filesystem::path png_sidecar_path(const std::filesystem::path& png) {
     return std::filesystem::path(png.string() + ".json");
 }
 
-bool is_unreal_landscape_size(int n) { return unreal_side_ok(n); }
+bool is_unreal_landscape_size(int n) {
+    return unreal_side_ok(n);
+}
 
 int gazebo_side_for(int n) {
     int s = 2;
@@ -216,12 +217,11 @@ void write_gazebo_png(const RasterD& z, const std::filesystem::path& path,
         GridSpec g{side, side, h, z.grid().x_of(0) - 0.5 * h, z.grid().y_of(0) - 0.5 * h};
         out = RasterD(g, 0.0);
         for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i)
-                out(i, j) = z.sample_bilinear(g.x_of(i), g.y_of(j));
+            for (int i = 0; i < side; ++i) out(i, j) = z.sample_bilinear(g.x_of(i), g.y_of(j));
         if (opt.warnings)
-            opt.warnings->push_back(path.string() + ": resampled " + std::to_string(z.nx()) +
-                                    "x" + std::to_string(z.ny()) + " to " + std::to_string(side) +
-                                    "x" + std::to_string(side) +
+            opt.warnings->push_back(path.string() + ": resampled " + std::to_string(z.nx()) + "x" +
+                                    std::to_string(z.ny()) + " to " + std::to_string(side) + "x" +
+                                    std::to_string(side) +
                                     " (Gazebo needs a square of side 2^n + 1)");
     }
     const auto s = stats(out);
@@ -229,12 +229,12 @@ void write_gazebo_png(const RasterD& z, const std::filesystem::path& path,
     nlohmann::json gz = {
         {"gazebo",
          {{"size_m", {size_xy, size_xy, s.max - s.min}},
-          {"pos_m", {out.grid().x_of(0) + 0.5 * size_xy, out.grid().y_of(0) + 0.5 * size_xy,
-                     s.min}},
+          {"pos_m",
+           {out.grid().x_of(0) + 0.5 * size_xy, out.grid().y_of(0) + 0.5 * size_xy, s.min}},
           {"sdf", "<heightmap><uri>" + path.filename().string() + "</uri><size>" +
                       std::to_string(size_xy) + " " + std::to_string(size_xy) + " " +
-                      std::to_string(s.max - s.min) + "</size><pos>0 0 " +
-                      std::to_string(s.min) + "</pos></heightmap>"}}}};
+                      std::to_string(s.max - s.min) + "</size><pos>0 0 " + std::to_string(s.min) +
+                      "</pos></heightmap>"}}}};
     encode_png16(out, path, opt, gz);
 }
 
@@ -277,7 +277,8 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
     const std::size_t stride = static_cast<std::size_t>(raw.width) * bpp;
     for (int r = 0; r < raw.height; ++r)
         for (int i = 0; i < raw.width; ++i) {
-            const std::uint8_t* p = raw.data.data() + r * stride + static_cast<std::size_t>(i) * bpp;
+            const std::uint8_t* p =
+                raw.data.data() + r * stride + static_cast<std::size_t>(i) * bpp;
             const long code = raw.bit_depth == 16 ? (long(p[0]) << 8 | p[1]) : long(p[0]);
             z(i, raw.height - 1 - r) =
                 (nodata && code == *nodata) ? std::nan("") : offset + scale * code;
@@ -297,9 +298,9 @@ void write_png_rgb(const Image& img, const std::filesystem::path& path) {
         rows[3 * k + 1] = img.pixels[k].g;
         rows[3 * k + 2] = img.pixels[k].b;
     }
-    const std::string e = io::write_png_raw(out.temp_path().c_str(), img.width, img.height, 8,
-                                            PNG_COLOR_TYPE_RGB, rows,
-                                            static_cast<std::size_t>(img.width) * 3);
+    const std::string e =
+        io::write_png_raw(out.temp_path().c_str(), img.width, img.height, 8, PNG_COLOR_TYPE_RGB,
+                          rows, static_cast<std::size_t>(img.width) * 3);
     if (!e.empty()) throw IoError(path.string() + ": " + e);
     out.commit();
 }

@@ -10,7 +10,8 @@ std::string lower(std::string s) {
     return s;
 }
 bool ends_with(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return s.size() >= suffix.size() &&
+           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 } // namespace
 
@@ -40,12 +41,18 @@ RasterFormat format_from_name(const std::string& name) {
 
 std::string format_name(RasterFormat f) {
     switch (f) {
-    case RasterFormat::hdf5: return "hdf5";
-    case RasterFormat::esri_ascii: return "asc";
-    case RasterFormat::geotiff: return "geotiff";
-    case RasterFormat::png16: return "png";
-    case RasterFormat::gazebo_png: return "gazebo-png";
-    case RasterFormat::obj: return "obj";
+    case RasterFormat::hdf5:
+        return "hdf5";
+    case RasterFormat::esri_ascii:
+        return "asc";
+    case RasterFormat::geotiff:
+        return "geotiff";
+    case RasterFormat::png16:
+        return "png";
+    case RasterFormat::gazebo_png:
+        return "gazebo-png";
+    case RasterFormat::obj:
+        return "obj";
     }
     return "unknown";
 }
@@ -54,11 +61,16 @@ RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>*
     if (!std::filesystem::exists(path)) throw IoError(path.string() + ": no such file");
     const std::string name = lower(path.filename().string());
     RasterD z;
-    if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) z = read_hdf5(path);
-    else if (ends_with(name, ".asc")) z = read_esri_ascii(path);
-    else if (ends_with(name, ".png")) z = read_png16(path, warnings);
-    else if (ends_with(name, ".obj")) z = read_obj(path);
-    else z = read_gdal(path, warnings); // GeoTIFF and anything else GDAL opens
+    if (ends_with(name, ".h5") || ends_with(name, ".hdf5"))
+        z = read_hdf5(path);
+    else if (ends_with(name, ".asc"))
+        z = read_esri_ascii(path);
+    else if (ends_with(name, ".png"))
+        z = read_png16(path, warnings);
+    else if (ends_with(name, ".obj"))
+        z = read_obj(path);
+    else
+        z = read_gdal(path, warnings); // GeoTIFF and anything else GDAL opens
     require_valid_cells(z, path.string());
     return z;
 }
@@ -67,12 +79,24 @@ void write_raster(const RasterD& z, const std::filesystem::path& path, RasterFor
                   const WriteOptions& opt) {
     require_valid_cells(z, path.string());
     switch (format) {
-    case RasterFormat::hdf5: write_hdf5(z, path, opt); break;
-    case RasterFormat::esri_ascii: write_esri_ascii(z, path); break;
-    case RasterFormat::geotiff: write_geotiff(z, path); break;
-    case RasterFormat::png16: write_png16(z, path, opt); break;
-    case RasterFormat::gazebo_png: write_gazebo_png(z, path, opt); break;
-    case RasterFormat::obj: write_obj(z, path); break;
+    case RasterFormat::hdf5:
+        write_hdf5(z, path, opt);
+        break;
+    case RasterFormat::esri_ascii:
+        write_esri_ascii(z, path);
+        break;
+    case RasterFormat::geotiff:
+        write_geotiff(z, path);
+        break;
+    case RasterFormat::png16:
+        write_png16(z, path, opt);
+        break;
+    case RasterFormat::gazebo_png:
+        write_gazebo_png(z, path, opt);
+        break;
+    case RasterFormat::obj:
+        write_obj(z, path);
+        break;
     }
 }
 

@@ -66,8 +66,7 @@ TEST_CASE("Raster formats round-trip with georeference and NODATA", "[io]") {
         const auto s = stats(z);
         check_same(z, tio::read_raster(dir / "a.png"), (s.max - s.min) / 65534.0);
         const auto side = parse_json(tio::read_text(dir / "a.png.json"), "sidecar");
-        CHECK(side["unreal"]["z_scale_percent"].get<double>() ==
-              Approx((s.max - s.min) / 5.12));
+        CHECK(side["unreal"]["z_scale_percent"].get<double>() == Approx((s.max - s.min) / 5.12));
         CHECK(side["unreal"]["xy_scale_percent"].get<double>() == Approx(50.0));
     }
     SECTION("OBJ") {
@@ -139,8 +138,8 @@ TEST_CASE("Real DEMs from Debian packages read with their georeference", "[io][d
 
 TEST_CASE("Malformed and missing files give errors naming the file", "[io][errors]") {
     TempDir dir;
-    CHECK_THROWS_WITH(tio::read_raster(dir / "none.h5"), Catch::Contains("none.h5") &&
-                                                             Catch::Contains("no such file"));
+    CHECK_THROWS_WITH(tio::read_raster(dir / "none.h5"),
+                      Catch::Contains("none.h5") && Catch::Contains("no such file"));
     {
         std::ofstream(dir / "short.asc") << "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\n"
                                             "cellsize 1\n1 2 3\n4 5\n";
@@ -174,7 +173,8 @@ TEST_CASE("A failed write never damages an existing output", "[io][errors]") {
     CHECK_THROWS(tio::write_raster(empty, dir / "keep.h5"));
     CHECK(std::filesystem::file_size(dir / "keep.h5") == before);
     check_same(z, tio::read_raster(dir / "keep.h5"), 1e-4);
-    CHECK_THROWS_WITH(tio::write_raster(z, dir / "missing/x.h5"), Catch::Contains("does not exist"));
+    CHECK_THROWS_WITH(tio::write_raster(z, dir / "missing/x.h5"),
+                      Catch::Contains("does not exist"));
     // No temporary files are left behind.
     int files = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir.path())) (void)e, ++files;

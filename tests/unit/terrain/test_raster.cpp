@@ -84,8 +84,8 @@ TEST_CASE("Crops keep their georeference", "[raster]") {
 
 TEST_CASE("Statistics ignore NODATA; an all-NODATA raster is refused", "[raster]") {
     RasterD r(GridSpec{2, 2, 1.0, 0, 0}, std::nan(""));
-    CHECK_THROWS_WITH(require_valid_cells(r, "x.asc"), Catch::Contains("x.asc") &&
-                                                          Catch::Contains("NODATA"));
+    CHECK_THROWS_WITH(require_valid_cells(r, "x.asc"),
+                      Catch::Contains("x.asc") && Catch::Contains("NODATA"));
     r(0, 0) = 1.0;
     r(1, 1) = 3.0;
     const auto s = stats(r);

@@ -137,8 +137,7 @@ TEST_CASE("Slope and aspect of planes", "[roughness]") {
     CHECK(std::isnan(slope_aspect(plane(g, 0, 0)).aspect_deg(3, 3)));
 }
 
-TEST_CASE("Missions start low, end low or semi, and keep their length and border",
-          "[missions]") {
+TEST_CASE("Missions start low, end low or semi, and keep their length and border", "[missions]") {
     const GridSpec g{400, 400, 0.125, 0, 0}; // 50 m square
     RasterU8 raw(g, 0);
     for (int j = 0; j < g.ny; ++j)
@@ -150,7 +149,8 @@ TEST_CASE("Missions start low, end low or semi, and keep their length and border
     const auto ms = plan_missions(raw, raw, opt);
     REQUIRE(ms.size() == 30);
     for (const auto& m : ms) {
-        CHECK(raw(raw.cell_at(m.start_x_m, m.start_y_m)[0], raw.cell_at(m.start_x_m, m.start_y_m)[1]) == 0);
+        CHECK(raw(raw.cell_at(m.start_x_m, m.start_y_m)[0],
+                  raw.cell_at(m.start_x_m, m.start_y_m)[1]) == 0);
         const auto gc = raw.cell_at(m.goal_x_m, m.goal_y_m);
         CHECK(raw(gc[0], gc[1]) <= 1);
         CHECK(std::hypot(m.goal_x_m - m.start_x_m, m.goal_y_m - m.start_y_m) == Approx(35.0));

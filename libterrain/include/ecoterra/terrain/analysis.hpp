@@ -23,8 +23,8 @@ struct AnalysisOptions {
 struct TerrainAnalysis {
     RasterStats elevation;
     RmsResult rms;
-    ClassAreas classes;          ///< before closing (as the paper reports them)
-    ClassAreas closed_classes;   ///< after closing
+    ClassAreas classes;        ///< before closing (as the paper reports them)
+    ClassAreas closed_classes; ///< after closing
     PsdResult psd;
     FractalDimensionResult fd;
     double mean_slope = 0, max_slope = 0; ///< rise over run

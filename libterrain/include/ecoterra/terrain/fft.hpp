@@ -12,11 +12,14 @@ namespace ecoterra::terrain {
 /// values, kx index a in [0, nx/2], ky index b in [0, ny) (b > ny/2 are negative frequencies).
 class HalfSpectrum {
 public:
-    HalfSpectrum(int nx, int ny) : m_nx(nx), m_ny(ny), m_data(static_cast<std::size_t>(ny) * (nx / 2 + 1)) {}
+    HalfSpectrum(int nx, int ny)
+        : m_nx(nx), m_ny(ny), m_data(static_cast<std::size_t>(ny) * (nx / 2 + 1)) {}
     int nx() const { return m_nx; }
     int ny() const { return m_ny; }
     int nxh() const { return m_nx / 2 + 1; }
-    std::complex<double>& at(int a, int b) { return m_data[static_cast<std::size_t>(b) * nxh() + a]; }
+    std::complex<double>& at(int a, int b) {
+        return m_data[static_cast<std::size_t>(b) * nxh() + a];
+    }
     const std::complex<double>& at(int a, int b) const {
         return m_data[static_cast<std::size_t>(b) * nxh() + a];
     }

@@ -19,9 +19,9 @@
 namespace ecoterra::terrain {
 
 struct GeneratedTerrain {
-    RasterD z;                          ///< elevation, m
+    RasterD z; ///< elevation, m
     std::vector<std::string> warnings;
-    nlohmann::json resolved;            ///< the specification with every default filled in
+    nlohmann::json resolved; ///< the specification with every default filled in
     nlohmann::json info = nlohmann::json::object(); ///< derived values, e.g. the n_max used
 };
 

@@ -23,10 +23,10 @@ struct MissionOptions {
 struct Mission {
     int id = 0;
     double start_x_m = 0, start_y_m = 0, goal_x_m = 0, goal_y_m = 0;
-    double heading_deg = 0;                    ///< counter-clockwise from east
+    double heading_deg = 0; ///< counter-clockwise from east
     double length_m = 0;
-    std::array<double, 3> class_fraction{};    ///< fraction of the path in low, semi, high
-    std::string classes_crossed;               ///< e.g. "low|semi|high"
+    std::array<double, 3> class_fraction{}; ///< fraction of the path in low, semi, high
+    std::string classes_crossed;            ///< e.g. "low|semi|high"
 };
 
 /// `closed` picks starts and goals; `classes` (unclosed) measures what the path crosses.

@@ -13,12 +13,12 @@
 //   length beta is in metres, so rho(r) = exp(-r / beta) whatever the cell size (MAVS's AR(1)
 //   chain uses rho = exp(-2 beta^2), which is not dimensionally consistent, and is anisotropic).
 // - variable: octaves of Perlin noise with wavelengths lambda_n = 2^n * 2h from 2h up to
-//   min(100 m, extent / 4), amplitudes a_n = a_0 (lambda_n / lambda_0)^{(alpha - 1) / 2}, multiplied
-//   by the envelope 0.5 (1 + P(x / 100 m, y / 100 m)). An octave carries variance a_n^2 over a band
-//   of width proportional to its frequency Omega, so the profile PSD goes as Omega^{-alpha}:
-//   alpha = 2 is Van Deussen's natural-terrain law P(Omega) = C Omega^-2 (the default); MAVS's own
-//   code doubles the magnitude per octave (a_n proportional to lambda_n), i.e. alpha = 3, which
-//   mavs_compat reproduces.
+//   min(100 m, extent / 4), amplitudes a_n = a_0 (lambda_n / lambda_0)^{(alpha - 1) / 2},
+//   multiplied by the envelope 0.5 (1 + P(x / 100 m, y / 100 m)). An octave carries variance a_n^2
+//   over a band of width proportional to its frequency Omega, so the profile PSD goes as
+//   Omega^{-alpha}: alpha = 2 is Van Deussen's natural-terrain law P(Omega) = C Omega^-2 (the
+//   default); MAVS's own code doubles the magnitude per octave (a_n proportional to lambda_n), i.e.
+//   alpha = 3, which mavs_compat reproduces.
 #include "ecoterra/terrain/raster.hpp"
 
 #include <array>
@@ -38,26 +38,26 @@ private:
 };
 
 struct PerlinSurfaceParams {
-    double hi_wavelength_m = 2.0;   ///< short feature wavelength, m
-    double hi_magnitude_m = 0.1;    ///< amplitude of the short features, m
-    double lo_wavelength_m = 50.0;  ///< rolling-hill wavelength, m
-    double lo_magnitude_m = 1.0;    ///< amplitude of the rolling hills, m
-    bool mavs_compat = false;       ///< MAVS's 1/(1.25 pi lambda) frequency and 4x magnitude
+    double hi_wavelength_m = 2.0;  ///< short feature wavelength, m
+    double hi_magnitude_m = 0.1;   ///< amplitude of the short features, m
+    double lo_wavelength_m = 50.0; ///< rolling-hill wavelength, m
+    double lo_magnitude_m = 1.0;   ///< amplitude of the rolling hills, m
+    bool mavs_compat = false;      ///< MAVS's 1/(1.25 pi lambda) frequency and 4x magnitude
 };
 
 struct GaussianSurfaceParams {
-    double rms_m = 0.05;                 ///< standard deviation of the correlated field, m
-    double correlation_length_m = 2.0;   ///< e-folding length beta of the correlation, m
-    double lo_wavelength_m = 50.0;       ///< low-frequency Perlin wavelength, m
-    double lo_magnitude_m = 1.0;         ///< low-frequency Perlin amplitude, m
+    double rms_m = 0.05;               ///< standard deviation of the correlated field, m
+    double correlation_length_m = 2.0; ///< e-folding length beta of the correlation, m
+    double lo_wavelength_m = 50.0;     ///< low-frequency Perlin wavelength, m
+    double lo_magnitude_m = 1.0;       ///< low-frequency Perlin amplitude, m
 };
 
 struct VariableSurfaceParams {
-    double hi_magnitude_m = 0.1;      ///< amplitude of the shortest octave (2 cells), m
-    double spectral_exponent = 2.0;   ///< alpha in PSD ~ Omega^-alpha (2 = Van Deussen)
-    double max_wavelength_m = 100.0;  ///< longest octave is min(this, extent / 4), m
+    double hi_magnitude_m = 0.1;          ///< amplitude of the shortest octave (2 cells), m
+    double spectral_exponent = 2.0;       ///< alpha in PSD ~ Omega^-alpha (2 = Van Deussen)
+    double max_wavelength_m = 100.0;      ///< longest octave is min(this, extent / 4), m
     double envelope_wavelength_m = 100.0; ///< wavelength of the roughness envelope, m (0 = none)
-    bool mavs_compat = false;         ///< MAVS's amplitude law (alpha = 3)
+    bool mavs_compat = false;             ///< MAVS's amplitude law (alpha = 3)
 };
 
 void validate(const PerlinSurfaceParams& p);

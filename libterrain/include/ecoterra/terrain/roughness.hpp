@@ -26,9 +26,9 @@ inline constexpr double kDefaultHighThreshold = 140.0 * kPaperUnitsPerCmToSlope;
 enum class RoughnessClass : std::uint8_t { low = 0, semi = 1, high = 2, nodata = 255 };
 
 struct RmsOptions {
-    double detrend_window_m = 3.0;     ///< side of the local-mean window, m
-    double band_long_cutoff_m = 3.0;   ///< wavelengths longer than this are removed, m
-    double band_short_cutoff_m = 0.0;  ///< wavelengths shorter than this are removed, m (0 = none)
+    double detrend_window_m = 3.0;    ///< side of the local-mean window, m
+    double band_long_cutoff_m = 3.0;  ///< wavelengths longer than this are removed, m
+    double band_short_cutoff_m = 0.0; ///< wavelengths shorter than this are removed, m (0 = none)
 };
 
 struct RmsResult {
@@ -58,7 +58,7 @@ RasterU8 classify_gradient(const RasterD& gradient, const ClassThresholds& t = {
 
 struct ClassAreas {
     double low_pct = 0, semi_pct = 0, high_pct = 0; ///< percent of counted cells
-    std::int64_t cells = 0;                          ///< cells counted
+    std::int64_t cells = 0;                         ///< cells counted
 };
 
 /// Area percentages of each class, leaving out a border of border_m metres and NODATA.
@@ -69,9 +69,9 @@ ClassAreas class_areas(const RasterU8& classes, double border_m);
 RasterU8 close_classes(const RasterU8& classes, double radius_m);
 
 struct SlopeAspect {
-    RasterD slope;       ///< rise over run, dimensionless
-    RasterD slope_deg;   ///< degrees from horizontal
-    RasterD aspect_deg;  ///< downslope direction, degrees clockwise from north; NaN on flats
+    RasterD slope;      ///< rise over run, dimensionless
+    RasterD slope_deg;  ///< degrees from horizontal
+    RasterD aspect_deg; ///< downslope direction, degrees clockwise from north; NaN on flats
 };
 SlopeAspect slope_aspect(const RasterD& z);
 

@@ -13,8 +13,8 @@
 namespace ecoterra::terrain {
 
 struct FbmParams {
-    double hurst = 0.7;   ///< Hurst exponent H in (0, 1); D = 3 - H
-    double rms_m = 1.0;   ///< RMS height of the result about its mean, m
+    double hurst = 0.7; ///< Hurst exponent H in (0, 1); D = 3 - H
+    double rms_m = 1.0; ///< RMS height of the result about its mean, m
     static FbmParams from_dimension(double D, double rms_m = 1.0);
 };
 

@@ -28,12 +28,12 @@
 namespace ecoterra::terrain {
 
 struct WMParams {
-    int M = 64;          ///< number of ridges (directions), >= 1
-    int n_max = 0;       ///< highest frequency index; 0 = the grid's Nyquist cutoff
-    double gamma = 1.5;  ///< frequency density, > 1
-    double D = 2.45;     ///< fractal dimension, in (2, 3)
-    double L_m = 100.9;  ///< sampling length, m
-    double G_m = 1e-8;   ///< elevation scaling coefficient, m
+    int M = 64;         ///< number of ridges (directions), >= 1
+    int n_max = 0;      ///< highest frequency index; 0 = the grid's Nyquist cutoff
+    double gamma = 1.5; ///< frequency density, > 1
+    double D = 2.45;    ///< fractal dimension, in (2, 3)
+    double L_m = 100.9; ///< sampling length, m
+    double G_m = 1e-8;  ///< elevation scaling coefficient, m
     /// Random phases are uniform in [0, phase_max_rad]: pi as in Majhor & Bos Table 1; 2 pi gives
     /// the fully random-phase ensemble of Ausloos & Berman (see docs/terrain.md on the bias).
     double phase_max_rad = 3.141592653589793;
@@ -84,14 +84,14 @@ struct MultifractalParams {
     double filter_sigma_m = 0.025;
     /// Total relief (max - min) of the result, m. 19.2 m = 5 x 3.84 m: see docs/terrain.md.
     double relief_m = 19.2;
-    double base_elevation_m = 0.0;  ///< elevation of the lowest cell, m
+    double base_elevation_m = 0.0; ///< elevation of the lowest cell, m
 };
 
 void validate(const MultifractalParams& p);
 
 struct MultifractalResult {
-    RasterD z;                          ///< elevation, m
-    std::array<RasterD, 3> layers;      ///< the three rescaled layers (dimensionless, in [-1, 1])
+    RasterD z;                     ///< elevation, m
+    std::array<RasterD, 3> layers; ///< the three rescaled layers (dimensionless, in [-1, 1])
     std::vector<std::string> warnings;
 };
 

@@ -31,7 +31,7 @@ std::string format_name(RasterFormat f);
 
 struct WriteOptions {
     nlohmann::json provenance = nlohmann::json::object(); ///< stored where the format allows
-    std::vector<std::string>* warnings = nullptr;          ///< where notes are appended
+    std::vector<std::string>* warnings = nullptr;         ///< where notes are appended
 };
 
 /// Reads an elevation raster (m); NODATA becomes NaN. Throws IoError/InputError naming the file.
@@ -51,8 +51,7 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset 
 void write_hdf5(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);
 RasterD read_esri_ascii(const std::filesystem::path& path);
 void write_esri_ascii(const RasterD& z, const std::filesystem::path& path);
-RasterD read_gdal(const std::filesystem::path& path,
-                  std::vector<std::string>* warnings = nullptr);
+RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
 void write_geotiff(const RasterD& z, const std::filesystem::path& path);
 RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
 void write_png16(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);

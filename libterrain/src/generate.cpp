@@ -16,26 +16,107 @@ using nlohmann::json;
 /// Largest grid side accepted before the memory check (keeps nx * ny within int64 products).
 constexpr long long kMaxSide = 1LL << 20;
 
+const std::vector<std::string> kMultifractalKeys = {
+    "low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
+const std::vector<std::string> kFbmKeys = {"hurst", "D", "rms_m"};
+
+/// One parameter of a struct P, read from and written to JSON under `key`.
+template <class P>
+struct Field {
+    const char* key;
+    double P::*number = nullptr;
+    int P::*integer = nullptr;
+    bool P::*flag = nullptr;
+    long long min = 0, max = 0; ///< integer range
+};
+
+template <class P>
+std::vector<std::string> keys_of(const std::vector<Field<P>>& fields) {
+    std::vector<std::string> k;
+    for (const auto& f : fields) k.emplace_back(f.key);
+    return k;
+}
+
+template <class P>
+json to_json(const P& p, const std::vector<Field<P>>& fields) {
+    json j = json::object();
+    for (const auto& f : fields) {
+        if (f.number)
+            j[f.key] = p.*f.number;
+        else if (f.integer)
+            j[f.key] = p.*f.integer;
+        else
+            j[f.key] = p.*f.flag;
+    }
+    return j;
+}
+
+/// Reads the fields present in j over `defaults`, rejecting unknown keys, then validates.
+template <class P>
+P from_json(const json& j, const std::vector<Field<P>>& fields, P p, const std::string& where,
+            const std::vector<std::string>& extra_keys = {}) {
+    std::vector<std::string> allowed = keys_of(fields);
+    allowed.insert(allowed.end(), extra_keys.begin(), extra_keys.end());
+    require_known_keys(j, allowed, where);
+    for (const auto& f : fields) {
+        if (f.number)
+            p.*f.number = get_number(j, f.key, p.*f.number, where);
+        else if (f.integer)
+            p.*f.integer =
+                static_cast<int>(get_integer(j, f.key, p.*f.integer, where, f.min, f.max));
+        else
+            p.*f.flag = get_bool(j, f.key, p.*f.flag, where);
+    }
+    return p;
+}
+
+const std::vector<Field<WMParams>>& wm_fields() {
+    static const std::vector<Field<WMParams>> f = {
+        {"M", nullptr, &WMParams::M, nullptr, 1, 4096},
+        {"n_max", nullptr, &WMParams::n_max, nullptr, 0, 100000},
+        {"gamma", &WMParams::gamma},
+        {"D", &WMParams::D},
+        {"L_m", &WMParams::L_m},
+        {"G_m", &WMParams::G_m},
+        {"phase_max_rad", &WMParams::phase_max_rad}};
+    return f;
+}
+
+const std::vector<Field<PerlinSurfaceParams>>& perlin_fields() {
+    using P = PerlinSurfaceParams;
+    static const std::vector<Field<P>> f = {{"hi_wavelength_m", &P::hi_wavelength_m},
+                                            {"hi_magnitude_m", &P::hi_magnitude_m},
+                                            {"lo_wavelength_m", &P::lo_wavelength_m},
+                                            {"lo_magnitude_m", &P::lo_magnitude_m},
+                                            {"mavs_compat", nullptr, nullptr, &P::mavs_compat}};
+    return f;
+}
+
+const std::vector<Field<GaussianSurfaceParams>>& gaussian_fields() {
+    using P = GaussianSurfaceParams;
+    static const std::vector<Field<P>> f = {{"rms_m", &P::rms_m},
+                                            {"correlation_length_m", &P::correlation_length_m},
+                                            {"lo_wavelength_m", &P::lo_wavelength_m},
+                                            {"lo_magnitude_m", &P::lo_magnitude_m}};
+    return f;
+}
+
+const std::vector<Field<VariableSurfaceParams>>& variable_fields() {
+    using P = VariableSurfaceParams;
+    static const std::vector<Field<P>> f = {{"hi_magnitude_m", &P::hi_magnitude_m},
+                                            {"spectral_exponent", &P::spectral_exponent},
+                                            {"max_wavelength_m", &P::max_wavelength_m},
+                                            {"envelope_wavelength_m", &P::envelope_wavelength_m},
+                                            {"mavs_compat", nullptr, nullptr, &P::mavs_compat}};
+    return f;
+}
+
 json wm_json(const WMParams& p) {
-    return {{"M", p.M},
-            {"n_max", p.n_max},
-            {"gamma", p.gamma},
-            {"D", p.D},
-            {"L_m", p.L_m},
-            {"G_m", p.G_m},
-            {"phase_max_rad", p.phase_max_rad}};
+    return to_json(p, wm_fields());
 }
 
 WMParams wm_from(const json& j, WMParams d, const std::string& where) {
-    require_known_keys(j, {"M", "n_max", "gamma", "D", "L_m", "G_m", "phase_max_rad"}, where);
-    WMParams p;
-    p.M = static_cast<int>(get_integer(j, "M", d.M, where, 1, 4096));
-    p.n_max = static_cast<int>(get_integer(j, "n_max", d.n_max, where, 0, 100000));
-    p.gamma = get_number(j, "gamma", d.gamma, where);
-    p.D = get_number(j, "D", d.D, where);
-    p.L_m = get_number(j, "L_m", d.L_m, where);
-    p.G_m = get_number(j, "G_m", d.G_m, where);
-    p.phase_max_rad = get_number(j, "phase_max_rad", d.phase_max_rad, where);
+    WMParams p = from_json(j, wm_fields(), d, where);
     validate(p);
     return p;
 }
@@ -68,65 +149,25 @@ MultifractalParams multifractal_from(const json& j, const std::string& where) {
     return p;
 }
 
-json perlin_json(const PerlinSurfaceParams& p) {
-    return {{"hi_wavelength_m", p.hi_wavelength_m},
-            {"hi_magnitude_m", p.hi_magnitude_m},
-            {"lo_wavelength_m", p.lo_wavelength_m},
-            {"lo_magnitude_m", p.lo_magnitude_m},
-            {"mavs_compat", p.mavs_compat}};
-}
 PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
-    require_known_keys(
-        j,
-        {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m", "lo_magnitude_m", "mavs_compat"},
-        where);
-    PerlinSurfaceParams d, p;
-    p.hi_wavelength_m = get_number(j, "hi_wavelength_m", d.hi_wavelength_m, where);
-    p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
-    p.lo_wavelength_m = get_number(j, "lo_wavelength_m", d.lo_wavelength_m, where);
-    p.lo_magnitude_m = get_number(j, "lo_magnitude_m", d.lo_magnitude_m, where);
-    p.mavs_compat = get_bool(j, "mavs_compat", d.mavs_compat, where);
+    const auto p = from_json(j, perlin_fields(), PerlinSurfaceParams{}, where);
     validate(p);
     return p;
 }
 
-json gaussian_json(const GaussianSurfaceParams& p) {
-    return {{"rms_m", p.rms_m},
-            {"correlation_length_m", p.correlation_length_m},
-            {"lo_wavelength_m", p.lo_wavelength_m},
-            {"lo_magnitude_m", p.lo_magnitude_m}};
-}
 GaussianSurfaceParams gaussian_from(const json& j, const std::string& where) {
-    require_known_keys(j, {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"},
-                       where);
-    GaussianSurfaceParams d, p;
-    p.rms_m = get_number(j, "rms_m", d.rms_m, where);
-    p.correlation_length_m = get_number(j, "correlation_length_m", d.correlation_length_m, where);
-    p.lo_wavelength_m = get_number(j, "lo_wavelength_m", d.lo_wavelength_m, where);
-    p.lo_magnitude_m = get_number(j, "lo_magnitude_m", d.lo_magnitude_m, where);
+    const auto p = from_json(j, gaussian_fields(), GaussianSurfaceParams{}, where);
     validate(p);
     return p;
 }
 
 json variable_json(const VariableSurfaceParams& p) {
-    return {{"hi_magnitude_m", p.hi_magnitude_m},
-            {"spectral_exponent", p.mavs_compat ? 3.0 : p.spectral_exponent},
-            {"max_wavelength_m", p.max_wavelength_m},
-            {"envelope_wavelength_m", p.envelope_wavelength_m},
-            {"mavs_compat", p.mavs_compat}};
+    json j = to_json(p, variable_fields());
+    if (p.mavs_compat) j["spectral_exponent"] = 3.0;
+    return j;
 }
 VariableSurfaceParams variable_from(const json& j, const std::string& where) {
-    require_known_keys(j,
-                       {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m",
-                        "envelope_wavelength_m", "mavs_compat"},
-                       where);
-    VariableSurfaceParams d, p;
-    p.hi_magnitude_m = get_number(j, "hi_magnitude_m", d.hi_magnitude_m, where);
-    p.spectral_exponent = get_number(j, "spectral_exponent", d.spectral_exponent, where);
-    p.max_wavelength_m = get_number(j, "max_wavelength_m", d.max_wavelength_m, where);
-    p.envelope_wavelength_m =
-        get_number(j, "envelope_wavelength_m", d.envelope_wavelength_m, where);
-    p.mavs_compat = get_bool(j, "mavs_compat", d.mavs_compat, where);
+    auto p = from_json(j, variable_fields(), VariableSurfaceParams{}, where);
     if (p.mavs_compat && j.contains("spectral_exponent") && p.spectral_exponent != 3.0)
         throw InputError(where + ": mavs_compat fixes spectral_exponent at 3; do not set both");
     validate(p);
@@ -137,7 +178,7 @@ json fbm_json(const FbmParams& p) {
     return {{"hurst", p.hurst}, {"D", 3.0 - p.hurst}, {"rms_m", p.rms_m}};
 }
 FbmParams fbm_from(const json& j, const std::string& where) {
-    require_known_keys(j, {"hurst", "D", "rms_m"}, where);
+    require_known_keys(j, kFbmKeys, where);
     FbmParams d, p;
     const double rms = get_number(j, "rms_m", d.rms_m, where);
     if (j.contains("D") && j.contains("hurst") &&
@@ -209,9 +250,9 @@ json resolve_terrain_spec(const json& spec) {
     else if (method == "wm")
         p = wm_json(wm_from(params, WMParams{}, where));
     else if (method == "perlin")
-        p = perlin_json(perlin_from(params, where));
+        p = to_json(perlin_from(params, where), perlin_fields());
     else if (method == "gaussian")
-        p = gaussian_json(gaussian_from(params, where));
+        p = to_json(gaussian_from(params, where), gaussian_fields());
     else if (method == "variable")
         p = variable_json(variable_from(params, where));
     else
@@ -230,18 +271,12 @@ json resolve_terrain_spec(const json& spec) {
 }
 
 std::vector<std::string> terrain_param_keys(const std::string& method) {
-    if (method == "multifractal")
-        return {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
-    if (method == "wm") return {"M", "n_max", "gamma", "D", "L_m", "G_m", "phase_max_rad"};
-    if (method == "perlin")
-        return {"hi_wavelength_m", "hi_magnitude_m", "lo_wavelength_m", "lo_magnitude_m",
-                "mavs_compat"};
-    if (method == "gaussian")
-        return {"rms_m", "correlation_length_m", "lo_wavelength_m", "lo_magnitude_m"};
-    if (method == "variable")
-        return {"hi_magnitude_m", "spectral_exponent", "max_wavelength_m", "envelope_wavelength_m",
-                "mavs_compat"};
-    if (method == "fbm") return {"hurst", "D", "rms_m"};
+    if (method == "multifractal") return kMultifractalKeys;
+    if (method == "wm") return keys_of(wm_fields());
+    if (method == "perlin") return keys_of(perlin_fields());
+    if (method == "gaussian") return keys_of(gaussian_fields());
+    if (method == "variable") return keys_of(variable_fields());
+    if (method == "fbm") return kFbmKeys;
     throw InputError("unknown method '" + method + "'");
 }
 

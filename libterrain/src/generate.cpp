@@ -20,103 +20,98 @@ const std::vector<std::string> kMultifractalKeys = {
     "low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
 const std::vector<std::string> kFbmKeys = {"hurst", "D", "rms_m"};
 
-/// One parameter of a struct P, read from and written to JSON under `key`.
+/// The parameters of a struct P, by type, each read from and written to JSON under its key.
 template <class P>
-struct Field {
-    const char* key;
-    double P::*number = nullptr;
-    int P::*integer = nullptr;
-    bool P::*flag = nullptr;
-    long long min = 0, max = 0; ///< integer range
+struct Fields {
+    struct Integer {
+        const char* key;
+        int (*get)(const P&);
+        void (*set)(P&, int);
+        long long min, max;
+    };
+    std::vector<std::pair<const char*, double P::*>> numbers;
+    std::vector<Integer> integers;
+    std::vector<std::pair<const char*, bool P::*>> flags;
+
+    std::vector<std::string> keys() const {
+        std::vector<std::string> k;
+        for (const auto& f : integers) k.emplace_back(f.key);
+        for (const auto& [key, m] : numbers) k.emplace_back(key);
+        for (const auto& [key, m] : flags) k.emplace_back(key);
+        return k;
+    }
+    json to_json(const P& p) const {
+        json j = json::object();
+        for (const auto& f : integers) j[f.key] = f.get(p);
+        for (const auto& [key, m] : numbers) j[key] = p.*m;
+        for (const auto& [key, m] : flags) j[key] = p.*m;
+        return j;
+    }
+    /// Reads the keys present in j over `p`, rejecting unknown keys.
+    P read(const json& j, P p, const std::string& where) const {
+        require_known_keys(j, keys(), where);
+        for (const auto& f : integers)
+            f.set(p, static_cast<int>(get_integer(j, f.key, f.get(p), where, f.min, f.max)));
+        for (const auto& [key, m] : numbers) p.*m = get_number(j, key, p.*m, where);
+        for (const auto& [key, m] : flags) p.*m = get_bool(j, key, p.*m, where);
+        return p;
+    }
 };
 
-template <class P>
-std::vector<std::string> keys_of(const std::vector<Field<P>>& fields) {
-    std::vector<std::string> k;
-    for (const auto& f : fields) k.emplace_back(f.key);
-    return k;
-}
-
-template <class P>
-json to_json(const P& p, const std::vector<Field<P>>& fields) {
-    json j = json::object();
-    for (const auto& f : fields) {
-        if (f.number)
-            j[f.key] = p.*f.number;
-        else if (f.integer)
-            j[f.key] = p.*f.integer;
-        else
-            j[f.key] = p.*f.flag;
-    }
-    return j;
-}
-
-/// Reads the fields present in j over `defaults`, rejecting unknown keys, then validates.
-template <class P>
-P from_json(const json& j, const std::vector<Field<P>>& fields, P p, const std::string& where,
-            const std::vector<std::string>& extra_keys = {}) {
-    std::vector<std::string> allowed = keys_of(fields);
-    allowed.insert(allowed.end(), extra_keys.begin(), extra_keys.end());
-    require_known_keys(j, allowed, where);
-    for (const auto& f : fields) {
-        if (f.number)
-            p.*f.number = get_number(j, f.key, p.*f.number, where);
-        else if (f.integer)
-            p.*f.integer =
-                static_cast<int>(get_integer(j, f.key, p.*f.integer, where, f.min, f.max));
-        else
-            p.*f.flag = get_bool(j, f.key, p.*f.flag, where);
-    }
-    return p;
-}
-
-const std::vector<Field<WMParams>>& wm_fields() {
-    static const std::vector<Field<WMParams>> f = {
-        {"M", nullptr, &WMParams::M, nullptr, 1, 4096},
-        {"n_max", nullptr, &WMParams::n_max, nullptr, 0, 100000},
-        {"gamma", &WMParams::gamma},
-        {"D", &WMParams::D},
-        {"L_m", &WMParams::L_m},
-        {"G_m", &WMParams::G_m},
-        {"phase_max_rad", &WMParams::phase_max_rad}};
+const Fields<WMParams>& wm_fields() {
+    using P = WMParams;
+    static const Fields<P> f{
+        {{"gamma", &P::gamma},
+         {"D", &P::D},
+         {"L_m", &P::L_m},
+         {"G_m", &P::G_m},
+         {"phase_max_rad", &P::phase_max_rad}},
+        {{"M", [](const P& p) { return p.M; }, [](P& p, int v) { p.M = v; }, 1, 4096},
+         {"n_max", [](const P& p) { return p.n_max; }, [](P& p, int v) { p.n_max = v; }, 0,
+          100000}},
+        {}};
     return f;
 }
 
-const std::vector<Field<PerlinSurfaceParams>>& perlin_fields() {
+const Fields<PerlinSurfaceParams>& perlin_fields() {
     using P = PerlinSurfaceParams;
-    static const std::vector<Field<P>> f = {{"hi_wavelength_m", &P::hi_wavelength_m},
-                                            {"hi_magnitude_m", &P::hi_magnitude_m},
-                                            {"lo_wavelength_m", &P::lo_wavelength_m},
-                                            {"lo_magnitude_m", &P::lo_magnitude_m},
-                                            {"mavs_compat", nullptr, nullptr, &P::mavs_compat}};
+    static const Fields<P> f{{{"hi_wavelength_m", &P::hi_wavelength_m},
+                              {"hi_magnitude_m", &P::hi_magnitude_m},
+                              {"lo_wavelength_m", &P::lo_wavelength_m},
+                              {"lo_magnitude_m", &P::lo_magnitude_m}},
+                             {},
+                             {{"mavs_compat", &P::mavs_compat}}};
     return f;
 }
 
-const std::vector<Field<GaussianSurfaceParams>>& gaussian_fields() {
+const Fields<GaussianSurfaceParams>& gaussian_fields() {
     using P = GaussianSurfaceParams;
-    static const std::vector<Field<P>> f = {{"rms_m", &P::rms_m},
-                                            {"correlation_length_m", &P::correlation_length_m},
-                                            {"lo_wavelength_m", &P::lo_wavelength_m},
-                                            {"lo_magnitude_m", &P::lo_magnitude_m}};
+    static const Fields<P> f{{{"rms_m", &P::rms_m},
+                              {"correlation_length_m", &P::correlation_length_m},
+                              {"lo_wavelength_m", &P::lo_wavelength_m},
+                              {"lo_magnitude_m", &P::lo_magnitude_m}},
+                             {},
+                             {}};
     return f;
 }
 
-const std::vector<Field<VariableSurfaceParams>>& variable_fields() {
+const Fields<VariableSurfaceParams>& variable_fields() {
     using P = VariableSurfaceParams;
-    static const std::vector<Field<P>> f = {{"hi_magnitude_m", &P::hi_magnitude_m},
-                                            {"spectral_exponent", &P::spectral_exponent},
-                                            {"max_wavelength_m", &P::max_wavelength_m},
-                                            {"envelope_wavelength_m", &P::envelope_wavelength_m},
-                                            {"mavs_compat", nullptr, nullptr, &P::mavs_compat}};
+    static const Fields<P> f{{{"hi_magnitude_m", &P::hi_magnitude_m},
+                              {"spectral_exponent", &P::spectral_exponent},
+                              {"max_wavelength_m", &P::max_wavelength_m},
+                              {"envelope_wavelength_m", &P::envelope_wavelength_m}},
+                             {},
+                             {{"mavs_compat", &P::mavs_compat}}};
     return f;
 }
 
 json wm_json(const WMParams& p) {
-    return to_json(p, wm_fields());
+    return wm_fields().to_json(p);
 }
 
 WMParams wm_from(const json& j, WMParams d, const std::string& where) {
-    WMParams p = from_json(j, wm_fields(), d, where);
+    WMParams p = wm_fields().read(j, d, where);
     validate(p);
     return p;
 }
@@ -150,24 +145,24 @@ MultifractalParams multifractal_from(const json& j, const std::string& where) {
 }
 
 PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
-    const auto p = from_json(j, perlin_fields(), PerlinSurfaceParams{}, where);
+    const auto p = perlin_fields().read(j, PerlinSurfaceParams{}, where);
     validate(p);
     return p;
 }
 
 GaussianSurfaceParams gaussian_from(const json& j, const std::string& where) {
-    const auto p = from_json(j, gaussian_fields(), GaussianSurfaceParams{}, where);
+    const auto p = gaussian_fields().read(j, GaussianSurfaceParams{}, where);
     validate(p);
     return p;
 }
 
 json variable_json(const VariableSurfaceParams& p) {
-    json j = to_json(p, variable_fields());
+    json j = variable_fields().to_json(p);
     if (p.mavs_compat) j["spectral_exponent"] = 3.0;
     return j;
 }
 VariableSurfaceParams variable_from(const json& j, const std::string& where) {
-    auto p = from_json(j, variable_fields(), VariableSurfaceParams{}, where);
+    auto p = variable_fields().read(j, VariableSurfaceParams{}, where);
     if (p.mavs_compat && j.contains("spectral_exponent") && p.spectral_exponent != 3.0)
         throw InputError(where + ": mavs_compat fixes spectral_exponent at 3; do not set both");
     validate(p);
@@ -245,18 +240,22 @@ json resolve_terrain_spec(const json& spec) {
     const json params = spec.value("params", json::object());
     const std::string where = "params";
     json p;
-    if (method == "multifractal")
+    if (method == "multifractal") {
         p = multifractal_json(multifractal_from(params, where));
-    else if (method == "wm")
+    } else if (method == "wm") {
         p = wm_json(wm_from(params, WMParams{}, where));
-    else if (method == "perlin")
-        p = to_json(perlin_from(params, where), perlin_fields());
-    else if (method == "gaussian")
-        p = to_json(gaussian_from(params, where), gaussian_fields());
-    else if (method == "variable")
-        p = variable_json(variable_from(params, where));
-    else
+    } else if (method == "perlin") {
+        const PerlinSurfaceParams q = perlin_from(params, where);
+        p = perlin_fields().to_json(q);
+    } else if (method == "gaussian") {
+        const GaussianSurfaceParams q = gaussian_from(params, where);
+        p = gaussian_fields().to_json(q);
+    } else if (method == "variable") {
+        const VariableSurfaceParams q = variable_from(params, where);
+        p = variable_json(q);
+    } else {
         p = fbm_json(fbm_from(params, where));
+    }
     json r = {{"method", method},
               {"nx", g.nx},
               {"ny", g.ny},
@@ -272,10 +271,10 @@ json resolve_terrain_spec(const json& spec) {
 
 std::vector<std::string> terrain_param_keys(const std::string& method) {
     if (method == "multifractal") return kMultifractalKeys;
-    if (method == "wm") return keys_of(wm_fields());
-    if (method == "perlin") return keys_of(perlin_fields());
-    if (method == "gaussian") return keys_of(gaussian_fields());
-    if (method == "variable") return keys_of(variable_fields());
+    if (method == "wm") return wm_fields().keys();
+    if (method == "perlin") return perlin_fields().keys();
+    if (method == "gaussian") return gaussian_fields().keys();
+    if (method == "variable") return variable_fields().keys();
     if (method == "fbm") return kFbmKeys;
     throw InputError("unknown method '" + method + "'");
 }

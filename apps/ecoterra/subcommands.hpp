@@ -5,5 +5,7 @@ namespace ecoterra::app {
 
 /// `ecoterra terrain generate|analyze|missions|convert`.
 void add_terrain_command(CLI::App& app);
+/// `ecoterra hydro soil|et|pond|run`.
+void add_hydro_command(CLI::App& app);
 
 } // namespace ecoterra::app

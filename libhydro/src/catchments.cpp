@@ -1,0 +1,354 @@
+#include "ecoterra/hydro/catchments.hpp"
+
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/breadth_first_search.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+
+namespace ecoterra::hydro {
+
+namespace {
+/// Volumes below this (m3) count as empty; spills below it are ignored.
+constexpr double kVolumeEpsilon = 1e-12;
+/// Safety limit on equilibrium passes.
+constexpr int kMaxPasses = 1000000;
+constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+} // namespace
+
+Catchments::Catchments(const terrain::RasterD& dem)
+    : m_dem(dem), m_fd(dem), m_area(dem.cell_size() * dem.cell_size()),
+      m_owner(static_cast<std::size_t>(dem.size()), 0),
+      m_stamp_queued(static_cast<std::size_t>(dem.size()), 0),
+      m_stamp_region(static_cast<std::size_t>(dem.size()), 0) {}
+
+Catchment* Catchments::find(std::int32_t id) {
+    for (auto& k : m_list)
+        if (k.id == id) return &k;
+    return nullptr;
+}
+
+std::int32_t Catchments::catchment_of_pit(std::int64_t pit) const {
+    for (const auto& k : m_list)
+        if (std::find(k.seeds.begin(), k.seeds.end(), pit) != k.seeds.end()) return k.id;
+    return 0;
+}
+
+void Catchments::add_to_pit(std::int64_t pit, double v) {
+    if (!(v > 0)) return;
+    if (const std::int32_t id = catchment_of_pit(pit)) {
+        find(id)->volume_m3 += v;
+        return;
+    }
+    Catchment k;
+    k.id = m_next_id++;
+    k.seeds = {pit};
+    k.volume_m3 = v;
+    k.level_m = m_fd.elevation(pit);
+    k.cells = {pit};
+    m_list.push_back(std::move(k));
+    m_spills_into.push_back(0);
+}
+
+void Catchments::deliver(std::int64_t cell, double v, std::int32_t from) {
+    if (m_fd.is_outlet(cell)) {
+        m_lost_m3 += v;
+        if (Catchment* k = find(from)) k->dynamic = false;
+        return;
+    }
+    const std::int32_t o = m_owner[cell];
+    if (o != 0 && o != from) {
+        find(o)->volume_m3 += v;
+        return;
+    }
+    const std::int64_t t = m_fd.terminus(cell);
+    if (m_fd.is_outlet(t)) {
+        m_lost_m3 += v;
+        if (Catchment* k = find(from)) k->dynamic = false;
+        return;
+    }
+    add_to_pit(t, v);
+}
+
+void Catchments::add_water(std::int64_t cell, double v) {
+    if (!(v > 0)) return;
+    if (m_fd.is_outlet(cell)) {
+        m_lost_m3 += v;
+        return;
+    }
+    if (const std::int32_t o = m_owner[cell]) {
+        find(o)->volume_m3 += v;
+        return;
+    }
+    deliver(cell, v, 0);
+}
+
+void Catchments::add_routed(const RoutedWater& r) {
+    m_lost_m3 += r.lost_m3;
+    for (std::int64_t c = 0; c < static_cast<std::int64_t>(r.at_pit_m3.size()); ++c)
+        if (r.at_pit_m3[c] > 0) add_to_pit(c, r.at_pit_m3[c]);
+}
+
+Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing) {
+    if (!(depth_m >= 0) || !std::isfinite(depth_m))
+        throw InputError("--depth-m must be >= 0 m, got " + std::to_string(depth_m));
+    Catchments c(dem);
+    const double area = dem.cell_size() * dem.cell_size();
+    std::vector<double> v(static_cast<std::size_t>(dem.size()));
+    for (std::int64_t k = 0; k < dem.size(); ++k)
+        v[k] = std::isnan(dem.data()[k]) ? 0.0 : depth_m * area;
+    c.add_routed(route_to_pits(c.flow(), v, routing));
+    c.equilibrate();
+    return c;
+}
+
+double Catchments::remove_water(std::int32_t id, double v) {
+    Catchment* k = find(id);
+    if (!k || !(v > 0)) return 0.0;
+    const double taken = std::min(v, k->volume_m3);
+    k->volume_m3 -= taken;
+    return taken;
+}
+
+bool Catchments::drains_into_region(std::int64_t c) const {
+    for (;;) {
+        if (m_stamp_region[c] == m_stamp) return true;
+        if (m_fd.is_outlet(c) || m_fd.is_pit(c)) return false;
+        c = m_fd.receiver(c);
+    }
+}
+
+Catchments::Fill Catchments::fill(const Catchment& k) {
+    ++m_stamp;
+    Fill f;
+    using Entry = std::pair<double, std::int64_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pq;
+    for (const auto s : k.seeds) {
+        pq.emplace(m_fd.elevation(s), s);
+        m_stamp_queued[s] = m_stamp;
+        m_stamp_region[s] = m_stamp;
+    }
+    const double vd = k.volume_m3 / m_area; // volume as metres over one cell
+    const auto& g = m_fd.grid();
+    double n = 0, sum_z = 0, running_max = kNegInf;
+    auto take = [&](std::int64_t c, double z) {
+        m_stamp_region[c] = m_stamp;
+        f.cells.push_back(c);
+        n += 1;
+        sum_z += z;
+        const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
+        for (const auto& o : terrain::kMooreOffsets) {
+            const int a = i + o[0], b = j + o[1];
+            if (!g.contains(a, b)) continue;
+            const std::int64_t q = cell_index(g, a, b);
+            if (m_stamp_queued[q] == m_stamp) continue;
+            m_stamp_queued[q] = m_stamp;
+            const double zq = m_fd.elevation(q);
+            pq.emplace(std::isnan(zq) ? kNegInf : zq, q);
+        }
+    };
+    auto spill_at = [&](double level, std::int64_t cell) {
+        const double cap = n * level - sum_z;
+        if (vd <= cap) {
+            f.level = (vd + sum_z) / n;
+        } else {
+            f.level = level;
+            f.excess = (vd - cap) * m_area;
+            f.spill_cell = cell;
+        }
+    };
+    while (!pq.empty()) {
+        const auto [z, c] = pq.top();
+        pq.pop();
+        if (m_fd.is_outlet(c)) {
+            spill_at(std::max(running_max, z), c);
+            return f;
+        }
+        if (n > 0 && z < running_max) {
+            if (drains_into_region(c)) {
+                take(c, z);
+                continue;
+            }
+            spill_at(running_max, c);
+            return f;
+        }
+        if (n > 0 && vd <= n * z - sum_z) {
+            f.level = (vd + sum_z) / n;
+            return f;
+        }
+        take(c, z);
+        running_max = z;
+    }
+    f.level = n > 0 ? (vd + sum_z) / n : 0.0;
+    return f;
+}
+
+void Catchments::release_cells(const Catchment& k) {
+    for (const auto c : k.cells)
+        if (m_owner[c] == k.id) m_owner[c] = 0;
+}
+
+void Catchments::split_if_separated(std::size_t index) {
+    Catchment k = m_list[index];
+    // Submerged cells (depth > 0) and their Moore adjacency, as a Boost graph.
+    std::unordered_map<std::int64_t, std::size_t> vid;
+    std::vector<std::int64_t> wet;
+    for (const auto c : k.cells)
+        if (k.level_m - m_fd.elevation(c) > 0) {
+            vid.emplace(c, wet.size());
+            wet.push_back(c);
+        }
+    using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS>;
+    Graph graph(wet.size());
+    const auto& g = m_fd.grid();
+    for (std::size_t v = 0; v < wet.size(); ++v) {
+        const int i = static_cast<int>(wet[v] % g.nx), j = static_cast<int>(wet[v] / g.nx);
+        for (const auto& o : terrain::kMooreOffsets) {
+            if (!g.contains(i + o[0], j + o[1])) continue;
+            const auto it = vid.find(cell_index(g, i + o[0], j + o[1]));
+            if (it != vid.end() && it->second > v) boost::add_edge(v, it->second, graph);
+        }
+    }
+    std::vector<int> component(wet.size(), -1);
+    int count = 0;
+    struct Labeler : boost::default_bfs_visitor {
+        std::vector<int>* comp;
+        int label;
+        void discover_vertex(std::size_t v, const Graph&) const { (*comp)[v] = label; }
+    };
+    std::vector<boost::default_color_type> colour(wet.size(), boost::white_color);
+    for (std::size_t v = 0; v < wet.size(); ++v) {
+        if (component[v] >= 0) continue;
+        Labeler lab;
+        lab.comp = &component;
+        lab.label = count++;
+        boost::breadth_first_search(graph, v,
+                                    boost::visitor(lab).color_map(boost::make_iterator_property_map(
+                                        colour.begin(), boost::get(boost::vertex_index, graph))));
+    }
+    if (count <= 1) return;
+    // Each body keeps the seeds inside it and the water above its own cells.
+    std::vector<Catchment> parts(static_cast<std::size_t>(count));
+    for (std::size_t v = 0; v < wet.size(); ++v)
+        parts[component[v]].volume_m3 += (k.level_m - m_fd.elevation(wet[v])) * m_area;
+    for (const auto s : k.seeds) {
+        const auto it = vid.find(s);
+        if (it != vid.end()) parts[component[it->second]].seeds.push_back(s);
+    }
+    release_cells(k);
+    m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(index));
+    m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(index));
+    bool first = true;
+    for (auto& p : parts) {
+        if (p.seeds.empty()) { // a body with no pit of its own: give it the deepest cell as seed
+            double best = 1e300;
+            std::int64_t seed = -1;
+            for (std::size_t v = 0; v < wet.size(); ++v)
+                if (&parts[component[v]] == &p && m_fd.elevation(wet[v]) < best)
+                    best = m_fd.elevation(wet[v]), seed = wet[v];
+            p.seeds.push_back(seed);
+        }
+        p.id = first ? k.id : m_next_id++;
+        first = false;
+        p.dynamic = k.dynamic;
+        p.level_m = k.level_m;
+        p.previous_level_m = k.level_m;
+        m_list.push_back(std::move(p));
+        m_spills_into.push_back(0);
+    }
+}
+
+int Catchments::equilibrate() {
+    int passes = 0;
+    for (bool changed = true; changed;) {
+        if (++passes > kMaxPasses)
+            throw Error("catchments: no equilibrium after " + std::to_string(kMaxPasses) +
+                        " passes");
+        changed = false;
+        std::fill(m_spills_into.begin(), m_spills_into.end(), 0);
+        // Drop empty catchments.
+        for (std::size_t i = m_list.size(); i-- > 0;)
+            if (m_list[i].volume_m3 <= kVolumeEpsilon) {
+                release_cells(m_list[i]);
+                m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(i));
+                m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(i));
+            }
+        for (std::size_t idx = 0; idx < m_list.size(); ++idx) {
+            Fill f = fill(m_list[idx]);
+            Catchment& k = m_list[idx];
+            // Ownership stays current across passes: a catchment's cells are re-claimed whenever
+            // it is recomputed, so spills find the water body that covers their cell.
+            release_cells(k);
+            k.level_m = f.level;
+            k.cells = std::move(f.cells);
+            for (const auto c : k.cells)
+                if (m_owner[c] == 0) m_owner[c] = k.id;
+            const bool fell = k.level_m < k.previous_level_m;
+            k.previous_level_m = k.level_m;
+            if (fell && k.seeds.size() > 1) {
+                const std::size_t before = m_list.size();
+                split_if_separated(idx);
+                if (m_list.size() != before) {
+                    changed = true;
+                    break; // the list changed: start a new pass
+                }
+            }
+            if (f.excess <= kVolumeEpsilon) continue;
+            changed = true;
+            k.volume_m3 -= f.excess;
+            const std::int32_t from = k.id;
+            const std::size_t before = m_list.size();
+            deliver(f.spill_cell, f.excess, from);
+            // The target's id: the owner of the spill cell, or the pit's catchment.
+            std::int32_t target = m_owner[f.spill_cell];
+            if (target == 0 && !m_fd.is_outlet(f.spill_cell)) {
+                const auto t = m_fd.terminus(f.spill_cell);
+                if (!m_fd.is_outlet(t)) target = catchment_of_pit(t);
+            }
+            m_spills_into[idx] = target;
+            if (target == 0 || m_list.size() != before) continue;
+            // Mutual spill: the two are one body at the shared saddle. Merge them.
+            std::size_t tidx = 0;
+            while (tidx < m_list.size() && m_list[tidx].id != target) ++tidx;
+            if (tidx < m_list.size() && m_spills_into[tidx] == from) {
+                Catchment& a = m_list[idx];
+                Catchment& b = m_list[tidx];
+                a.seeds.insert(a.seeds.end(), b.seeds.begin(), b.seeds.end());
+                a.volume_m3 += b.volume_m3;
+                a.dynamic = a.dynamic && b.dynamic;
+                release_cells(b);
+                m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(tidx));
+                m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(tidx));
+                break; // indices shifted: start a new pass
+            }
+        }
+    }
+    return passes;
+}
+
+terrain::Raster<std::int32_t> Catchments::id_map() const {
+    terrain::Raster<std::int32_t> m(m_dem.grid(), 0);
+    for (const auto& k : m_list)
+        for (const auto c : k.cells)
+            if (k.level_m - m_fd.elevation(c) > 0 && m.data()[c] == 0) m.data()[c] = k.id;
+    return m;
+}
+
+terrain::RasterD Catchments::depth_map() const {
+    terrain::RasterD d(m_dem.grid(), 0.0);
+    for (const auto& k : m_list)
+        for (const auto c : k.cells)
+            d.data()[c] = std::max(d.data()[c], k.level_m - m_fd.elevation(c));
+    return d;
+}
+
+double Catchments::total_volume_m3() const {
+    double v = 0;
+    for (const auto& k : m_list) v += k.volume_m3;
+    return v;
+}
+
+} // namespace ecoterra::hydro

@@ -2,9 +2,13 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -62,12 +66,18 @@ void run_et(EtArgs& a) {
     const auto m = et::parse_method(a.method);
     if (!m)
         throw InputError("--method must be fao56, penman-open-water, penman-bare-soil or "
-                         "penman-grass, got '" + a.method + "'");
+                         "penman-grass, got '" +
+                         a.method + "'");
     et::WindFunction wf;
-    if (a.wind == "1948") wf = et::WindFunction::penman1948;
-    else if (a.wind == "1956") wf = et::WindFunction::penman1956;
-    else if (a.wind == "shuttleworth") wf = et::WindFunction::shuttleworth1993;
-    else throw InputError("--wind-function must be 1948, 1956 or shuttleworth, got '" + a.wind + "'");
+    if (a.wind == "1948")
+        wf = et::WindFunction::penman1948;
+    else if (a.wind == "1956")
+        wf = et::WindFunction::penman1956;
+    else if (a.wind == "shuttleworth")
+        wf = et::WindFunction::shuttleworth1993;
+    else
+        throw InputError("--wind-function must be 1948, 1956 or shuttleworth, got '" + a.wind +
+                         "'");
     a.w.rh_min_pct = a.rhmin;
     a.w.rh_max_pct = a.rhmax;
     a.w.rh_mean_pct = a.rhmean;
@@ -107,6 +117,58 @@ void run_et(EtArgs& a) {
     std::printf("%.2f mm/day %s\n", e, et::method_name(*m).c_str());
 }
 
+struct PondArgs {
+    std::string dem, output, routing = "d8";
+    double depth_m = 0.0;
+};
+
+void run_pond(const PondArgs& a) {
+    const hydro::Routing routing = hydro::parse_routing(a.routing);
+    { terrain::io::AtomicOutput probe(a.output); }
+    std::vector<std::string> warnings;
+    const terrain::RasterD dem = terrain::io::read_raster(a.dem, &warnings);
+    print_warnings(warnings);
+    Stopwatch sw;
+    const hydro::Catchments c = hydro::pond(dem, a.depth_m, routing);
+    const double seconds = sw.seconds();
+    const terrain::RasterD depth = c.depth_map();
+    const auto ids = c.id_map();
+    double input = 0;
+    std::int64_t valid = 0, wet = 0;
+    for (std::int64_t k = 0; k < dem.size(); ++k) {
+        if (std::isnan(dem.data()[k])) continue;
+        ++valid;
+        wet += depth.data()[k] > 0;
+    }
+    const double area = dem.cell_size() * dem.cell_size();
+    input = a.depth_m * area * static_cast<double>(valid);
+    const double stored = c.total_volume_m3(), lost = c.lost_m3();
+    terrain::io::Hdf5Writer h5(a.output);
+    h5.raster("/surface_water_depth_m", depth, "m", "standing water depth at equilibrium");
+    h5.raster("/catchment_id", ids, "1", "catchment holding the cell, 0 = dry");
+    h5.raster("/elevation", dem, "m", "the DEM ponded");
+    h5.attribute("/", "depth_m", a.depth_m);
+    h5.attribute("/", "routing", hydro::routing_name(routing));
+    h5.attribute("/budget", "input_m3", input);
+    h5.attribute("/budget", "stored_m3", stored);
+    h5.attribute("/budget", "left_through_edges_m3", lost);
+    h5.attribute("/budget", "residual_m3", input - stored - lost);
+    h5.attribute("/provenance", "json", provenance({{"dem", a.dem}}).dump());
+    h5.commit();
+    std::printf("ponded %.4g m over %s (%d x %d cells of %.4g m), %s routing\n", a.depth_m,
+                a.dem.c_str(), dem.nx(), dem.ny(), dem.cell_size(),
+                hydro::routing_name(routing).c_str());
+    std::printf("budget: input %.6g m3 = stored %.6g m3 + left through edges %.6g m3 "
+                "(residual %.3g m3)\n",
+                input, stored, lost, input - stored - lost);
+    std::printf("%zu catchments, %lld wet cells (%.2f %%), max depth %.4g m; %.3f s "
+                "(%.3g cells/s)\n",
+                c.catchments().size(), static_cast<long long>(wet),
+                valid ? 100.0 * static_cast<double>(wet) / static_cast<double>(valid) : 0.0,
+                terrain::stats(depth).max, seconds, static_cast<double>(dem.size()) / seconds);
+    std::printf("wrote %s\n", a.output.c_str());
+}
+
 } // namespace
 
 void add_hydro_command(CLI::App& app) {
@@ -119,8 +181,9 @@ void add_hydro_command(CLI::App& app) {
     soil->add_option("--silt", s->silt, "silt, % by mass")->required();
     soil->add_option("--clay", s->clay, "clay, % by mass")->required();
     soil->add_option("--ph", s->ph, "soil pH")->capture_default_str();
-    soil->add_option("--organic-matter", s->om,
-                     "organic matter, % by mass: use Saxton & Rawls 2006 instead of the class table");
+    soil->add_option(
+        "--organic-matter", s->om,
+        "organic matter, % by mass: use Saxton & Rawls 2006 instead of the class table");
     soil->add_flag("--json", s->as_json, "print JSON");
     soil->callback([s] { run_soil(*s); });
 
@@ -148,6 +211,16 @@ void add_hydro_command(CLI::App& app) {
         ->capture_default_str();
     et->add_flag("--json", e->as_json, "print all intermediates as JSON");
     et->callback([e] { run_et(*e); });
+
+    auto p = std::make_shared<PondArgs>();
+    CLI::App* pond = hydro->add_subcommand("pond", "where does a uniform depth of water pond?");
+    pond->add_option("dem", p->dem, "elevation raster (any supported format)")->required();
+    pond->add_option("--depth-m", p->depth_m, "water depth spread over every cell, m")->required();
+    pond->add_option("--routing", p->routing,
+                     "d8 (steepest descent; equals Fill-Spill-Merge) | mfd (multiple directions)")
+        ->capture_default_str();
+    pond->add_option("-o,--output", p->output, "HDF5 output file")->required();
+    pond->callback([p] { run_pond(*p); });
 }
 
 } // namespace ecoterra::app

@@ -22,25 +22,35 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
 Catchments::Catchments(const terrain::RasterD& dem)
     : m_dem(dem), m_fd(dem), m_area(dem.cell_size() * dem.cell_size()),
       m_owner(static_cast<std::size_t>(dem.size()), 0),
+      m_seed_owner(static_cast<std::size_t>(dem.size()), 0), m_index(1, -1),
       m_stamp_queued(static_cast<std::size_t>(dem.size()), 0),
       m_stamp_region(static_cast<std::size_t>(dem.size()), 0) {}
 
 Catchment* Catchments::find(std::int32_t id) {
-    for (auto& k : m_list)
-        if (k.id == id) return &k;
-    return nullptr;
+    if (id <= 0 || id >= static_cast<std::int32_t>(m_index.size()) || m_index[id] < 0)
+        return nullptr;
+    return &m_list[static_cast<std::size_t>(m_index[id])];
 }
 
 std::int32_t Catchments::catchment_of_pit(std::int64_t pit) const {
-    for (const auto& k : m_list)
-        if (std::find(k.seeds.begin(), k.seeds.end(), pit) != k.seeds.end()) return k.id;
-    return 0;
+    return m_seed_owner[pit];
+}
+
+void Catchments::reindex() {
+    std::fill(m_index.begin(), m_index.end(), -1);
+    m_index.resize(static_cast<std::size_t>(m_next_id), -1);
+    for (std::size_t k = 0; k < m_list.size(); ++k) {
+        m_index[m_list[k].id] = static_cast<std::int32_t>(k);
+        for (const auto s : m_list[k].seeds) m_seed_owner[s] = m_list[k].id;
+    }
 }
 
 void Catchments::add_to_pit(std::int64_t pit, double v) {
     if (!(v > 0)) return;
     if (const std::int32_t id = catchment_of_pit(pit)) {
-        find(id)->volume_m3 += v;
+        Catchment* k = find(id);
+        k->volume_m3 += v;
+        k->dirty = true;
         return;
     }
     Catchment k;
@@ -49,8 +59,10 @@ void Catchments::add_to_pit(std::int64_t pit, double v) {
     k.volume_m3 = v;
     k.level_m = m_fd.elevation(pit);
     k.cells = {pit};
+    m_seed_owner[pit] = k.id;
+    m_index.resize(static_cast<std::size_t>(m_next_id), -1);
+    m_index[k.id] = static_cast<std::int32_t>(m_list.size());
     m_list.push_back(std::move(k));
-    m_spills_into.push_back(0);
 }
 
 void Catchments::deliver(std::int64_t cell, double v, std::int32_t from) {
@@ -61,7 +73,9 @@ void Catchments::deliver(std::int64_t cell, double v, std::int32_t from) {
     }
     const std::int32_t o = m_owner[cell];
     if (o != 0 && o != from) {
-        find(o)->volume_m3 += v;
+        Catchment* t = find(o);
+        t->volume_m3 += v;
+        t->dirty = true;
         return;
     }
     const std::int64_t t = m_fd.terminus(cell);
@@ -80,7 +94,9 @@ void Catchments::add_water(std::int64_t cell, double v) {
         return;
     }
     if (const std::int32_t o = m_owner[cell]) {
-        find(o)->volume_m3 += v;
+        Catchment* k = find(o);
+        k->volume_m3 += v;
+        k->dirty = true;
         return;
     }
     deliver(cell, v, 0);
@@ -110,6 +126,7 @@ double Catchments::remove_water(std::int32_t id, double v) {
     if (!k || !(v > 0)) return 0.0;
     const double taken = std::min(v, k->volume_m3);
     k->volume_m3 -= taken;
+    k->dirty = true;
     return taken;
 }
 
@@ -239,8 +256,9 @@ void Catchments::split_if_separated(std::size_t index) {
         if (it != vid.end()) parts[component[it->second]].seeds.push_back(s);
     }
     release_cells(k);
-    m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(index));
-    m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(index));
+    m_list[index].volume_m3 = 0.0; // retired; removed when the pass ends
+    m_list[index].cells.clear();
+    m_list[index].seeds.clear();
     bool first = true;
     for (auto& p : parts) {
         if (p.seeds.empty()) { // a body with no pit of its own: give it the deepest cell as seed
@@ -252,81 +270,112 @@ void Catchments::split_if_separated(std::size_t index) {
             p.seeds.push_back(seed);
         }
         p.id = first ? k.id : m_next_id++;
+        if (first) m_list[index].id = 0; // the retired entry gives up its id
         first = false;
         p.dynamic = k.dynamic;
         p.level_m = k.level_m;
         p.previous_level_m = k.level_m;
+        p.dirty = true;
+        for (const auto sd : p.seeds) m_seed_owner[sd] = p.id;
+        m_index.resize(static_cast<std::size_t>(m_next_id), -1);
+        m_index[p.id] = static_cast<std::int32_t>(m_list.size());
         m_list.push_back(std::move(p));
-        m_spills_into.push_back(0);
     }
 }
 
 int Catchments::equilibrate() {
-    int passes = 0;
-    for (bool changed = true; changed;) {
-        if (++passes > kMaxPasses)
+    // A worklist of catchments whose volume changed, highest pit first: water runs downhill, so a
+    // catchment usually receives all its inflow from above before it is filled.
+    using Item = std::pair<double, std::int32_t>; // (lowest seed elevation, id)
+    std::priority_queue<Item> work;
+    auto lowest_seed = [&](const Catchment& k) {
+        double z = std::numeric_limits<double>::infinity();
+        for (const auto s : k.seeds) z = std::min(z, m_fd.elevation(s));
+        return z;
+    };
+    auto push = [&](std::int32_t id) {
+        if (const Catchment* k = find(id); k && k->dirty) work.emplace(lowest_seed(*k), id);
+    };
+    for (const auto& k : m_list)
+        if (k.dirty) work.emplace(lowest_seed(k), k.id);
+    int fills = 0;
+    while (!work.empty()) {
+        const std::int32_t id = work.top().second;
+        work.pop();
+        Catchment* kp = find(id);
+        if (!kp || !kp->dirty) continue;
+        if (kp->volume_m3 <= kVolumeEpsilon) {
+            kp->dirty = false;
+            continue;
+        }
+        if (++fills > kMaxPasses)
             throw Error("catchments: no equilibrium after " + std::to_string(kMaxPasses) +
-                        " passes");
-        changed = false;
-        std::fill(m_spills_into.begin(), m_spills_into.end(), 0);
-        // Drop empty catchments.
-        for (std::size_t i = m_list.size(); i-- > 0;)
-            if (m_list[i].volume_m3 <= kVolumeEpsilon) {
-                release_cells(m_list[i]);
-                m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(i));
-                m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(i));
-            }
-        for (std::size_t idx = 0; idx < m_list.size(); ++idx) {
-            Fill f = fill(m_list[idx]);
-            Catchment& k = m_list[idx];
-            // Ownership stays current across passes: a catchment's cells are re-claimed whenever
-            // it is recomputed, so spills find the water body that covers their cell.
-            release_cells(k);
-            k.level_m = f.level;
-            k.cells = std::move(f.cells);
-            for (const auto c : k.cells)
-                if (m_owner[c] == 0) m_owner[c] = k.id;
-            const bool fell = k.level_m < k.previous_level_m;
-            k.previous_level_m = k.level_m;
-            if (fell && k.seeds.size() > 1) {
-                const std::size_t before = m_list.size();
-                split_if_separated(idx);
-                if (m_list.size() != before) {
-                    changed = true;
-                    break; // the list changed: start a new pass
-                }
-            }
-            if (f.excess <= kVolumeEpsilon) continue;
-            changed = true;
-            k.volume_m3 -= f.excess;
-            const std::int32_t from = k.id;
+                        " updates");
+        const std::size_t idx = static_cast<std::size_t>(m_index[id]);
+        Fill f = fill(m_list[idx]);
+        Catchment& k = m_list[idx];
+        k.dirty = false;
+        // Ownership stays current: a catchment's cells are re-claimed whenever it is recomputed,
+        // so spills find the water body that covers their cell.
+        release_cells(k);
+        k.level_m = f.level;
+        k.cells = std::move(f.cells);
+        for (const auto c : k.cells)
+            if (m_owner[c] == 0) m_owner[c] = k.id;
+        const bool fell = k.level_m < k.previous_level_m;
+        k.previous_level_m = k.level_m;
+        if (fell && k.seeds.size() > 1) {
             const std::size_t before = m_list.size();
-            deliver(f.spill_cell, f.excess, from);
-            // The target's id: the owner of the spill cell, or the pit's catchment.
-            std::int32_t target = m_owner[f.spill_cell];
-            if (target == 0 && !m_fd.is_outlet(f.spill_cell)) {
-                const auto t = m_fd.terminus(f.spill_cell);
-                if (!m_fd.is_outlet(t)) target = catchment_of_pit(t);
-            }
-            m_spills_into[idx] = target;
-            if (target == 0 || m_list.size() != before) continue;
-            // Mutual spill: the two are one body at the shared saddle. Merge them.
-            std::size_t tidx = 0;
-            while (tidx < m_list.size() && m_list[tidx].id != target) ++tidx;
-            if (tidx < m_list.size() && m_spills_into[tidx] == from) {
-                Catchment& a = m_list[idx];
-                Catchment& b = m_list[tidx];
-                a.seeds.insert(a.seeds.end(), b.seeds.begin(), b.seeds.end());
-                a.volume_m3 += b.volume_m3;
-                a.dynamic = a.dynamic && b.dynamic;
-                release_cells(b);
-                m_list.erase(m_list.begin() + static_cast<std::ptrdiff_t>(tidx));
-                m_spills_into.erase(m_spills_into.begin() + static_cast<std::ptrdiff_t>(tidx));
-                break; // indices shifted: start a new pass
+            split_if_separated(idx);
+            if (m_list.size() != before) {
+                for (std::size_t n = before; n < m_list.size(); ++n) push(m_list[n].id);
+                continue;
             }
         }
+        if (f.excess <= kVolumeEpsilon) {
+            m_list[idx].spills_into = 0;
+            continue;
+        }
+        m_list[idx].volume_m3 -= f.excess;
+        deliver(f.spill_cell, f.excess, id); // may append to m_list
+        // The target: the owner of the spill cell, or the pit's catchment.
+        std::int32_t target = m_owner[f.spill_cell];
+        if (target == 0 && !m_fd.is_outlet(f.spill_cell)) {
+            const auto t = m_fd.terminus(f.spill_cell);
+            if (!m_fd.is_outlet(t)) target = catchment_of_pit(t);
+        }
+        m_list[idx].spills_into = target;
+        if (target == 0) continue;
+        Catchment* b = find(target);
+        if (b && b->spills_into == id && b->volume_m3 > kVolumeEpsilon) {
+            // Mutual spill: the two are one body at the shared saddle. Merge them.
+            Catchment& a = m_list[idx];
+            a.seeds.insert(a.seeds.end(), b->seeds.begin(), b->seeds.end());
+            for (const auto sd : b->seeds) m_seed_owner[sd] = a.id;
+            a.volume_m3 += b->volume_m3;
+            a.dynamic = a.dynamic && b->dynamic;
+            a.dirty = true;
+            a.spills_into = 0;
+            release_cells(*b);
+            b->volume_m3 = 0.0; // retired; removed below
+            b->cells.clear();
+            b->seeds.clear();
+            b->dirty = false;
+            push(id);
+        } else {
+            push(target);
+        }
     }
-    return passes;
+    // Drop empty and retired catchments.
+    std::erase_if(m_list, [&](const Catchment& k) {
+        if (k.volume_m3 > kVolumeEpsilon) return false;
+        release_cells(k);
+        for (const auto s : k.seeds)
+            if (m_seed_owner[s] == k.id) m_seed_owner[s] = 0;
+        return true;
+    });
+    reindex();
+    return fills;
 }
 
 terrain::Raster<std::int32_t> Catchments::id_map() const {

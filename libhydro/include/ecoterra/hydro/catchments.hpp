@@ -39,6 +39,8 @@ struct Catchment {
     std::vector<std::int64_t> cells; ///< cells with water depth >= 0 (the region)
     double previous_level_m = 1e300; ///< level at the previous pass (a fall triggers a split check)
     bool dynamic = true;             ///< false once it spills out of the domain
+    bool dirty = true;               ///< volume changed since its region was last computed
+    std::int32_t spills_into = 0;    ///< id it spilled into when last computed (0 = none)
 };
 
 class Catchments {
@@ -89,8 +91,10 @@ private:
     FlowDirections m_fd;
     double m_area;
     std::vector<Catchment> m_list;
-    std::vector<std::int32_t> m_owner;       ///< catchment id per cell after equilibrate()
-    std::vector<std::int32_t> m_spills_into; ///< by list index: id spilled into last pass, 0 none
+    std::vector<std::int32_t> m_owner;      ///< catchment id per cell after equilibrate()
+    std::vector<std::int32_t> m_seed_owner; ///< catchment id whose seeds include the cell
+    std::vector<std::int32_t> m_index;      ///< position in m_list by id (-1 = none)
+    void reindex();
     std::int32_t m_next_id = 1;
     double m_lost_m3 = 0.0;
     // Scratch for fill(): stamps avoid clearing per call.

@@ -1,0 +1,51 @@
+#pragma once
+// A self-describing HDF5 output file, written atomically: datasets go into a temporary file that
+// replaces the target only on commit(). Every dataset carries `units` and `description`
+// attributes; rasters also carry the grid (cell_size_m, origin_x_m, origin_y_m, row_order).
+#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/terrain/raster.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ecoterra::terrain::io {
+
+class Hdf5Writer {
+public:
+    explicit Hdf5Writer(const std::filesystem::path& target);
+    ~Hdf5Writer();
+    Hdf5Writer(const Hdf5Writer&) = delete;
+    Hdf5Writer& operator=(const Hdf5Writer&) = delete;
+
+    /// Writes a raster as a chunked, compressed [ny, nx] dataset (row 0 = south) at `path`
+    /// (parent groups are created). Float rasters are stored as float32.
+    void raster(const std::string& path, const RasterD& r, const std::string& units,
+                const std::string& description);
+    void raster(const std::string& path, const Raster<float>& r, const std::string& units,
+                const std::string& description);
+    void raster(const std::string& path, const Raster<std::int32_t>& r, const std::string& units,
+                const std::string& description);
+    void raster(const std::string& path, const Raster<std::uint8_t>& r, const std::string& units,
+                const std::string& description);
+    /// A 1-D double dataset.
+    void series(const std::string& path, const std::vector<double>& v, const std::string& units,
+                const std::string& description);
+    void series(const std::string& path, const std::vector<std::int32_t>& v,
+                const std::string& units, const std::string& description);
+    /// A string attribute on a group (created if needed) or dataset.
+    void attribute(const std::string& object, const std::string& name, const std::string& value);
+    void attribute(const std::string& object, const std::string& name, double value);
+    /// Closes the file and moves it into place.
+    void commit();
+
+private:
+    struct Impl;
+    AtomicOutput m_out;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace ecoterra::terrain::io

@@ -1,0 +1,386 @@
+#include "ecoterra/hydro/weather.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+namespace ecoterra::hydro {
+
+namespace {
+
+constexpr double kDaysPerYear = 365.0;
+constexpr double kRadiationNoiseSd = 0.08; ///< of the clear-sky fraction
+constexpr double kWindGammaShape = 4.0;    ///< daily wind factor: mean 1, CV 0.5
+constexpr double kMinDiurnalRangeC = 0.5;
+constexpr double kWetDewDepressionFactor = 0.3; ///< wet days: depression x 0.3
+constexpr double kMinRadiationOfRa = 0.25;
+constexpr double kDefaultWindMPerS = 2.0; ///< FAO-56 s3 global average at 2 m
+constexpr double kHargreavesKrs = 0.16;
+
+double harmonic(double mean, double amplitude, int peak, int doy) {
+    return mean + amplitude * std::cos(2 * std::numbers::pi * (doy - peak) / kDaysPerYear);
+}
+
+std::string num(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+} // namespace
+
+void Climate::validate() const {
+    auto in = [&](double v, double lo, double hi, const char* key) {
+        if (!(v >= lo && v <= hi))
+            throw InputError("climate " + name + ": " + key + " = " + num(v) + " is outside [" +
+                             num(lo) + ", " + num(hi) + "]");
+    };
+    in(latitude_deg, -90, 90, "latitude_deg");
+    in(elevation_m, -500, 9000, "elevation_m");
+    in(p_wet_after_dry, 0, 1, "p_wet_after_dry");
+    in(p_wet_after_wet, 0, 1, "p_wet_after_wet");
+    in(precip_seasonal_amplitude, -0.9, 0.9, "precip_seasonal_amplitude");
+    in(wet_day_mean_mm, 0, 500, "wet_day_mean_mm");
+    in(gamma_shape, 0.05, 20, "gamma_shape");
+    in(temperature_sd_c, 0, 20, "temperature_sd_c");
+    in(temperature_lag1, 0, 0.99, "temperature_lag1");
+    in(wind_mean_m_per_s, 0, 30, "wind_mean_m_per_s");
+    in(dry_radiation_fraction, 0.1, 1, "dry_radiation_fraction");
+    in(wet_radiation_fraction, 0.1, 1, "wet_radiation_fraction");
+    if (tmax_mean_c < tmin_mean_c)
+        throw InputError("climate " + name + ": tmax_mean_c is below tmin_mean_c");
+}
+
+double Climate::expected_annual_rain_mm() const {
+    const double wet_fraction = p_wet_after_dry / (1.0 + p_wet_after_dry - p_wet_after_wet);
+    return kDaysPerYear * wet_fraction * wet_day_mean_mm;
+}
+
+std::vector<std::string> climate_presets() {
+    return {"humid_subtropical", "semi_arid_desert", "temperate"};
+}
+
+Climate climate_preset(const std::string& name) {
+    Climate c;
+    c.name = name;
+    if (name == "humid_subtropical") {
+        // The paper's broadleaf forest: about 62 in (1575 mm) of rain a year, on the order of
+        // north-east Mississippi (33.5 N). 122 wet days x 12.9 mm.
+        c.latitude_deg = 33.5;
+        c.elevation_m = 100;
+        c.p_wet_after_dry = 0.25;
+        c.p_wet_after_wet = 0.50;
+        c.precip_seasonal_amplitude = 0.10;
+        c.precip_peak_doy = 45;
+        c.wet_day_mean_mm = 12.9;
+        c.gamma_shape = 0.75;
+        c.tmax_mean_c = 24;
+        c.tmax_amplitude_c = 9;
+        c.tmin_mean_c = 12;
+        c.tmin_amplitude_c = 10;
+        c.warmest_doy = 200;
+        c.dew_depression_mean_c = 3.0;
+        c.dew_depression_amplitude_c = 1.0;
+        c.wind_mean_m_per_s = 2.0;
+        c.wind_amplitude_m_per_s = 0.3;
+    } else if (name == "semi_arid_desert") {
+        // South-western desert (about 32 N, 730 m): about 300 mm, a summer monsoon.
+        c.latitude_deg = 32.2;
+        c.elevation_m = 730;
+        c.p_wet_after_dry = 0.06;
+        c.p_wet_after_wet = 0.35;
+        c.precip_seasonal_amplitude = 0.6;
+        c.precip_peak_doy = 215;
+        c.wet_day_mean_mm = 9.7;
+        c.gamma_shape = 0.7;
+        c.tmax_mean_c = 29.5;
+        c.tmax_amplitude_c = 9.5;
+        c.tmin_mean_c = 14;
+        c.tmin_amplitude_c = 9;
+        c.warmest_doy = 190;
+        c.dew_depression_mean_c = 15;
+        c.dew_depression_amplitude_c = 4;
+        c.wind_mean_m_per_s = 2.8;
+        c.wind_amplitude_m_per_s = 0.5;
+        c.dry_radiation_fraction = 0.9;
+    } else if (name == "temperate") {
+        // Western European lowland (about 51 N): about 800 mm on 175 days.
+        c.latitude_deg = 50.8;
+        c.elevation_m = 100;
+        c.p_wet_after_dry = 0.35;
+        c.p_wet_after_wet = 0.62;
+        c.precip_seasonal_amplitude = 0.1;
+        c.precip_peak_doy = 330;
+        c.wet_day_mean_mm = 4.6;
+        c.gamma_shape = 0.8;
+        c.tmax_mean_c = 14.5;
+        c.tmax_amplitude_c = 8;
+        c.tmin_mean_c = 6.5;
+        c.tmin_amplitude_c = 6;
+        c.warmest_doy = 200;
+        c.dew_depression_mean_c = 3.0;
+        c.dew_depression_amplitude_c = 1.0;
+        c.wind_mean_m_per_s = 3.0;
+        c.wind_amplitude_m_per_s = 0.5;
+        c.dry_radiation_fraction = 0.75;
+        c.wet_radiation_fraction = 0.4;
+    } else {
+        throw InputError("unknown climate preset '" + name +
+                         "' (humid_subtropical, semi_arid_desert, temperate)");
+    }
+    return c;
+}
+
+WeatherGenerator::WeatherGenerator(const Climate& c, std::uint64_t seed)
+    : m_c(c), m_rng(seed, "hydro.weather") {
+    m_c.validate();
+}
+
+double WeatherGenerator::gamma(double shape) {
+    // Marsaglia & Tsang (2000); shape < 1 by the boost gamma(k + 1) U^(1/k).
+    if (shape < 1.0) return gamma(shape + 1.0) * std::pow(m_rng.uniform(), 1.0 / shape);
+    const double d = shape - 1.0 / 3.0, c = 1.0 / std::sqrt(9.0 * d);
+    for (;;) {
+        double x, v;
+        do {
+            x = m_rng.normal();
+            v = 1.0 + c * x;
+        } while (v <= 0);
+        v = v * v * v;
+        const double u = m_rng.uniform();
+        if (u < 1.0 - 0.0331 * x * x * x * x) return d * v;
+        if (std::log(u) < 0.5 * x * x + d * (1.0 - v + std::log(v))) return d * v;
+    }
+}
+
+DayWeather WeatherGenerator::next() {
+    if (++m_doy > 365) {
+        m_doy = 1;
+        ++m_year;
+    }
+    DayWeather w;
+    w.year = m_year;
+    w.doy = m_doy;
+    const double season = harmonic(1.0, m_c.precip_seasonal_amplitude, m_c.precip_peak_doy, m_doy);
+    const double p =
+        std::clamp((m_wet ? m_c.p_wet_after_wet : m_c.p_wet_after_dry) * season, 0.0, 1.0);
+    m_wet = m_rng.uniform() < p;
+    w.rain_mm = m_wet ? gamma(m_c.gamma_shape) * m_c.wet_day_mean_mm / m_c.gamma_shape : 0.0;
+    const double rho = m_c.temperature_lag1;
+    const double innov = std::sqrt(1.0 - rho * rho) * m_c.temperature_sd_c;
+    m_tmax_anom = rho * m_tmax_anom + innov * m_rng.normal();
+    m_tmin_anom = rho * m_tmin_anom + innov * m_rng.normal();
+    w.tmax_c = harmonic(m_c.tmax_mean_c, m_c.tmax_amplitude_c, m_c.warmest_doy, m_doy) +
+               m_tmax_anom - (m_wet ? m_c.wet_day_tmax_drop_c : 0.0);
+    w.tmin_c =
+        harmonic(m_c.tmin_mean_c, m_c.tmin_amplitude_c, m_c.warmest_doy, m_doy) + m_tmin_anom;
+    if (w.tmax_c < w.tmin_c + kMinDiurnalRangeC) {
+        const double mid = 0.5 * (w.tmax_c + w.tmin_c);
+        w.tmax_c = mid + 0.5 * kMinDiurnalRangeC;
+        w.tmin_c = mid - 0.5 * kMinDiurnalRangeC;
+    }
+    const double dep =
+        std::max(0.0, harmonic(m_c.dew_depression_mean_c, m_c.dew_depression_amplitude_c,
+                               m_c.warmest_doy, m_doy));
+    w.tdew_c = w.tmin_c - (m_wet ? kWetDewDepressionFactor * dep : dep);
+    w.u2_m_per_s = std::max(0.0, harmonic(m_c.wind_mean_m_per_s, m_c.wind_amplitude_m_per_s,
+                                          m_c.warmest_doy + 182, m_doy)) *
+                   gamma(kWindGammaShape) / kWindGammaShape;
+    const double lat = m_c.latitude_deg * std::numbers::pi / 180.0;
+    const double ra = et::extraterrestrial_radiation_daily(lat, m_doy);
+    const double rso = et::clear_sky_radiation(ra, m_c.elevation_m);
+    const double f = (m_wet ? m_c.wet_radiation_fraction : m_c.dry_radiation_fraction) +
+                     kRadiationNoiseSd * m_rng.normal();
+    w.rs_mj = std::clamp(f * rso, std::min(kMinRadiationOfRa * ra, rso), rso);
+    return w;
+}
+
+WeatherGenerator::State WeatherGenerator::state() const {
+    return State{m_rng.state(), m_wet, m_tmax_anom, m_tmin_anom, m_year, m_doy};
+}
+
+void WeatherGenerator::set_state(const State& s) {
+    m_rng.set_state(s.rng);
+    m_wet = s.wet;
+    m_tmax_anom = s.tmax_anomaly;
+    m_tmin_anom = s.tmin_anomaly;
+    m_year = s.year;
+    m_doy = s.doy;
+}
+
+namespace {
+
+bool leap(int y) {
+    return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+}
+
+/// Parses YYYY-MM-DD into (year, day of year).
+std::pair<int, int> parse_date(const std::string& s, const std::string& where) {
+    int y = 0, m = 0, d = 0;
+    char c1 = 0, c2 = 0;
+    std::istringstream in(s);
+    if (!(in >> y >> c1 >> m >> c2 >> d) || c1 != '-' || c2 != '-' || m < 1 || m > 12 || d < 1 ||
+        d > 31)
+        throw InputError(where + ": date must be YYYY-MM-DD, got '" + s + "'");
+    static constexpr int kCum[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
+    return {y, kCum[m - 1] + d + ((leap(y) && m > 2) ? 1 : 0)};
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+    std::vector<std::string> out;
+    std::string cur;
+    for (char c : line) {
+        if (c == ',') {
+            out.push_back(cur);
+            cur.clear();
+        } else if (c != '\r') {
+            cur += c;
+        }
+    }
+    out.push_back(cur);
+    for (auto& s : out) {
+        s.erase(0, s.find_first_not_of(" \t"));
+        s.erase(s.find_last_not_of(" \t") + 1);
+    }
+    return out;
+}
+
+} // namespace
+
+WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, double elev) {
+    const std::string where = path.string();
+    std::istringstream in(terrain::io::read_text(path));
+    std::string line;
+    if (!std::getline(in, line)) throw InputError(where + ": empty file");
+    const auto header = split_csv(line);
+    const std::vector<std::string> known = {
+        "date",       "tmin_c",      "tmax_c", "rain_mm",    "rh_min_pct",
+        "rh_max_pct", "rh_mean_pct", "tdew_c", "u2_m_per_s", "rs_mj_per_m2_day"};
+    std::map<std::string, std::size_t> col;
+    for (std::size_t k = 0; k < header.size(); ++k) {
+        if (std::find(known.begin(), known.end(), header[k]) == known.end())
+            throw InputError(where + ": unknown column '" + header[k] + "'");
+        col[header[k]] = k;
+    }
+    for (const char* req : {"date", "tmin_c", "tmax_c", "rain_mm"})
+        if (!col.count(req))
+            throw InputError(where + ": missing column '" + std::string(req) + "'");
+    WeatherSeries ws;
+    ws.latitude_deg = lat;
+    ws.elevation_m = elev;
+    struct Raw {
+        int year, doy;
+        std::map<std::string, std::optional<double>> v;
+    };
+    std::vector<Raw> rows;
+    int lineno = 1;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        const auto f = split_csv(line);
+        const std::string at = where + " line " + std::to_string(lineno);
+        if (f.size() != header.size())
+            throw InputError(at + ": " + std::to_string(f.size()) + " fields, header has " +
+                             std::to_string(header.size()));
+        Raw r{};
+        std::tie(r.year, r.doy) = parse_date(f[col["date"]], at);
+        for (const auto& [name, k] : col) {
+            if (name == "date") continue;
+            const std::string& s = f[k];
+            if (s.empty() || s == "NA" || s == "NaN" || s == "nan") {
+                r.v[name] = std::nullopt;
+                continue;
+            }
+            try {
+                std::size_t used = 0;
+                r.v[name] = std::stod(s, &used);
+                if (used != s.size()) throw std::invalid_argument(s);
+            } catch (const std::exception&) {
+                throw InputError(at + ": " + name + " is not a number: '" + s + "'");
+            }
+        }
+        rows.push_back(std::move(r));
+    }
+    if (rows.empty()) throw InputError(where + ": no data rows");
+    // Temperatures: linear interpolation between the nearest observed days.
+    for (const char* t : {"tmin_c", "tmax_c"}) {
+        std::vector<int> have;
+        for (int k = 0; k < static_cast<int>(rows.size()); ++k)
+            if (rows[k].v[t]) have.push_back(k);
+        if (have.empty()) throw InputError(where + ": column " + t + " has no value at all");
+        for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+            if (rows[k].v[t]) continue;
+            auto hi = std::lower_bound(have.begin(), have.end(), k);
+            double v;
+            if (hi == have.begin())
+                v = *rows[*hi].v[t];
+            else if (hi == have.end())
+                v = *rows[have.back()].v[t];
+            else {
+                const int a = *(hi - 1), b = *hi;
+                v = *rows[a].v[t] + (*rows[b].v[t] - *rows[a].v[t]) * (k - a) / double(b - a);
+            }
+            rows[k].v[t] = v;
+            ++ws.filled[std::string(t) + ": interpolated"];
+        }
+    }
+    for (auto& r : rows) {
+        DayWeather d;
+        d.year = r.year;
+        d.doy = r.doy;
+        d.tmin_c = *r.v["tmin_c"];
+        d.tmax_c = *r.v["tmax_c"];
+        if (d.tmax_c < d.tmin_c)
+            throw InputError(where + ": tmax below tmin on " + std::to_string(r.year) + " day " +
+                             std::to_string(r.doy));
+        if (r.v["rain_mm"]) {
+            d.rain_mm = *r.v["rain_mm"];
+            if (d.rain_mm < 0)
+                throw InputError(where + ": negative rain on day " + std::to_string(r.doy));
+        } else {
+            d.rain_mm = 0;
+            ++ws.filled["rain_mm: missing, taken as 0"];
+        }
+        auto get = [&](const char* k) { return r.v.count(k) ? r.v[k] : std::nullopt; };
+        if (auto td = get("tdew_c"))
+            d.tdew_c = *td;
+        else if (get("rh_min_pct") && get("rh_max_pct")) {
+            const double ea = (et::svp_water_kpa(d.tmin_c) * *get("rh_max_pct") +
+                               et::svp_water_kpa(d.tmax_c) * *get("rh_min_pct")) /
+                              200.0;
+            // Invert improved Magnus for the dew point.
+            const double x = std::log(ea / 0.61094);
+            d.tdew_c = 243.04 * x / (17.625 - x);
+        } else if (auto rh = get("rh_mean_pct")) {
+            const double es = 0.5 * (et::svp_water_kpa(d.tmin_c) + et::svp_water_kpa(d.tmax_c));
+            const double x = std::log(*rh / 100.0 * es / 0.61094);
+            d.tdew_c = 243.04 * x / (17.625 - x);
+        } else {
+            d.tdew_c = d.tmin_c;
+            ++ws.filled["humidity: Tdew = Tmin (FAO-56)"];
+        }
+        if (auto u = get("u2_m_per_s"))
+            d.u2_m_per_s = *u;
+        else {
+            d.u2_m_per_s = kDefaultWindMPerS;
+            ++ws.filled["u2: 2 m/s (FAO-56)"];
+        }
+        const double ra =
+            et::extraterrestrial_radiation_daily(lat * std::numbers::pi / 180.0, d.doy);
+        if (auto rs = get("rs_mj_per_m2_day"))
+            d.rs_mj = *rs;
+        else {
+            d.rs_mj = et::solar_from_temperature(d.tmax_c, d.tmin_c, ra, kHargreavesKrs);
+            ++ws.filled["rs: Hargreaves 0.16 sqrt(Tmax - Tmin) Ra (FAO-56 eq. 50)"];
+        }
+        ws.days.push_back(d);
+    }
+    return ws;
+}
+
+} // namespace ecoterra::hydro

@@ -1,0 +1,105 @@
+#pragma once
+// The daily soil-water, runoff, catchment and evapotranspiration model (paper 002 s4), with a
+// water budget that must close.
+//
+// State: volumetric soil water theta per cell over a root zone of depth d (m), between the wilting
+// point and field capacity; standing water in catchments; optionally a water table (groundwater).
+// One day:
+//  1. Rain P on a cell under standing water joins that catchment. Elsewhere it splits into runoff
+//     C P (runoff coefficient by vegetation x slope x texture, or SCS curve number) and
+//     infiltration (1 - C) P; flat cells (slope < flat_slope) absorb everything.
+//  2. Infiltration raises theta; water above field capacity percolates to the water table (at most
+//     Ksat x 1 day, groundwater on) and the rest joins the runoff (saturation excess).
+//  3. Runoff runs downhill cell by cell (D8 or MFD, highest cells first). A cell below field
+//     capacity absorbs run-on up to its deficit; what is left reaches a catchment (joining or
+//     creating one at a pit) or leaves through the domain edge (counted).
+//  4. Catchments lose open-water evaporation (Penman E0 over their wet cells) and infiltrate into
+//     the soil under them up to field capacity (and percolate to the water table), then are
+//     brought to equilibrium (they grow, shrink, spill, merge, split).
+//  5. Evapotranspiration from each dry cell: the larger of the Penman demand of its surface (bare
+//     soil 0.9 E0 below the grass density threshold, grass f E0 above) and the transpiration
+//     requested for the cell (from the ecosystem), never taking theta below the wilting point.
+//     What was removed is reported, split into transpiration (up to the request) and evaporation.
+//  6. Groundwater (optional): see groundwater.hpp.
+// Budget (m3, whole domain): rain = evaporation + transpiration + runoff out + groundwater out
+// + d(soil) + d(surface) + d(groundwater) + residual.
+#include "ecoterra/hydro/catchments.hpp"
+#include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/hydro/runoff.hpp"
+#include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/hydro/weather.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace ecoterra::hydro {
+
+class Groundwater;
+
+enum class RunoffMethod { coefficients, curve_number };
+
+struct HydrologyOptions {
+    double root_zone_depth_m = 1.0;
+    double initial_saturation = 1.0; ///< theta0 = WP + s (FC - WP), s in [0, 1]
+    Routing routing = Routing::d8;
+    RunoffMethod runoff = RunoffMethod::coefficients;
+    double flat_slope = 0.005;            ///< rise/run below which a cell is flat
+    double grass_density_threshold = 0.3; ///< vegetation density at which the surface is grass
+    et::WindFunction wind = et::WindFunction::penman1948;
+    bool groundwater = false;
+    double specific_yield = 0.2;       ///< m3/m3
+    double aquifer_thickness_m = 20.0; ///< from the impermeable base to the surface
+    double initial_water_table_depth_m = 5.0;
+    double budget_tolerance = 1e-9; ///< |cumulative residual| / cumulative throughput
+    void validate() const;
+};
+
+/// One day's water over the domain, m3.
+struct DailyFluxes {
+    double rain = 0, evaporation = 0, transpiration = 0, infiltration = 0, runoff_out = 0;
+    double groundwater_out = 0, recharge = 0;
+    double d_soil = 0, d_surface = 0, d_groundwater = 0;
+    double residual = 0;
+};
+
+class HydrologyModel {
+public:
+    HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
+                   const terrain::RasterD& vegetation_density, const HydrologyOptions& opt,
+                   const Climate& climate);
+    ~HydrologyModel();
+
+    /// Advances one day. `transpiration_mm` (per cell, may be null) is the water the plants ask
+    /// for. Throws Error if the budget breaks.
+    DailyFluxes step(const DayWeather& w, const terrain::RasterD* transpiration_mm = nullptr);
+
+    const terrain::RasterD& soil_moisture() const { return m_theta; }
+    terrain::RasterD surface_water_depth() const { return m_catch.depth_map(); }
+    terrain::Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }
+    /// Depth of the water table below the surface, m (NaN without groundwater).
+    terrain::RasterD water_table_depth() const;
+    /// Water removed from each cell's soil by the last step's transpiration, mm.
+    const terrain::RasterD& transpiration_supplied_mm() const { return m_transp_supplied; }
+    const Catchments& catchments() const { return m_catch; }
+    double cumulative_residual_m3() const { return m_cum_residual; }
+    double cumulative_throughput_m3() const { return m_cum_throughput; }
+    double soil_storage_m3() const;
+    double groundwater_storage_m3() const;
+    int day() const { return m_day; }
+
+private:
+    terrain::RasterD m_dem;
+    SoilMap m_soil;
+    terrain::RasterD m_veg;
+    HydrologyOptions m_opt;
+    Climate m_climate;
+    Catchments m_catch;
+    terrain::RasterD m_theta, m_slope, m_coef, m_transp_supplied;
+    std::vector<std::int64_t> m_order; ///< cells by decreasing elevation
+    std::unique_ptr<Groundwater> m_gw;
+    double m_area;
+    double m_cum_residual = 0, m_cum_throughput = 0;
+    int m_day = 0;
+};
+
+} // namespace ecoterra::hydro

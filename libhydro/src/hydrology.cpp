@@ -1,0 +1,283 @@
+#include "ecoterra/hydro/hydrology.hpp"
+
+#include "ecoterra/hydro/groundwater.hpp"
+#include "ecoterra/terrain/roughness.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace ecoterra::hydro {
+
+namespace {
+constexpr double kMmPerM = 1000.0;
+constexpr double kSecondsPerDay = 86400.0;
+constexpr double kMfdExponent = 1.1;
+} // namespace
+
+void HydrologyOptions::validate() const {
+    auto in = [](double v, double lo, double hi, const char* key) {
+        if (!(v >= lo && v <= hi)) {
+            std::ostringstream s;
+            s << "hydrology." << key << " = " << v << " is outside [" << lo << ", " << hi << "]";
+            throw InputError(s.str());
+        }
+    };
+    in(root_zone_depth_m, 0.01, 10, "root_zone_depth_m");
+    in(initial_saturation, 0, 1, "initial_saturation");
+    in(flat_slope, 0, 1, "flat_slope");
+    in(grass_density_threshold, 0, 1, "grass_density_threshold");
+    in(specific_yield, 0.001, 0.6, "specific_yield");
+    in(aquifer_thickness_m, 0.1, 1000, "aquifer_thickness_m");
+    in(initial_water_table_depth_m, 0, aquifer_thickness_m, "initial_water_table_depth_m");
+    in(budget_tolerance, 0, 1, "budget_tolerance");
+}
+
+HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
+                               const terrain::RasterD& veg, const HydrologyOptions& opt,
+                               const Climate& climate)
+    : m_dem(dem), m_soil(soil), m_veg(veg), m_opt(opt), m_climate(climate), m_catch(dem),
+      m_area(dem.cell_size() * dem.cell_size()) {
+    opt.validate();
+    climate.validate();
+    if (!(soil.grid() == dem.grid()))
+        throw InputError("the soil map's grid does not match the terrain's");
+    if (!(veg.grid() == dem.grid()))
+        throw InputError("the vegetation-density raster's grid does not match the terrain's");
+    for (std::int64_t k = 0; k < dem.size(); ++k) {
+        if (std::isnan(dem.data()[k]))
+            throw InputError("the terrain has NODATA cells; fill or crop them before a hydrology "
+                             "run");
+        const double v = veg.data()[k];
+        if (!(v >= 0 && v <= 1))
+            throw InputError("vegetation density must be in [0, 1], got " + std::to_string(v) +
+                             " at cell " + std::to_string(k));
+    }
+    const auto& g = dem.grid();
+    m_theta = terrain::RasterD(g);
+    m_coef = terrain::RasterD(g);
+    m_transp_supplied = terrain::RasterD(g, 0.0);
+    m_slope = terrain::slope_aspect(dem).slope;
+    const RunoffTable table = RunoffTable::standard();
+    for (std::int64_t k = 0; k < dem.size(); ++k) {
+        const double wp = soil.wilting_point.data()[k], fc = soil.field_capacity.data()[k];
+        m_theta.data()[k] = wp + opt.initial_saturation * (fc - wp);
+        m_coef.data()[k] = m_slope.data()[k] < opt.flat_slope
+                               ? 0.0
+                               : table.coefficient(veg.data()[k], m_slope.data()[k],
+                                                   static_cast<Texture>(soil.texture.data()[k]));
+    }
+    m_order.resize(static_cast<std::size_t>(dem.size()));
+    std::iota(m_order.begin(), m_order.end(), 0);
+    std::stable_sort(m_order.begin(), m_order.end(),
+                     [&](std::int64_t a, std::int64_t b) { return dem.data()[a] > dem.data()[b]; });
+    if (opt.groundwater)
+        m_gw =
+            std::make_unique<Groundwater>(dem, soil.ksat_m_per_s, opt.specific_yield,
+                                          opt.aquifer_thickness_m, opt.initial_water_table_depth_m);
+}
+
+HydrologyModel::~HydrologyModel() = default;
+
+double HydrologyModel::soil_storage_m3() const {
+    double s = 0;
+    for (std::int64_t k = 0; k < m_theta.size(); ++k)
+        s += m_theta.data()[k] * m_opt.root_zone_depth_m * m_area;
+    return s;
+}
+
+double HydrologyModel::groundwater_storage_m3() const {
+    return m_gw ? m_gw->storage_m3() : 0.0;
+}
+
+terrain::RasterD HydrologyModel::water_table_depth() const {
+    if (!m_gw) return terrain::RasterD(m_dem.grid(), std::nan(""));
+    terrain::RasterD d = m_gw->head();
+    d.array() = m_dem.array() - d.array();
+    return d;
+}
+
+DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* transp_mm) {
+    if (transp_mm && !(transp_mm->grid() == m_dem.grid()))
+        throw InputError("the transpiration demand raster's grid does not match the terrain's");
+    ++m_day;
+    DailyFluxes f;
+    const auto& g = m_dem.grid();
+    const double depth = m_opt.root_zone_depth_m;
+    const double soil0 = soil_storage_m3(), surf0 = m_catch.total_volume_m3(),
+                 gw0 = groundwater_storage_m3(), lost0 = m_catch.lost_m3();
+    // Penman demands of the day (mm).
+    et::DailyWeather dw;
+    dw.lat_deg = m_climate.latitude_deg;
+    dw.elevation_m = m_climate.elevation_m;
+    dw.doy = std::min(w.doy, 366);
+    dw.tmin_c = w.tmin_c;
+    dw.tmax_c = w.tmax_c;
+    dw.tdew_c = w.tdew_c;
+    dw.u2_m_per_s = w.u2_m_per_s;
+    dw.rs_mj = w.rs_mj;
+    const double e0_mm = std::max(0.0, et::penman_open_water(dw, m_opt.wind));
+    const double bare_mm = et::kPenmanBareSoilFactor * e0_mm;
+    const double grass_mm = et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm;
+    const double rain_m = w.rain_mm / kMmPerM;
+    f.rain = rain_m * m_area * static_cast<double>(g.size());
+
+    // 1-2. Rain: into lakes, or split into runoff and infiltration.
+    std::vector<double> runoff(static_cast<std::size_t>(g.size()), 0.0);   // m3
+    std::vector<double> recharge(static_cast<std::size_t>(g.size()), 0.0); // m3
+    const FlowDirections& fd = m_catch.flow();
+    for (std::int64_t k = 0; k < g.size(); ++k) {
+        if (rain_m <= 0) break;
+        if (m_catch.owner(k) != 0) {
+            m_catch.add_water(k, rain_m * m_area);
+            continue;
+        }
+        double r = 0;
+        if (m_opt.runoff == RunoffMethod::coefficients) {
+            r = m_coef.data()[k] * rain_m;
+        } else if (m_slope.data()[k] >= m_opt.flat_slope) {
+            r = scs_runoff_mm(
+                    w.rain_mm,
+                    curve_number(m_veg.data()[k], static_cast<Texture>(m_soil.texture.data()[k]))) /
+                kMmPerM;
+        }
+        const double inf = rain_m - r;
+        f.infiltration += inf * m_area;
+        double& th = m_theta.data()[k];
+        th += inf / depth;
+        const double fc = m_soil.field_capacity.data()[k];
+        double excess = std::max(0.0, (th - fc) * depth); // m
+        th = std::min(th, fc);
+        if (m_gw && excess > 0) {
+            const double perc = std::min(excess, m_soil.ksat_m_per_s.data()[k] * kSecondsPerDay);
+            recharge[k] += perc * m_area;
+            excess -= perc;
+        }
+        runoff[k] = (r + excess) * m_area;
+    }
+
+    // 3. Run-on, highest cells first.
+    const double h = g.cell_size_m;
+    for (const std::int64_t k : m_order) {
+        double q = runoff[k];
+        if (q <= 0) continue;
+        if (fd.is_outlet(k)) {
+            m_catch.add_water(k, q); // counted as lost by the catchments
+            continue;
+        }
+        if (m_catch.owner(k) != 0) {
+            m_catch.add_water(k, q);
+            continue;
+        }
+        double& th = m_theta.data()[k];
+        const double fc = m_soil.field_capacity.data()[k];
+        const double absorb = std::min(q, std::max(0.0, (fc - th) * depth * m_area));
+        if (absorb > 0) {
+            th += absorb / (depth * m_area);
+            f.infiltration += absorb;
+            q -= absorb;
+        }
+        if (q <= 0) continue;
+        if (fd.is_pit(k)) {
+            m_catch.add_to_pit(k, q);
+            continue;
+        }
+        if (m_opt.routing == Routing::d8) {
+            runoff[fd.receiver(k)] += q;
+            continue;
+        }
+        const int i = static_cast<int>(k % g.nx), j = static_cast<int>(k / g.nx);
+        double wsum = 0, wts[8] = {0};
+        for (int n = 0; n < 8; ++n) {
+            const auto& o = terrain::kMooreOffsets[n];
+            const std::int64_t c = cell_index(g, i + o[0], j + o[1]);
+            const bool diag = o[0] != 0 && o[1] != 0;
+            const double drop = m_dem.data()[k] - m_dem.data()[c];
+            if (drop <= 0) continue;
+            wts[n] = std::pow(drop / (diag ? h * std::numbers::sqrt2 : h), kMfdExponent) *
+                     (diag ? 0.354 : 0.5);
+            wsum += wts[n];
+        }
+        for (int n = 0; n < 8; ++n)
+            if (wts[n] > 0) {
+                const auto& o = terrain::kMooreOffsets[n];
+                runoff[cell_index(g, i + o[0], j + o[1])] += q * wts[n] / wsum;
+            }
+    }
+
+    // 4. Lakes: open-water evaporation, infiltration (and percolation) under them, equilibrium.
+    m_catch.equilibrate();
+    for (const auto& k : m_catch.catchments()) {
+        const std::int32_t id = k.id;
+        std::int64_t wet = 0;
+        for (const auto c : k.cells) wet += k.level_m > m_dem.data()[c];
+        f.evaporation +=
+            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(wet));
+        for (const auto c : k.cells) {
+            if (!(k.level_m > m_dem.data()[c])) continue;
+            double& th = m_theta.data()[c];
+            const double fc = m_soil.field_capacity.data()[c];
+            const double want = std::max(0.0, (fc - th) * depth * m_area);
+            const double got = m_catch.remove_water(id, want);
+            th += got / (depth * m_area);
+            f.infiltration += got;
+            if (m_gw) {
+                const double perc = m_catch.remove_water(id, m_soil.ksat_m_per_s.data()[c] *
+                                                                 kSecondsPerDay * m_area);
+                recharge[c] += perc;
+            }
+        }
+    }
+    m_catch.equilibrate();
+
+    // 5. Evapotranspiration from the soil.
+    for (std::int64_t k = 0; k < g.size(); ++k) {
+        const double req = transp_mm ? std::max(0.0, transp_mm->data()[k]) / kMmPerM : 0.0; // m
+        const bool lake = m_catch.owner(k) != 0;
+        const double surface =
+            lake
+                ? 0.0
+                : (m_veg.data()[k] >= m_opt.grass_density_threshold ? grass_mm : bare_mm) / kMmPerM;
+        const double demand = std::max(surface, req);
+        double& th = m_theta.data()[k];
+        const double avail = std::max(0.0, (th - m_soil.wilting_point.data()[k]) * depth);
+        const double actual = std::min(demand, avail);
+        th -= actual / depth;
+        const double tr = std::min(actual, req);
+        m_transp_supplied.data()[k] = tr * kMmPerM;
+        f.transpiration += tr * m_area;
+        f.evaporation += (actual - tr) * m_area;
+    }
+
+    // 6. Groundwater.
+    if (m_gw) {
+        for (double r : recharge) f.recharge += r;
+        const auto res = m_gw->step(kSecondsPerDay, recharge);
+        f.groundwater_out = res.outflow_m3;
+        // Water table above the surface: it seeps out and joins the surface water.
+        for (std::int64_t k = 0; k < g.size(); ++k)
+            if (res.seepage_m3[k] > 0) m_catch.add_water(k, res.seepage_m3[k]);
+        m_catch.equilibrate();
+    }
+
+    f.runoff_out = m_catch.lost_m3() - lost0;
+    f.d_soil = soil_storage_m3() - soil0;
+    f.d_surface = m_catch.total_volume_m3() - surf0;
+    f.d_groundwater = groundwater_storage_m3() - gw0;
+    f.residual = f.rain - f.evaporation - f.transpiration - f.runoff_out - f.groundwater_out -
+                 f.d_soil - f.d_surface - f.d_groundwater;
+    m_cum_residual += f.residual;
+    m_cum_throughput +=
+        f.rain + f.evaporation + f.transpiration + f.runoff_out + std::abs(f.groundwater_out);
+    if (std::abs(m_cum_residual) > m_opt.budget_tolerance * std::max(m_cum_throughput, 1.0)) {
+        std::ostringstream s;
+        s << "water budget broke on day " << m_day << " (year " << w.year << ", day " << w.doy
+          << "): cumulative residual " << m_cum_residual << " m3 against a throughput of "
+          << m_cum_throughput << " m3";
+        throw Error(s.str());
+    }
+    return f;
+}
+
+} // namespace ecoterra::hydro

@@ -187,6 +187,12 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
         if (n > 0 && z < running_max) {
             if (drains_into_region(c)) {
                 take(c, z);
+                // Below the water already? Then the level must still reach the highest cell
+                // taken; if it cannot, the bodies under this catchment have separated.
+                if (vd < n * running_max - sum_z) {
+                    f.separated = true;
+                    return f;
+                }
                 continue;
             }
             spill_at(running_max, c);
@@ -198,6 +204,40 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
         }
         take(c, z);
         running_max = z;
+    }
+    f.level = n > 0 ? (vd + sum_z) / n : 0.0;
+    return f;
+}
+
+Catchments::Fill Catchments::fill_common_level(const Catchment& k) {
+    ++m_stamp;
+    Fill f;
+    using Entry = std::pair<double, std::int64_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pq;
+    for (const auto s : k.seeds) {
+        pq.emplace(m_fd.elevation(s), s);
+        m_stamp_queued[s] = m_stamp;
+    }
+    const double vd = k.volume_m3 / m_area;
+    const auto& g = m_fd.grid();
+    double n = 0, sum_z = 0;
+    while (!pq.empty()) {
+        const auto [z, c] = pq.top();
+        pq.pop();
+        if (m_fd.is_outlet(c) || (n > 0 && vd <= n * z - sum_z)) break;
+        f.cells.push_back(c);
+        n += 1;
+        sum_z += z;
+        const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
+        for (const auto& o : terrain::kMooreOffsets) {
+            const int a = i + o[0], b = j + o[1];
+            if (!g.contains(a, b)) continue;
+            const std::int64_t q = cell_index(g, a, b);
+            if (m_stamp_queued[q] == m_stamp) continue;
+            m_stamp_queued[q] = m_stamp;
+            const double zq = m_fd.elevation(q);
+            pq.emplace(std::isnan(zq) ? -std::numeric_limits<double>::infinity() : zq, q);
+        }
     }
     f.level = n > 0 ? (vd + sum_z) / n : 0.0;
     return f;
@@ -253,7 +293,10 @@ void Catchments::split_if_separated(std::size_t index) {
         parts[component[v]].volume_m3 += (k.level_m - m_fd.elevation(wet[v])) * m_area;
     for (const auto s : k.seeds) {
         const auto it = vid.find(s);
-        if (it != vid.end()) parts[component[it->second]].seeds.push_back(s);
+        if (it != vid.end())
+            parts[component[it->second]].seeds.push_back(s);
+        else
+            m_seed_owner[s] = 0; // a dry seed: a free pit again
     }
     release_cells(k);
     m_list[index].volume_m3 = 0.0; // retired; removed when the pass ends
@@ -313,6 +356,7 @@ int Catchments::equilibrate() {
                         " updates");
         const std::size_t idx = static_cast<std::size_t>(m_index[id]);
         Fill f = fill(m_list[idx]);
+        if (f.separated) f = fill_common_level(m_list[idx]);
         Catchment& k = m_list[idx];
         k.dirty = false;
         // Ownership stays current: a catchment's cells are re-claimed whenever it is recomputed,
@@ -324,7 +368,10 @@ int Catchments::equilibrate() {
             if (m_owner[c] == 0) m_owner[c] = k.id;
         const bool fell = k.level_m < k.previous_level_m;
         k.previous_level_m = k.level_m;
-        if (fell && k.seeds.size() > 1) {
+        // A spilling catchment is full to its saddle, hence connected: only a catchment that
+        // holds all its water can have separated.
+        const bool spilling = f.excess > kVolumeEpsilon;
+        if ((fell && k.seeds.size() > 1 && !spilling) || f.separated) {
             const std::size_t before = m_list.size();
             split_if_separated(idx);
             if (m_list.size() != before) {
@@ -345,7 +392,7 @@ int Catchments::equilibrate() {
             if (!m_fd.is_outlet(t)) target = catchment_of_pit(t);
         }
         m_list[idx].spills_into = target;
-        if (target == 0) continue;
+        if (target == 0 || target == id) continue;
         Catchment* b = find(target);
         if (b && b->spills_into == id && b->volume_m3 > kVolumeEpsilon) {
             // Mutual spill: the two are one body at the shared saddle. Merge them.

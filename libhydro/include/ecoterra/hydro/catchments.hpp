@@ -77,9 +77,13 @@ private:
     struct Fill {
         double level = 0, excess = 0;
         std::int64_t spill_cell = -1; ///< where the excess goes (an outlet or a cell outside)
+        bool separated = false;       ///< the level fell below a saddle inside the region
         std::vector<std::int64_t> cells;
     };
     Fill fill(const Catchment& k);
+    /// The common water level of a catchment's volume over all its seeds, taking cells in order
+    /// of elevation only (used when its bodies have separated below a saddle).
+    Fill fill_common_level(const Catchment& k);
     bool drains_into_region(std::int64_t c) const;
     Catchment* find(std::int32_t id);
     std::int32_t catchment_of_pit(std::int64_t pit) const;

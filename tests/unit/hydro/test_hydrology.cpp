@@ -1,0 +1,115 @@
+#include "ecoterra/hydro/hydrology.hpp"
+#include "ecoterra/terrain/weierstrass.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace ecoterra;
+using namespace ecoterra::hydro;
+using terrain::GridSpec;
+using terrain::RasterD;
+
+namespace {
+RasterD rough_dem(int n, double cell) {
+    const GridSpec g{n, n, cell, 0, 0};
+    terrain::MultifractalParams p = terrain::majhor2023_params(2.45);
+    p.relief_m = 3.0;
+    return terrain::multifractal_generate(g, p, 5).z;
+}
+} // namespace
+
+TEST_CASE("A flat field absorbs its rain until field capacity", "[hydrology]") {
+    const GridSpec g{8, 8, 1.0, 0, 0};
+    const RasterD dem(g, 5.0);
+    const SoilMap soil = uniform_soil(g, SoilComposition{10, 80, 10, 6.5, {}}); // silt
+    HydrologyOptions opt;
+    opt.initial_saturation = 0.0; // start at the wilting point
+    opt.root_zone_depth_m = 0.5;
+    HydrologyModel m(dem, soil, RasterD(g, 0.0), opt, climate_preset("temperate"));
+    DayWeather w;
+    w.rain_mm = 20;
+    w.tmin_c = w.tmax_c = w.tdew_c = 5; // saturated, cold: little evaporation
+    w.rs_mj = 0;
+    const DailyFluxes f = m.step(w);
+    CHECK(f.runoff_out == 0.0);
+    CHECK(m.catchments().catchments().empty());
+    CHECK(f.infiltration == Approx(0.020 * 64));
+    // theta = WP + 0.02 m / 0.5 m, less the day's evaporation.
+    const double wp = soil.wilting_point(3, 3);
+    CHECK(m.soil_moisture()(3, 3) == Approx(wp + 0.04 - f.evaporation / 64 / 0.5).epsilon(1e-9));
+    CHECK(std::abs(f.residual) < 1e-12);
+}
+
+TEST_CASE("Evapotranspiration never takes soil below the wilting point", "[hydrology]") {
+    const GridSpec g{6, 6, 1.0, 0, 0};
+    const RasterD dem = rough_dem(6, 1.0);
+    const SoilMap soil = uniform_soil(g, SoilComposition{40, 40, 20, 6.5, {}});
+    HydrologyOptions opt;
+    HydrologyModel m(dem, soil, RasterD(g, 0.8), opt, climate_preset("semi_arid_desert"));
+    DayWeather hot;
+    hot.tmin_c = 25;
+    hot.tmax_c = 42;
+    hot.tdew_c = -5;
+    hot.u2_m_per_s = 4;
+    hot.rs_mj = 30;
+    hot.doy = 180;
+    RasterD ask(g, 50.0); // the plants ask for 50 mm a day
+    double supplied_first = 0;
+    for (int d = 0; d < 60; ++d) {
+        m.step(hot, &ask);
+        if (d == 0) supplied_first = m.transpiration_supplied_mm()(2, 2);
+    }
+    for (std::int64_t k = 0; k < m.soil_moisture().size(); ++k)
+        CHECK(m.soil_moisture().data()[k] >= soil.wilting_point.data()[k] - 1e-15);
+    CHECK(supplied_first == Approx(50.0)); // enough water on day one: the request is met
+    CHECK(m.transpiration_supplied_mm()(2, 2) == Approx(0.0).margin(1e-9)); // dry by day 60
+}
+
+TEST_CASE("The water budget closes over years, with and without groundwater",
+          "[hydrology][budget]") {
+    const RasterD dem = rough_dem(48, 2.0);
+    const GridSpec& g = dem.grid();
+    RandomSoilParams rs;
+    rs.mean = SoilComposition{20, 60, 20, 6.0, {}};
+    const SoilMap soil = random_soil(g, rs, 3);
+    for (bool gw : {false, true}) {
+        HydrologyOptions opt;
+        opt.groundwater = gw;
+        opt.initial_water_table_depth_m = 2.0;
+        const Climate c = climate_preset("humid_subtropical");
+        HydrologyModel m(dem, soil, RasterD(g, 0.5), opt, c);
+        WeatherGenerator wg(c, 11);
+        double rain = 0, out = 0, et = 0;
+        for (int d = 0; d < 3 * 365; ++d) {
+            const DailyFluxes f = m.step(wg.next());
+            rain += f.rain;
+            out += f.runoff_out + f.groundwater_out;
+            et += f.evaporation + f.transpiration;
+        }
+        CAPTURE(gw);
+        CHECK(std::abs(m.cumulative_residual_m3()) < 1e-9 * m.cumulative_throughput_m3());
+        CHECK(rain > 0);
+        CHECK(et > 0.2 * rain);   // humid subtropics lose much of their rain to ET
+        CHECK(out > 0.01 * rain); // and some runs off or drains away
+        if (gw)
+            CHECK(m.water_table_depth()(24, 24) >= 0.0);
+        else
+            CHECK(std::isnan(m.water_table_depth()(24, 24)));
+    }
+}
+
+TEST_CASE("Hydrology input is checked", "[hydrology][errors]") {
+    const GridSpec g{4, 4, 1.0, 0, 0};
+    const SoilMap soil = uniform_soil(g, SoilComposition{});
+    HydrologyOptions opt;
+    opt.root_zone_depth_m = -1;
+    CHECK_THROWS_WITH(
+        HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, climate_preset("temperate")),
+        Catch::Contains("root_zone_depth_m"));
+    opt = HydrologyOptions{};
+    CHECK_THROWS_WITH(HydrologyModel(RasterD(GridSpec{5, 4, 1.0, 0, 0}, 1.0), soil, RasterD(g, 0.0),
+                                     opt, climate_preset("temperate")),
+                      Catch::Contains("grid"));
+    CHECK_THROWS_WITH(
+        HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 2.0), opt, climate_preset("temperate")),
+        Catch::Contains("vegetation density"));
+}

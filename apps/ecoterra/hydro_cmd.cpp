@@ -4,9 +4,12 @@
 
 #include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/io/hdf5_writer.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
+#include "ecoterra/terrain/picture.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -169,6 +172,49 @@ void run_pond(const PondArgs& a) {
     std::printf("wrote %s\n", a.output.c_str());
 }
 
+struct RunArgs {
+    std::string scene, output = "hydro.h5", png_dir;
+    std::vector<std::string> sets;
+    std::optional<long long> years, seed;
+};
+
+void run_hydro_run(const RunArgs& a) {
+    json scene = parse_json(terrain::io::read_text(a.scene), a.scene);
+    std::vector<std::string> sets = a.sets;
+    if (a.years) sets.push_back("simulation.years=" + std::to_string(*a.years));
+    if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
+    hydro::apply_overrides(scene, sets);
+    const std::filesystem::path base = std::filesystem::path(a.scene).parent_path();
+    hydro::HydroScene sc;
+    try {
+        sc = hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);
+    } catch (const InputError& e) {
+        throw InputError(a.scene + ": " + e.what());
+    }
+    std::printf("hydrology: %d x %d cells of %.4g m, %d years, seed %llu, %s climate%s\n",
+                sc.dem.nx(), sc.dem.ny(), sc.dem.cell_size(), sc.years,
+                static_cast<unsigned long long>(sc.seed), sc.climate.name.c_str(),
+                sc.options.groundwater ? ", groundwater on" : "");
+    const double cells = static_cast<double>(sc.dem.size());
+    const auto sum = hydro::run_hydro_scene(
+        sc, a.output, provenance({{"scene_file", a.scene}, {"overrides", sets}}), a.png_dir,
+        [&](int day, int total, double s) {
+            std::fprintf(stderr, "\r  year %d day %3d  (%d of %d days, %.3g cell-days/s)   ",
+                         (day - 1) / 365 + 1, (day - 1) % 365 + 1, day, total,
+                         cells * day / std::max(s, 1e-9));
+            if (day == total) std::fputc('\n', stderr);
+        });
+    std::printf("%d days in %.2f s (%.3g cell-days/s)\n", sum.days, sum.seconds,
+                cells * sum.days / sum.seconds);
+    std::printf("water budget, mm over the domain: rain %.1f = evaporation %.1f + transpiration "
+                "%.1f + runoff out %.1f + groundwater out %.1f + storage change; cumulative "
+                "residual %.2e of the throughput\n",
+                sum.rain_mm, sum.evaporation_mm, sum.transpiration_mm, sum.runoff_out_mm,
+                sum.groundwater_out_mm, sum.residual_relative);
+    std::printf("wrote %s\n", a.output.c_str());
+    if (!a.png_dir.empty()) std::printf("wrote pictures into %s\n", a.png_dir.c_str());
+}
+
 } // namespace
 
 void add_hydro_command(CLI::App& app) {
@@ -221,6 +267,16 @@ void add_hydro_command(CLI::App& app) {
         ->capture_default_str();
     pond->add_option("-o,--output", p->output, "HDF5 output file")->required();
     pond->callback([p] { run_pond(*p); });
+
+    auto r = std::make_shared<RunArgs>();
+    CLI::App* run = hydro->add_subcommand("run", "run the hydrology of a scene for some years");
+    run->add_option("scene", r->scene, "scene JSON file (docs/formats.md)")->required();
+    run->add_option("-o,--output", r->output, "HDF5 output file")->capture_default_str();
+    run->add_option("--years", r->years, "simulated years (overrides simulation.years)");
+    run->add_option("--seed", r->seed, "random seed (overrides simulation.seed)");
+    run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
+    run->add_option("--png", r->png_dir, "write pictures of the final state into this folder");
+    run->callback([r] { run_hydro_run(*r); });
 }
 
 } // namespace ecoterra::app

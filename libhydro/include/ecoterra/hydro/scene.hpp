@@ -1,0 +1,49 @@
+#pragma once
+// Hydrology scenes: the JSON file `ecoterra hydro run` reads, and the run itself.
+// Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
+#include "ecoterra/hydro/hydrology.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+
+namespace ecoterra::hydro {
+
+struct HydroScene {
+    terrain::RasterD dem;
+    SoilMap soil;
+    terrain::RasterD vegetation_density;
+    Climate climate;
+    std::optional<WeatherSeries> observed; ///< a CSV series instead of the generator
+    HydrologyOptions options;
+    int years = 1;
+    std::uint64_t seed = 1;
+    int snapshot_interval_days = 365;
+    nlohmann::json resolved; ///< the scene with defaults filled in
+};
+
+/// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.
+HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
+
+/// Applies "a.b.c=value" overrides to a scene (value parsed as JSON, else taken as a string).
+void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& overrides);
+
+struct HydroRunSummary {
+    int days = 0;
+    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, runoff_out_mm = 0,
+           groundwater_out_mm = 0;
+    double residual_relative = 0; ///< |cumulative residual| / cumulative throughput
+    double seconds = 0;
+};
+
+/// Runs the scene and writes the HDF5 output (atomically). `progress(day, total_days, seconds)`
+/// is called once per simulated month. With `png_dir`, pictures of the final state go there:
+/// hillshade.png, soil_moisture.png, surface_water_depth.png.
+HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
+                                const nlohmann::json& provenance,
+                                const std::filesystem::path& png_dir = {},
+                                const std::function<void(int, int, double)>& progress = {});
+
+} // namespace ecoterra::hydro

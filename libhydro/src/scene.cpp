@@ -1,0 +1,429 @@
+#include "ecoterra/hydro/scene.hpp"
+
+#include "ecoterra/json_util.hpp"
+#include "ecoterra/terrain/generate.hpp"
+#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+#include "ecoterra/terrain/picture.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+namespace ecoterra::hydro {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+fs::path resolve(const fs::path& base, const std::string& p) {
+    const fs::path q(p);
+    return q.is_absolute() ? q : base / q;
+}
+
+terrain::RasterD load_terrain(const json& t, const fs::path& base, json& resolved) {
+    require_known_keys(t, {"generate", "file"}, "terrain");
+    if (t.contains("generate") == t.contains("file"))
+        throw InputError("terrain: give exactly one of 'generate' (a terrain specification) or "
+                         "'file' (a raster)");
+    if (t.contains("file")) {
+        const auto path = resolve(base, get_string(t, "file", "", "terrain"));
+        resolved["terrain"] = {{"file", path.string()}};
+        return terrain::io::read_raster(path);
+    }
+    auto g = terrain::generate_terrain(t.at("generate"));
+    resolved["terrain"] = {{"generate", g.resolved}};
+    return std::move(g.z);
+}
+
+SoilComposition composition(const json& j, const std::string& where) {
+    SoilComposition c;
+    c.sand_pct = get_number(j, "sand_pct", c.sand_pct, where);
+    c.silt_pct = get_number(j, "silt_pct", c.silt_pct, where);
+    c.clay_pct = get_number(j, "clay_pct", c.clay_pct, where);
+    c.ph = get_number(j, "ph", c.ph, where);
+    if (j.contains("organic_matter_pct"))
+        c.organic_matter_pct = get_number(j, "organic_matter_pct", 0, where);
+    c.validate(where);
+    return c;
+}
+
+SoilMap load_soil(const json& s, const fs::path& base, const terrain::GridSpec& g,
+                  std::uint64_t seed, json& resolved) {
+    require_known_keys(s, {"uniform", "random", "rasters"}, "soil");
+    if (s.size() != 1) throw InputError("soil: give exactly one of 'uniform', 'random', 'rasters'");
+    const std::vector<std::string> comp_keys = {"sand_pct", "silt_pct", "clay_pct", "ph",
+                                                "organic_matter_pct"};
+    if (s.contains("uniform")) {
+        require_known_keys(s["uniform"], comp_keys, "soil.uniform");
+        const auto c = composition(s["uniform"], "soil.uniform");
+        resolved["soil"] = {{"uniform",
+                             {{"sand_pct", c.sand_pct},
+                              {"silt_pct", c.silt_pct},
+                              {"clay_pct", c.clay_pct},
+                              {"ph", c.ph}}}};
+        return uniform_soil(g, c);
+    }
+    if (s.contains("random")) {
+        auto keys = comp_keys;
+        keys.insert(keys.end(), {"amplitude_pct", "ph_amplitude", "patch_size_m"});
+        const json& r = s["random"];
+        require_known_keys(r, keys, "soil.random");
+        RandomSoilParams p;
+        p.mean = composition(r, "soil.random");
+        p.amplitude_pct = get_number(r, "amplitude_pct", p.amplitude_pct, "soil.random");
+        p.ph_amplitude = get_number(r, "ph_amplitude", p.ph_amplitude, "soil.random");
+        p.patch_size_m = get_number(r, "patch_size_m", p.patch_size_m, "soil.random");
+        resolved["soil"] = {{"random",
+                             {{"sand_pct", p.mean.sand_pct},
+                              {"silt_pct", p.mean.silt_pct},
+                              {"clay_pct", p.mean.clay_pct},
+                              {"ph", p.mean.ph},
+                              {"amplitude_pct", p.amplitude_pct},
+                              {"ph_amplitude", p.ph_amplitude},
+                              {"patch_size_m", p.patch_size_m}}}};
+        return random_soil(g, p, seed);
+    }
+    const json& r = s["rasters"];
+    require_known_keys(r, {"sand_pct", "silt_pct", "clay_pct", "ph"}, "soil.rasters");
+    auto read = [&](const char* k) {
+        const auto path = resolve(base, get_string(r, k, "", "soil.rasters"));
+        terrain::RasterD x = terrain::io::read_raster(path);
+        if (!(x.grid() == g))
+            throw InputError("soil.rasters." + std::string(k) + ": " + path.string() + " is " +
+                             std::to_string(x.nx()) + "x" + std::to_string(x.ny()) +
+                             ", the terrain is " + std::to_string(g.nx) + "x" +
+                             std::to_string(g.ny));
+        return x;
+    };
+    for (const char* k : {"sand_pct", "silt_pct", "clay_pct"})
+        if (!r.contains(k)) throw InputError("soil.rasters: missing key '" + std::string(k) + "'");
+    const auto sand = read("sand_pct"), silt = read("silt_pct"), clay = read("clay_pct");
+    std::optional<terrain::RasterD> ph;
+    if (r.contains("ph")) ph = read("ph");
+    resolved["soil"] = s;
+    return soil_from_rasters(sand, silt, clay, ph ? &*ph : nullptr, "soil.rasters");
+}
+
+Climate load_climate(const json& c, const fs::path& base, HydroScene& scene, json& resolved) {
+    const std::vector<std::string> fields = {"preset",
+                                             "csv",
+                                             "latitude_deg",
+                                             "elevation_m",
+                                             "p_wet_after_dry",
+                                             "p_wet_after_wet",
+                                             "precip_seasonal_amplitude",
+                                             "precip_peak_doy",
+                                             "wet_day_mean_mm",
+                                             "gamma_shape",
+                                             "tmax_mean_c",
+                                             "tmax_amplitude_c",
+                                             "tmin_mean_c",
+                                             "tmin_amplitude_c",
+                                             "warmest_doy",
+                                             "wet_day_tmax_drop_c",
+                                             "temperature_sd_c",
+                                             "temperature_lag1",
+                                             "dew_depression_mean_c",
+                                             "dew_depression_amplitude_c",
+                                             "wind_mean_m_per_s",
+                                             "wind_amplitude_m_per_s",
+                                             "dry_radiation_fraction",
+                                             "wet_radiation_fraction"};
+    require_known_keys(c, fields, "climate");
+    Climate cl = climate_preset(get_string(c, "preset", "humid_subtropical", "climate"));
+    auto num = [&](const char* k, double& v) { v = get_number(c, k, v, "climate"); };
+    num("latitude_deg", cl.latitude_deg);
+    num("elevation_m", cl.elevation_m);
+    num("p_wet_after_dry", cl.p_wet_after_dry);
+    num("p_wet_after_wet", cl.p_wet_after_wet);
+    num("precip_seasonal_amplitude", cl.precip_seasonal_amplitude);
+    num("wet_day_mean_mm", cl.wet_day_mean_mm);
+    num("gamma_shape", cl.gamma_shape);
+    num("tmax_mean_c", cl.tmax_mean_c);
+    num("tmax_amplitude_c", cl.tmax_amplitude_c);
+    num("tmin_mean_c", cl.tmin_mean_c);
+    num("tmin_amplitude_c", cl.tmin_amplitude_c);
+    num("wet_day_tmax_drop_c", cl.wet_day_tmax_drop_c);
+    num("temperature_sd_c", cl.temperature_sd_c);
+    num("temperature_lag1", cl.temperature_lag1);
+    num("dew_depression_mean_c", cl.dew_depression_mean_c);
+    num("dew_depression_amplitude_c", cl.dew_depression_amplitude_c);
+    num("wind_mean_m_per_s", cl.wind_mean_m_per_s);
+    num("wind_amplitude_m_per_s", cl.wind_amplitude_m_per_s);
+    num("dry_radiation_fraction", cl.dry_radiation_fraction);
+    num("wet_radiation_fraction", cl.wet_radiation_fraction);
+    cl.precip_peak_doy =
+        static_cast<int>(get_integer(c, "precip_peak_doy", cl.precip_peak_doy, "climate", 1, 366));
+    cl.warmest_doy =
+        static_cast<int>(get_integer(c, "warmest_doy", cl.warmest_doy, "climate", 1, 366));
+    cl.validate();
+    resolved["climate"] = c;
+    resolved["climate"]["preset"] = cl.name;
+    if (c.contains("csv")) {
+        const auto path = resolve(base, get_string(c, "csv", "", "climate"));
+        scene.observed = read_weather_csv(path, cl.latitude_deg, cl.elevation_m);
+    }
+    return cl;
+}
+
+HydrologyOptions load_options(const json& h, json& resolved) {
+    require_known_keys(h,
+                       {"root_zone_depth_m", "initial_saturation", "routing", "runoff",
+                        "flat_slope", "grass_density_threshold", "wind_function", "groundwater",
+                        "specific_yield", "aquifer_thickness_m", "initial_water_table_depth_m"},
+                       "hydrology");
+    HydrologyOptions o;
+    const std::string w = "hydrology";
+    o.root_zone_depth_m = get_number(h, "root_zone_depth_m", o.root_zone_depth_m, w);
+    o.initial_saturation = get_number(h, "initial_saturation", o.initial_saturation, w);
+    o.routing = parse_routing(get_string(h, "routing", "d8", w));
+    const std::string runoff = get_string(h, "runoff", "coefficients", w);
+    if (runoff == "coefficients")
+        o.runoff = RunoffMethod::coefficients;
+    else if (runoff == "curve_number")
+        o.runoff = RunoffMethod::curve_number;
+    else
+        throw InputError("hydrology.runoff must be coefficients or curve_number, got '" + runoff +
+                         "'");
+    o.flat_slope = get_number(h, "flat_slope", o.flat_slope, w);
+    o.grass_density_threshold =
+        get_number(h, "grass_density_threshold", o.grass_density_threshold, w);
+    const std::string wind = get_string(h, "wind_function", "penman1948", w);
+    if (wind == "penman1948")
+        o.wind = et::WindFunction::penman1948;
+    else if (wind == "penman1956")
+        o.wind = et::WindFunction::penman1956;
+    else if (wind == "shuttleworth1993")
+        o.wind = et::WindFunction::shuttleworth1993;
+    else
+        throw InputError(
+            "hydrology.wind_function must be penman1948, penman1956 or shuttleworth1993, got '" +
+            wind + "'");
+    o.groundwater = get_bool(h, "groundwater", o.groundwater, w);
+    o.specific_yield = get_number(h, "specific_yield", o.specific_yield, w);
+    o.aquifer_thickness_m = get_number(h, "aquifer_thickness_m", o.aquifer_thickness_m, w);
+    o.initial_water_table_depth_m =
+        get_number(h, "initial_water_table_depth_m", o.initial_water_table_depth_m, w);
+    o.validate();
+    resolved["hydrology"] = {{"root_zone_depth_m", o.root_zone_depth_m},
+                             {"initial_saturation", o.initial_saturation},
+                             {"routing", routing_name(o.routing)},
+                             {"runoff", runoff},
+                             {"flat_slope", o.flat_slope},
+                             {"grass_density_threshold", o.grass_density_threshold},
+                             {"wind_function", wind},
+                             {"groundwater", o.groundwater},
+                             {"specific_yield", o.specific_yield},
+                             {"aquifer_thickness_m", o.aquifer_thickness_m},
+                             {"initial_water_table_depth_m", o.initial_water_table_depth_m}};
+    return o;
+}
+
+} // namespace
+
+void apply_overrides(json& scene, const std::vector<std::string>& overrides) {
+    for (const auto& o : overrides) {
+        const auto eq = o.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InputError("--set takes KEY=VALUE, got '" + o + "'");
+        const std::string key = o.substr(0, eq), value = o.substr(eq + 1);
+        json v;
+        try {
+            v = json::parse(value);
+        } catch (const json::parse_error&) {
+            v = value;
+        }
+        json* node = &scene;
+        std::size_t start = 0;
+        for (;;) {
+            const auto dot = key.find('.', start);
+            const std::string part = key.substr(start, dot - start);
+            if (dot == std::string::npos) {
+                (*node)[part] = v;
+                break;
+            }
+            if (!node->contains(part)) (*node)[part] = json::object();
+            node = &(*node)[part];
+            start = dot + 1;
+        }
+    }
+}
+
+HydroScene load_hydro_scene(const json& s, const fs::path& base) {
+    require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
+                       "");
+    HydroScene scene;
+    json& r = scene.resolved;
+    const json sim = s.value("simulation", json::object());
+    require_known_keys(sim, {"years", "seed", "snapshot_interval_days"}, "simulation");
+    scene.years = static_cast<int>(get_integer(sim, "years", 1, "simulation", 1, 10000));
+    scene.seed = static_cast<std::uint64_t>(get_integer(sim, "seed", 1, "simulation", 0));
+    scene.snapshot_interval_days =
+        static_cast<int>(get_integer(sim, "snapshot_interval_days", 365, "simulation", 1, 3650000));
+    r["simulation"] = {{"years", scene.years},
+                       {"seed", scene.seed},
+                       {"snapshot_interval_days", scene.snapshot_interval_days}};
+    if (!s.contains("terrain")) throw InputError("scene: missing key 'terrain'");
+    scene.dem = load_terrain(s["terrain"], base, r);
+    require_valid_cells(scene.dem, "terrain");
+    const auto& g = scene.dem.grid();
+    scene.soil =
+        load_soil(s.value("soil", json{{"uniform", json::object()}}), base, g, scene.seed, r);
+    const json veg = s.value("vegetation", json::object());
+    require_known_keys(veg, {"density", "density_file"}, "vegetation");
+    if (veg.contains("density_file")) {
+        const auto path = resolve(base, get_string(veg, "density_file", "", "vegetation"));
+        scene.vegetation_density = terrain::io::read_raster(path);
+        if (!(scene.vegetation_density.grid() == g))
+            throw InputError("vegetation.density_file: " + path.string() +
+                             " does not match the terrain's grid");
+        r["vegetation"] = {{"density_file", path.string()}};
+    } else {
+        const double d = get_number(veg, "density", 0.5, "vegetation", 0, 1);
+        scene.vegetation_density = terrain::RasterD(g, d);
+        r["vegetation"] = {{"density", d}};
+    }
+    scene.climate = load_climate(s.value("climate", json::object()), base, scene, r);
+    scene.options = load_options(s.value("hydrology", json::object()), r);
+    return scene;
+}
+
+HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
+                                const fs::path& png_dir,
+                                const std::function<void(int, int, double)>& progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    terrain::io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
+    HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
+    WeatherGenerator gen(sc.climate, sc.seed);
+    const int total = sc.observed ? static_cast<int>(sc.observed->days.size()) : 365 * sc.years;
+    const double domain_m2 = sc.dem.grid().width_m() * sc.dem.grid().height_m();
+    const double to_mm = 1000.0 / domain_m2;
+    std::vector<double> series[14];
+    enum {
+        kDay,
+        kYear,
+        kDoy,
+        kRain,
+        kEvap,
+        kTransp,
+        kInf,
+        kOut,
+        kGwOut,
+        kRecharge,
+        kDSoil,
+        kDSurf,
+        kDGw,
+        kRes
+    };
+    HydroRunSummary sum;
+    int snapshot = 0;
+    auto write_snapshot = [&](const DayWeather& w, int day) {
+        char name[32];
+        std::snprintf(name, sizeof name, "/snapshots/%04d", snapshot++);
+        const std::string base = name;
+        h5.raster(base + "/soil_moisture", model.soil_moisture(), "m3/m3",
+                  "volumetric soil water in the root zone");
+        h5.raster(base + "/surface_water_depth_m", model.surface_water_depth(), "m",
+                  "standing water depth");
+        h5.raster(base + "/catchment_id", model.catchment_ids(), "1",
+                  "catchment holding the cell, 0 = dry");
+        h5.raster(base + "/water_table_depth_m", model.water_table_depth(), "m",
+                  "depth of the water table below the surface (NaN without groundwater)");
+        h5.attribute(base, "day", static_cast<double>(day));
+        h5.attribute(base, "year", static_cast<double>(w.year));
+        h5.attribute(base, "day_of_year", static_cast<double>(w.doy));
+    };
+    for (int d = 1; d <= total; ++d) {
+        const DayWeather w =
+            sc.observed ? sc.observed->days[static_cast<std::size_t>(d - 1)] : gen.next();
+        const DailyFluxes f = model.step(w);
+        const double row[14] = {static_cast<double>(d),     static_cast<double>(w.year),
+                                static_cast<double>(w.doy), f.rain * to_mm,
+                                f.evaporation * to_mm,      f.transpiration * to_mm,
+                                f.infiltration * to_mm,     f.runoff_out * to_mm,
+                                f.groundwater_out * to_mm,  f.recharge * to_mm,
+                                f.d_soil * to_mm,           f.d_surface * to_mm,
+                                f.d_groundwater * to_mm,    f.residual * to_mm};
+        for (int k = 0; k < 14; ++k) series[k].push_back(row[k]);
+        sum.rain_mm += row[kRain];
+        sum.evaporation_mm += row[kEvap];
+        sum.transpiration_mm += row[kTransp];
+        sum.runoff_out_mm += row[kOut];
+        sum.groundwater_out_mm += row[kGwOut];
+        if (d % sc.snapshot_interval_days == 0 || d == total) write_snapshot(w, d);
+        if (progress && (d % 30 == 0 || d == total))
+            progress(d, total,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    sum.days = total;
+    sum.residual_relative = std::abs(model.cumulative_residual_m3()) /
+                            std::max(model.cumulative_throughput_m3(), 1e-300);
+    // Maps and series.
+    h5.raster("/terrain/elevation", sc.dem, "m", "terrain elevation");
+    h5.raster("/soil/sand_pct", sc.soil.sand_pct, "%", "sand");
+    h5.raster("/soil/silt_pct", sc.soil.silt_pct, "%", "silt");
+    h5.raster("/soil/clay_pct", sc.soil.clay_pct, "%", "clay");
+    h5.raster("/soil/ph", sc.soil.ph, "1", "soil pH");
+    h5.raster(
+        "/soil/texture_class", sc.soil.texture, "1",
+        "USDA texture class: 0 sand, 1 loamy sand, 2 sandy loam, 3 loam, 4 silt loam, 5 silt, "
+        "6 sandy clay loam, 7 clay loam, 8 silty clay loam, 9 sandy clay, 10 silty clay, 11 clay");
+    h5.raster("/soil/porosity", sc.soil.porosity, "m3/m3", "porosity");
+    h5.raster("/soil/field_capacity", sc.soil.field_capacity, "m3/m3", "field capacity (33 kPa)");
+    h5.raster("/soil/wilting_point", sc.soil.wilting_point, "m3/m3", "wilting point (1500 kPa)");
+    h5.raster("/soil/ksat_m_per_s", sc.soil.ksat_m_per_s, "m/s",
+              "saturated hydraulic conductivity");
+    h5.raster("/vegetation/density", sc.vegetation_density, "1", "vegetation density (fraction)");
+    const char* names[14] = {"day",
+                             "year",
+                             "day_of_year",
+                             "rain_mm",
+                             "evaporation_mm",
+                             "transpiration_mm",
+                             "infiltration_mm",
+                             "runoff_out_mm",
+                             "groundwater_out_mm",
+                             "recharge_mm",
+                             "d_soil_storage_mm",
+                             "d_surface_storage_mm",
+                             "d_groundwater_storage_mm",
+                             "residual_mm"};
+    const char* desc[14] = {"simulation day, 1-based",
+                            "simulation year (or calendar year)",
+                            "day of year",
+                            "rain over the domain",
+                            "soil and open-water evaporation",
+                            "transpiration supplied to plants",
+                            "infiltration into the soil",
+                            "surface water that left through the domain edge",
+                            "groundwater that left through fixed-head edges",
+                            "percolation to the water table",
+                            "change in root-zone storage",
+                            "change in standing surface water",
+                            "change in groundwater storage",
+                            "rain - outputs - storage changes"};
+    for (int k = 0; k < 14; ++k)
+        h5.series(std::string("/series/daily/") + names[k], series[k], k < 3 ? "1" : "mm/day",
+                  std::string(desc[k]) + (k < 3 ? "" : " (mm per day over the whole domain)"));
+    h5.attribute("/series/daily", "cumulative_residual_relative", sum.residual_relative);
+    json p = prov;
+    p["scene"] = sc.resolved;
+    h5.attribute("/provenance", "json", p.dump());
+    h5.commit();
+    if (!png_dir.empty()) {
+        std::error_code ec;
+        fs::create_directories(png_dir, ec);
+        if (ec)
+            throw IoError(png_dir.string() + ": cannot create the picture folder: " + ec.message());
+        terrain::write_png_rgb(terrain::hillshade_image(sc.dem), png_dir / "hillshade.png");
+        terrain::write_png_rgb(terrain::colormap_image(model.soil_moisture()),
+                               png_dir / "soil_moisture.png");
+        terrain::write_png_rgb(terrain::colormap_image(model.surface_water_depth()),
+                               png_dir / "surface_water_depth.png");
+    }
+    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return sum;
+}
+
+} // namespace ecoterra::hydro

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <sys/wait.h>
 
 using namespace ecoterra;
@@ -104,4 +105,58 @@ TEST_CASE("hydro pond writes depth and catchment ids with a closed budget", "[cl
     const Run bad3 = run(d, "hydro soil --sand 40 --silt 40 --clay 30");
     CHECK(bad3.code != 0);
     CHECK_THAT(bad3.out, Catch::Contains("110"));
+}
+
+TEST_CASE("hydro run writes snapshots and a budget that closes", "[cli][hydro]") {
+    TempDir d;
+    std::ofstream(d / "scene.json") << R"({
+      "terrain": {"generate": {"method": "fbm", "size": 24, "cell_size_m": 2.0, "seed": 2,
+                               "params": {"D": 2.3, "rms_m": 1.0}}},
+      "soil": {"uniform": {"sand_pct": 40, "silt_pct": 40, "clay_pct": 20}},
+      "vegetation": {"density": 0.5},
+      "climate": {"preset": "humid_subtropical"},
+      "hydrology": {"groundwater": true, "initial_water_table_depth_m": 2},
+      "simulation": {"years": 1, "seed": 3, "snapshot_interval_days": 30}
+    })";
+    const Run r = run(d, "hydro run scene.json -o out.h5 --set simulation.years=1 --png pics");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("cumulative residual"));
+    H5::H5File f((d / "out.h5").string(), H5F_ACC_RDONLY);
+    // 365 / 30 = 12 snapshots plus the last day.
+    CHECK(f.nameExists("/snapshots/0012/soil_moisture"));
+    CHECK(f.nameExists("/snapshots/0012/water_table_depth_m"));
+    CHECK(f.nameExists("/soil/texture_class"));
+    H5::DataSet rain = f.openDataSet("/series/daily/rain_mm");
+    hsize_t n = 0;
+    rain.getSpace().getSimpleExtentDims(&n);
+    CHECK(n == 365);
+    double rel = 1;
+    f.openGroup("/series/daily")
+        .openAttribute("cumulative_residual_relative")
+        .read(H5::PredType::NATIVE_DOUBLE, &rel);
+    CHECK(rel < 1e-9);
+    CHECK(std::filesystem::exists(d / "pics" / "soil_moisture.png"));
+    // Bad input: unknown keys, wrong types, a missing file; earlier output kept.
+    const auto before = std::filesystem::file_size(d / "out.h5");
+    Run bad = run(d, "hydro run scene.json -o out.h5 --set hydrology.groundwatr=true");
+    CHECK(bad.code != 0);
+    CHECK_THAT(bad.out, Catch::Contains("scene.json") && Catch::Contains("hydrology.groundwatr") &&
+                            Catch::Contains("did you mean"));
+    bad = run(d, "hydro run scene.json -o out.h5 --set soil.uniform.clay_pct=50");
+    CHECK(bad.code != 0);
+    CHECK_THAT(bad.out, Catch::Contains("sand + silt + clay"));
+    bad = run(d, "hydro run missing.json -o out.h5");
+    CHECK(bad.code != 0);
+    CHECK_THAT(bad.out, Catch::Contains("missing.json"));
+    CHECK(std::filesystem::file_size(d / "out.h5") == before);
+}
+
+TEST_CASE("The quickstart hydrology scene runs as written", "[cli][hydro]") {
+    TempDir d;
+    const std::string scene = (test::data_dir() / "scenes" / "hydro_quickstart.json").string();
+    const Run r = run(d, "hydro run '" + scene + "' -o hydro.h5");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(std::filesystem::exists(d / "hydro.h5"));
 }

@@ -253,7 +253,14 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     // 6. Groundwater.
     if (m_gw) {
         for (double r : recharge) f.recharge += r;
-        const auto res = m_gw->step(kSecondsPerDay, recharge);
+        GroundwaterResult res;
+        try {
+            res = m_gw->step(kSecondsPerDay, recharge);
+        } catch (const Error& e) {
+            std::ostringstream msg;
+            msg << "on day " << m_day << " (year " << w.year << ", day " << w.doy << "): " << e.what();
+            throw Error(msg.str());
+        }
         f.groundwater_out = res.outflow_m3;
         // Water table above the surface: it seeps out and joins the surface water.
         for (std::int64_t k = 0; k < g.size(); ++k)

@@ -113,3 +113,23 @@ TEST_CASE("Hydrology input is checked", "[hydrology][errors]") {
         HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 2.0), opt, climate_preset("temperate")),
         Catch::Contains("vegetation density"));
 }
+
+TEST_CASE("A 30-year run keeps its budget residual below 1e-9 of the throughput",
+          "[hydrology][budget]") {
+    // The closure criterion over 30 years (10950 daily steps), with groundwater.
+    const RasterD dem = rough_dem(16, 2.0);
+    const GridSpec& g = dem.grid();
+    RandomSoilParams rs;
+    rs.mean = SoilComposition{20, 60, 20, 6.0, {}};
+    const SoilMap soil = random_soil(g, rs, 3);
+    HydrologyOptions opt;
+    opt.groundwater = true;
+    opt.initial_water_table_depth_m = 2.0;
+    const Climate c = climate_preset("humid_subtropical");
+    HydrologyModel m(dem, soil, RasterD(g, 0.5), opt, c);
+    WeatherGenerator wg(c, 1);
+    for (int d = 0; d < 30 * 365; ++d) m.step(wg.next());
+    CHECK(m.day() == 10950);
+    CHECK(std::abs(m.cumulative_residual_m3()) < 1e-9 * m.cumulative_throughput_m3());
+    CHECK(m.cumulative_throughput_m3() > 0);
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <queue>
 #include <unordered_map>
@@ -125,6 +126,7 @@ double Catchments::remove_water(std::int32_t id, double v) {
     Catchment* k = find(id);
     if (!k || !(v > 0)) return 0.0;
     const double taken = std::min(v, k->volume_m3);
+    if (taken <= 0) return 0.0;
     k->volume_m3 -= taken;
     k->dirty = true;
     return taken;
@@ -143,14 +145,49 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
     Fill f;
     using Entry = std::pair<double, std::int64_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pq;
-    for (const auto s : k.seeds) {
-        pq.emplace(m_fd.elevation(s), s);
-        m_stamp_queued[s] = m_stamp;
-        m_stamp_region[s] = m_stamp;
-    }
     const double vd = k.volume_m3 / m_area; // volume as metres over one cell
     const auto& g = m_fd.grid();
     double n = 0, sum_z = 0, running_max = kNegInf;
+    // Warm start: the flood takes cells in a fixed (elevation, index) order whatever the volume,
+    // so with more water and the same seeds it passes through the previous region first. Take
+    // that region at once and queue its boundary.
+    const bool warm = k.filled_volume_m3 >= 0 && k.volume_m3 >= k.filled_volume_m3 &&
+                      k.filled_seeds == k.seeds.size() && !k.cells.empty();
+    if (warm) {
+        for (const auto c : k.cells) {
+            m_stamp_region[c] = m_stamp;
+            m_stamp_queued[c] = m_stamp;
+        }
+        for (const auto c : k.cells) {
+            f.cells.push_back(c);
+            n += 1;
+            sum_z += m_fd.elevation(c);
+            const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
+            for (const auto& o : terrain::kMooreOffsets) {
+                const int a = i + o[0], b = j + o[1];
+                if (!g.contains(a, b)) continue;
+                const std::int64_t q = cell_index(g, a, b);
+                if (m_stamp_queued[q] == m_stamp) continue;
+                m_stamp_queued[q] = m_stamp;
+                const double zq = m_fd.elevation(q);
+                pq.emplace(std::isnan(zq) ? kNegInf : zq, q);
+            }
+        }
+        running_max = k.fill_max_z;
+        // Seeds the last fill did not reach are still this catchment's own, as in a cold start.
+        for (const auto sd : k.seeds) {
+            m_stamp_region[sd] = m_stamp;
+            if (m_stamp_queued[sd] == m_stamp) continue;
+            m_stamp_queued[sd] = m_stamp;
+            pq.emplace(m_fd.elevation(sd), sd);
+        }
+    } else {
+        for (const auto s : k.seeds) {
+            pq.emplace(m_fd.elevation(s), s);
+            m_stamp_queued[s] = m_stamp;
+            m_stamp_region[s] = m_stamp;
+        }
+    }
     auto take = [&](std::int64_t c, double z) {
         m_stamp_region[c] = m_stamp;
         f.cells.push_back(c);
@@ -182,7 +219,10 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
         pq.pop();
         if (m_fd.is_outlet(c)) {
             spill_at(std::max(running_max, z), c);
-            return f;
+            {
+                f.max_z = running_max;
+                return f;
+            }
         }
         if (n > 0 && z < running_max) {
             if (drains_into_region(c)) {
@@ -191,22 +231,34 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
                 // taken; if it cannot, the bodies under this catchment have separated.
                 if (vd < n * running_max - sum_z) {
                     f.separated = true;
-                    return f;
+                    {
+                        f.max_z = running_max;
+                        return f;
+                    }
                 }
                 continue;
             }
             spill_at(running_max, c);
-            return f;
+            {
+                f.max_z = running_max;
+                return f;
+            }
         }
         if (n > 0 && vd <= n * z - sum_z) {
             f.level = (vd + sum_z) / n;
-            return f;
+            {
+                f.max_z = running_max;
+                return f;
+            }
         }
         take(c, z);
         running_max = z;
     }
     f.level = n > 0 ? (vd + sum_z) / n : 0.0;
-    return f;
+    {
+        f.max_z = running_max;
+        return f;
+    }
 }
 
 Catchments::Fill Catchments::fill_common_level(const Catchment& k) {
@@ -327,15 +379,12 @@ void Catchments::split_if_separated(std::size_t index) {
 }
 
 int Catchments::equilibrate() {
-    // A worklist of catchments whose volume changed, highest pit first: water runs downhill, so a
-    // catchment usually receives all its inflow from above before it is filled.
-    using Item = std::pair<double, std::int32_t>; // (lowest seed elevation, id)
+    // A worklist of catchments whose volume changed, highest water level first: a spill runs from
+    // a saddle down to a lower water body, so a catchment usually receives all its inflow before it
+    // is filled. (New catchments have the level of their pit.)
+    using Item = std::pair<double, std::int32_t>; // (level when last filled, id)
     std::priority_queue<Item> work;
-    auto lowest_seed = [&](const Catchment& k) {
-        double z = std::numeric_limits<double>::infinity();
-        for (const auto s : k.seeds) z = std::min(z, m_fd.elevation(s));
-        return z;
-    };
+    auto lowest_seed = [&](const Catchment& k) { return k.level_m; };
     auto push = [&](std::int32_t id) {
         if (const Catchment* k = find(id); k && k->dirty) work.emplace(lowest_seed(*k), id);
     };
@@ -357,8 +406,19 @@ int Catchments::equilibrate() {
         const std::size_t idx = static_cast<std::size_t>(m_index[id]);
         Fill f = fill(m_list[idx]);
         if (f.separated) f = fill_common_level(m_list[idx]);
+        ++m_fills;
+        m_cells_filled += static_cast<std::int64_t>(f.cells.size());
         Catchment& k = m_list[idx];
         k.dirty = false;
+        if (f.separated) {
+            k.filled_volume_m3 = -1.0; // a common-level fill is no prefix of a flood
+        } else {
+            // After a spill the catchment keeps its capacity; any volume at or above it floods the
+            // same region again.
+            k.filled_volume_m3 = k.volume_m3 - std::max(0.0, f.excess);
+            k.fill_max_z = f.max_z;
+            k.filled_seeds = k.seeds.size();
+        }
         // Ownership stays current: a catchment's cells are re-claimed whenever it is recomputed,
         // so spills find the water body that covers their cell.
         release_cells(k);

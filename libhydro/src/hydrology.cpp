@@ -122,10 +122,35 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     const double grass_mm = et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm;
     const double rain_m = w.rain_mm / kMmPerM;
     f.rain = rain_m * m_area * static_cast<double>(g.size());
+    std::vector<double> recharge(static_cast<std::size_t>(g.size()), 0.0); // m3
+
+    // 0. Standing water (as left by yesterday's equilibrium) evaporates at the open-water rate and
+    //    infiltrates into the soil under it (and percolates). The day's inflows come after, and
+    //    one equilibrium pass then settles both.
+    for (const auto& k : m_catch.catchments()) {
+        const std::int32_t id = k.id;
+        std::int64_t wet = 0;
+        for (const auto c : k.cells) wet += k.level_m > m_dem.data()[c];
+        f.evaporation +=
+            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(wet));
+        for (const auto c : k.cells) {
+            if (!(k.level_m > m_dem.data()[c])) continue;
+            double& th = m_theta.data()[c];
+            const double fc = m_soil.field_capacity.data()[c];
+            const double want = std::max(0.0, (fc - th) * depth * m_area);
+            const double got = m_catch.remove_water(id, want);
+            th += got / (depth * m_area);
+            f.infiltration += got;
+            if (m_gw) {
+                const double perc = m_catch.remove_water(id, m_soil.ksat_m_per_s.data()[c] *
+                                                                 kSecondsPerDay * m_area);
+                recharge[c] += perc;
+            }
+        }
+    }
 
     // 1-2. Rain: into lakes, or split into runoff and infiltration.
     std::vector<double> runoff(static_cast<std::size_t>(g.size()), 0.0);   // m3
-    std::vector<double> recharge(static_cast<std::size_t>(g.size()), 0.0); // m3
     const FlowDirections& fd = m_catch.flow();
     for (std::int64_t k = 0; k < g.size(); ++k) {
         if (rain_m <= 0) break;
@@ -206,29 +231,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
             }
     }
 
-    // 4. Lakes: open-water evaporation, infiltration (and percolation) under them, equilibrium.
-    m_catch.equilibrate();
-    for (const auto& k : m_catch.catchments()) {
-        const std::int32_t id = k.id;
-        std::int64_t wet = 0;
-        for (const auto c : k.cells) wet += k.level_m > m_dem.data()[c];
-        f.evaporation +=
-            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(wet));
-        for (const auto c : k.cells) {
-            if (!(k.level_m > m_dem.data()[c])) continue;
-            double& th = m_theta.data()[c];
-            const double fc = m_soil.field_capacity.data()[c];
-            const double want = std::max(0.0, (fc - th) * depth * m_area);
-            const double got = m_catch.remove_water(id, want);
-            th += got / (depth * m_area);
-            f.infiltration += got;
-            if (m_gw) {
-                const double perc = m_catch.remove_water(id, m_soil.ksat_m_per_s.data()[c] *
-                                                                 kSecondsPerDay * m_area);
-                recharge[c] += perc;
-            }
-        }
-    }
+    // 4. Equilibrium of the standing water with the day's inflows.
     m_catch.equilibrate();
 
     // 5. Evapotranspiration from the soil.
@@ -258,14 +261,19 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
             res = m_gw->step(kSecondsPerDay, recharge);
         } catch (const Error& e) {
             std::ostringstream msg;
-            msg << "on day " << m_day << " (year " << w.year << ", day " << w.doy << "): " << e.what();
+            msg << "on day " << m_day << " (year " << w.year << ", day " << w.doy
+                << "): " << e.what();
             throw Error(msg.str());
         }
         f.groundwater_out = res.outflow_m3;
         // Water table above the surface: it seeps out and joins the surface water.
+        bool seeped = false;
         for (std::int64_t k = 0; k < g.size(); ++k)
-            if (res.seepage_m3[k] > 0) m_catch.add_water(k, res.seepage_m3[k]);
-        m_catch.equilibrate();
+            if (res.seepage_m3[k] > 0) {
+                m_catch.add_water(k, res.seepage_m3[k]);
+                seeped = true;
+            }
+        if (seeped) m_catch.equilibrate();
     }
 
     f.runoff_out = m_catch.lost_m3() - lost0;

@@ -87,6 +87,10 @@ TEST_CASE("The water budget closes over years, with and without groundwater",
         }
         CAPTURE(gw);
         CHECK(std::abs(m.cumulative_residual_m3()) < 1e-9 * m.cumulative_throughput_m3());
+        // The water the catchments hold is the water their depth map shows.
+        const RasterD depth = m.surface_water_depth();
+        CHECK(depth.array().sum() * 4.0 ==
+              Approx(m.catchments().total_volume_m3()).epsilon(1e-9).margin(1e-9));
         CHECK(rain > 0);
         CHECK(et > 0.2 * rain);   // humid subtropics lose much of their rain to ET
         CHECK(out > 0.01 * rain); // and some runs off or drains away

@@ -40,6 +40,9 @@ struct Catchment {
     double previous_level_m = 1e300; ///< level at the previous pass (a fall triggers a split check)
     bool dynamic = true;             ///< false once it spills out of the domain
     bool dirty = true;               ///< volume changed since its region was last computed
+    double filled_volume_m3 = -1.0;  ///< volume at the last fill (-1 = none; warm-start check)
+    double fill_max_z = 0.0;         ///< highest elevation taken by the last fill
+    std::size_t filled_seeds = 0;    ///< seed count at the last fill
     std::int32_t spills_into = 0;    ///< id it spilled into when last computed (0 = none)
 };
 
@@ -72,12 +75,16 @@ public:
     double total_volume_m3() const;
     /// Volume that left the domain through outlets since construction.
     double lost_m3() const { return m_lost_m3; }
+    /// Work counters (for benchmarks): catchment fills and cells taken by them, since construction.
+    std::int64_t fills() const { return m_fills; }
+    std::int64_t cells_filled() const { return m_cells_filled; }
 
 private:
     struct Fill {
         double level = 0, excess = 0;
         std::int64_t spill_cell = -1; ///< where the excess goes (an outlet or a cell outside)
         bool separated = false;       ///< the level fell below a saddle inside the region
+        double max_z = 0;             ///< highest elevation taken
         std::vector<std::int64_t> cells;
     };
     Fill fill(const Catchment& k);
@@ -101,6 +108,7 @@ private:
     void reindex();
     std::int32_t m_next_id = 1;
     double m_lost_m3 = 0.0;
+    std::int64_t m_fills = 0, m_cells_filled = 0;
     // Scratch for fill(): stamps avoid clearing per call.
     std::vector<std::uint32_t> m_stamp_queued, m_stamp_region;
     std::uint32_t m_stamp = 0;

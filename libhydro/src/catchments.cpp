@@ -151,8 +151,47 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
     // Warm start: the flood takes cells in a fixed (elevation, index) order whatever the volume,
     // so with more water and the same seeds it passes through the previous region first. Take
     // that region at once and queue its boundary.
-    const bool warm = k.filled_volume_m3 >= 0 && k.volume_m3 >= k.filled_volume_m3 &&
-                      k.filled_seeds == k.seeds.size() && !k.cells.empty();
+    const bool known =
+        k.filled_volume_m3 >= 0 && k.filled_seeds == k.seeds.size() && !k.cells.empty();
+    if (known && k.volume_m3 < k.filled_volume_m3) {
+        // Less water: the region is a prefix of the last take sequence (k.cells is in take order).
+        // Replay it with the flood's own checks; no queue is needed.
+        for (const auto s : k.seeds) m_stamp_region[s] = m_stamp;
+        for (const auto c : k.cells) {
+            const double z = m_fd.elevation(c);
+            if (n > 0 && z < running_max) {
+                f.cells.push_back(c);
+                n += 1;
+                sum_z += z;
+                if (vd < n * running_max - sum_z) {
+                    f.separated = true;
+                    f.max_z = running_max;
+                    return f;
+                }
+                continue;
+            }
+            if (n > 0 && vd <= n * z - sum_z) {
+                f.level = (vd + sum_z) / n;
+                f.max_z = running_max;
+                return f;
+            }
+            f.cells.push_back(c);
+            n += 1;
+            sum_z += z;
+            running_max = z;
+        }
+        f.max_z = running_max;
+        const double cap = k.last_spill_cell >= 0 ? n * k.last_spill_level - sum_z : 0.0;
+        if (k.last_spill_cell >= 0 && vd > cap) {
+            f.level = k.last_spill_level;
+            f.excess = (vd - cap) * m_area;
+            f.spill_cell = k.last_spill_cell;
+        } else {
+            f.level = (vd + sum_z) / n;
+        }
+        return f;
+    }
+    const bool warm = known && k.volume_m3 >= k.filled_volume_m3;
     if (warm) {
         for (const auto c : k.cells) {
             m_stamp_region[c] = m_stamp;
@@ -417,6 +456,8 @@ int Catchments::equilibrate() {
             // same region again.
             k.filled_volume_m3 = k.volume_m3 - std::max(0.0, f.excess);
             k.fill_max_z = f.max_z;
+            k.last_spill_cell = f.excess > 0 ? f.spill_cell : -1;
+            k.last_spill_level = f.level;
             k.filled_seeds = k.seeds.size();
         }
         // Ownership stays current: a catchment's cells are re-claimed whenever it is recomputed,

@@ -43,6 +43,8 @@ struct Catchment {
     double filled_volume_m3 = -1.0;  ///< volume at the last fill (-1 = none; warm-start check)
     double fill_max_z = 0.0;         ///< highest elevation taken by the last fill
     std::size_t filled_seeds = 0;    ///< seed count at the last fill
+    std::int64_t last_spill_cell = -1; ///< where the last fill spilled (-1: it did not)
+    double last_spill_level = 0.0;     ///< and at which level
     std::int32_t spills_into = 0;    ///< id it spilled into when last computed (0 = none)
 };
 

@@ -140,13 +140,31 @@ bool Catchments::drains_into_region(std::int64_t c) const {
     }
 }
 
+namespace {
+/// Queues the not-yet-queued Moore neighbours of c (NODATA as -infinity, i.e. an outlet).
+template <class Queue>
+void queue_neighbours(const FlowDirections& fd, std::int64_t c, std::vector<std::uint32_t>& queued,
+                      std::uint32_t stamp, Queue& pq) {
+    const auto& g = fd.grid();
+    const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
+    for (const auto& o : terrain::kMooreOffsets) {
+        const int a = i + o[0], b = j + o[1];
+        if (!g.contains(a, b)) continue;
+        const std::int64_t q = cell_index(g, a, b);
+        if (queued[q] == stamp) continue;
+        queued[q] = stamp;
+        const double zq = fd.elevation(q);
+        pq.emplace(std::isnan(zq) ? -std::numeric_limits<double>::infinity() : zq, q);
+    }
+}
+} // namespace
+
 Catchments::Fill Catchments::fill(const Catchment& k) {
     ++m_stamp;
     Fill f;
     using Entry = std::pair<double, std::int64_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pq;
     const double vd = k.volume_m3 / m_area; // volume as metres over one cell
-    const auto& g = m_fd.grid();
     double n = 0, sum_z = 0, running_max = kNegInf;
     // Warm start: the flood takes cells in a fixed (elevation, index) order whatever the volume,
     // so with more water and the same seeds it passes through the previous region first. Take
@@ -201,16 +219,7 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
             f.cells.push_back(c);
             n += 1;
             sum_z += m_fd.elevation(c);
-            const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
-            for (const auto& o : terrain::kMooreOffsets) {
-                const int a = i + o[0], b = j + o[1];
-                if (!g.contains(a, b)) continue;
-                const std::int64_t q = cell_index(g, a, b);
-                if (m_stamp_queued[q] == m_stamp) continue;
-                m_stamp_queued[q] = m_stamp;
-                const double zq = m_fd.elevation(q);
-                pq.emplace(std::isnan(zq) ? kNegInf : zq, q);
-            }
+            queue_neighbours(m_fd, c, m_stamp_queued, m_stamp, pq);
         }
         running_max = k.fill_max_z;
         // Seeds the last fill did not reach are still this catchment's own, as in a cold start.
@@ -232,16 +241,7 @@ Catchments::Fill Catchments::fill(const Catchment& k) {
         f.cells.push_back(c);
         n += 1;
         sum_z += z;
-        const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
-        for (const auto& o : terrain::kMooreOffsets) {
-            const int a = i + o[0], b = j + o[1];
-            if (!g.contains(a, b)) continue;
-            const std::int64_t q = cell_index(g, a, b);
-            if (m_stamp_queued[q] == m_stamp) continue;
-            m_stamp_queued[q] = m_stamp;
-            const double zq = m_fd.elevation(q);
-            pq.emplace(std::isnan(zq) ? kNegInf : zq, q);
-        }
+        queue_neighbours(m_fd, c, m_stamp_queued, m_stamp, pq);
     };
     auto spill_at = [&](double level, std::int64_t cell) {
         const double cap = n * level - sum_z;
@@ -310,7 +310,6 @@ Catchments::Fill Catchments::fill_common_level(const Catchment& k) {
         m_stamp_queued[s] = m_stamp;
     }
     const double vd = k.volume_m3 / m_area;
-    const auto& g = m_fd.grid();
     double n = 0, sum_z = 0;
     while (!pq.empty()) {
         const auto [z, c] = pq.top();
@@ -319,16 +318,7 @@ Catchments::Fill Catchments::fill_common_level(const Catchment& k) {
         f.cells.push_back(c);
         n += 1;
         sum_z += z;
-        const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
-        for (const auto& o : terrain::kMooreOffsets) {
-            const int a = i + o[0], b = j + o[1];
-            if (!g.contains(a, b)) continue;
-            const std::int64_t q = cell_index(g, a, b);
-            if (m_stamp_queued[q] == m_stamp) continue;
-            m_stamp_queued[q] = m_stamp;
-            const double zq = m_fd.elevation(q);
-            pq.emplace(std::isnan(zq) ? -std::numeric_limits<double>::infinity() : zq, q);
-        }
+        queue_neighbours(m_fd, c, m_stamp_queued, m_stamp, pq);
     }
     f.level = n > 0 ? (vd + sum_z) / n : 0.0;
     return f;

@@ -13,7 +13,6 @@ namespace ecoterra::hydro {
 namespace {
 constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerDay = 86400.0;
-constexpr double kMfdExponent = 1.1;
 } // namespace
 
 void HydrologyOptions::validate() const {
@@ -150,7 +149,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     }
 
     // 1-2. Rain: into lakes, or split into runoff and infiltration.
-    std::vector<double> runoff(static_cast<std::size_t>(g.size()), 0.0);   // m3
+    std::vector<double> runoff(static_cast<std::size_t>(g.size()), 0.0); // m3
     const FlowDirections& fd = m_catch.flow();
     for (std::int64_t k = 0; k < g.size(); ++k) {
         if (rain_m <= 0) break;
@@ -183,7 +182,6 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     }
 
     // 3. Run-on, highest cells first.
-    const double h = g.cell_size_m;
     for (const std::int64_t k : m_order) {
         double q = runoff[k];
         if (q <= 0) continue;
@@ -212,23 +210,9 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
             runoff[fd.receiver(k)] += q;
             continue;
         }
-        const int i = static_cast<int>(k % g.nx), j = static_cast<int>(k / g.nx);
-        double wsum = 0, wts[8] = {0};
-        for (int n = 0; n < 8; ++n) {
-            const auto& o = terrain::kMooreOffsets[n];
-            const std::int64_t c = cell_index(g, i + o[0], j + o[1]);
-            const bool diag = o[0] != 0 && o[1] != 0;
-            const double drop = m_dem.data()[k] - m_dem.data()[c];
-            if (drop <= 0) continue;
-            wts[n] = std::pow(drop / (diag ? h * std::numbers::sqrt2 : h), kMfdExponent) *
-                     (diag ? 0.354 : 0.5);
-            wsum += wts[n];
-        }
-        for (int n = 0; n < 8; ++n)
-            if (wts[n] > 0) {
-                const auto& o = terrain::kMooreOffsets[n];
-                runoff[cell_index(g, i + o[0], j + o[1])] += q * wts[n] / wsum;
-            }
+        std::array<std::pair<std::int64_t, double>, 8> shares;
+        const int n = mfd_shares(fd, k, shares);
+        for (int r = 0; r < n; ++r) runoff[shares[r].first] += q * shares[r].second;
     }
 
     // 4. Equilibrium of the standing water with the day's inflows.

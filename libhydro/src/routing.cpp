@@ -57,6 +57,30 @@ std::int64_t FlowDirections::terminus(std::int64_t c) const {
     return c;
 }
 
+int mfd_shares(const FlowDirections& fd, std::int64_t c,
+               std::array<std::pair<std::int64_t, double>, 8>& shares) {
+    const auto& g = fd.grid();
+    const double h = g.cell_size_m;
+    const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
+    int count = 0;
+    double sum = 0;
+    for (const auto& o : terrain::kMooreOffsets) {
+        if (!g.contains(i + o[0], j + o[1])) continue;
+        const std::int64_t n = cell_index(g, i + o[0], j + o[1]);
+        const double zn = fd.elevation(n);
+        if (std::isnan(zn)) return 0;
+        const double drop = fd.elevation(c) - zn;
+        if (!(drop > 0)) continue;
+        const bool diag = o[0] != 0 && o[1] != 0;
+        const double slope = drop / (diag ? h * std::numbers::sqrt2 : h);
+        const double w = std::pow(slope, kMfdExponent) * (diag ? kContourDiagonal : kContourEdge);
+        shares[count++] = {n, w};
+        sum += w;
+    }
+    for (int k = 0; k < count; ++k) shares[k].second /= sum;
+    return count;
+}
+
 RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& volume,
                           Routing routing) {
     const auto& g = fd.grid();
@@ -84,7 +108,6 @@ RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& v
     });
     std::vector<double> acc(static_cast<std::size_t>(g.size()), 0.0);
     for (std::int64_t c = 0; c < g.size(); ++c) acc[c] = volume[c] > 0 ? volume[c] : 0.0;
-    const double h = g.cell_size_m;
     for (const std::int64_t c : order) {
         const double v = acc[c];
         if (v <= 0) continue;
@@ -96,32 +119,13 @@ RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& v
             out.at_pit_m3[c] += v;
             continue;
         }
-        const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
-        double w[8] = {0};
-        double sum = 0;
-        bool next_to_nodata = false;
-        for (const auto& o : terrain::kMooreOffsets)
-            next_to_nodata |= std::isnan(fd.elevation(cell_index(g, i + o[0], j + o[1])));
-        if (next_to_nodata) { // as in D8: a NODATA neighbour is an outlet
+        std::array<std::pair<std::int64_t, double>, 8> shares;
+        const int k = mfd_shares(fd, c, shares);
+        if (k == 0) { // next to NODATA: an outlet, as in D8
             out.lost_m3 += v;
             continue;
         }
-        for (int k = 0; k < 8; ++k) {
-            const auto& o = terrain::kMooreOffsets[k];
-            const std::int64_t n = cell_index(g, i + o[0], j + o[1]);
-            const bool diag = o[0] != 0 && o[1] != 0;
-            const double zn = fd.elevation(n);
-            const double drop = fd.elevation(c) - zn;
-            if (!(drop > 0)) continue;
-            const double slope = drop / (diag ? h * std::numbers::sqrt2 : h);
-            w[k] = std::pow(slope, kMfdExponent) * (diag ? kContourDiagonal : kContourEdge);
-            sum += w[k];
-        }
-        for (int k = 0; k < 8; ++k) {
-            if (w[k] <= 0) continue;
-            const auto& o = terrain::kMooreOffsets[k];
-            acc[cell_index(g, i + o[0], j + o[1])] += v * w[k] / sum;
-        }
+        for (int q = 0; q < k; ++q) acc[shares[q].first] += v * shares[q].second;
     }
     return out;
 }

@@ -1,4 +1,5 @@
 // End-to-end runs of `ecoterra terrain ...` as a user types them.
+#include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
 #include "ecoterra/json_util.hpp"
@@ -13,26 +14,11 @@
 #include <sys/wait.h>
 
 using namespace ecoterra;
+using ecoterra::test::Run;
+using ecoterra::test::run;
 using ecoterra::test::TempDir;
 
 namespace {
-struct Run {
-    int code = -1;
-    std::string out; ///< stdout and stderr
-};
-
-Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
-    const std::string cmd =
-        "cd '" + dir.path().string() + "' && " + env + " '" ECOTERRA_BIN "' " + args + " 2>&1";
-    Run r;
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::array<char, 4096> buf{};
-    while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
 
 std::string slurp(const std::filesystem::path& p) {
     return terrain::io::read_text(p);

@@ -45,7 +45,7 @@ struct Catchment {
     std::size_t filled_seeds = 0;    ///< seed count at the last fill
     std::int64_t last_spill_cell = -1; ///< where the last fill spilled (-1: it did not)
     double last_spill_level = 0.0;     ///< and at which level
-    std::int32_t spills_into = 0;    ///< id it spilled into when last computed (0 = none)
+    std::int32_t spills_into = 0;      ///< id it spilled into when last computed (0 = none)
 };
 
 class Catchments {

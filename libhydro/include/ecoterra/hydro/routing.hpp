@@ -11,6 +11,7 @@
 // leaves the domain. NODATA cells are outlets too.
 #include "ecoterra/terrain/raster.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -48,6 +49,12 @@ private:
     std::vector<std::int32_t> m_receiver;
     std::vector<std::uint8_t> m_outlet;
 };
+
+/// MFD shares of a cell's outflow: up to 8 (neighbour cell, fraction) pairs summing to 1, for the
+/// strictly lower neighbours. Returns the count (0 for a pit or a cell next to NODATA, whose
+/// water leaves the domain as in D8).
+int mfd_shares(const FlowDirections& fd, std::int64_t c,
+               std::array<std::pair<std::int64_t, double>, 8>& shares);
 
 struct RoutedWater {
     std::vector<double> at_pit_m3; ///< per cell: volume arriving at that pit (0 elsewhere)

@@ -27,12 +27,6 @@ constexpr double kMinutesPerHour = 60.0;
 constexpr double kSpecificHeatAir = 1.013e-3;
 constexpr double kMolecularWeightRatio = 0.622;
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 double rnl_humidity_factor(double ea) {
     return 0.34 - 0.14 * std::sqrt(ea);
 }
@@ -171,7 +165,7 @@ std::optional<Method> parse_method(const std::string& s) {
 
 void DailyWeather::validate() const {
     auto bad = [](const std::string& what, double v, const char* range) {
-        throw InputError(what + " = " + num(v) + " is outside " + range);
+        throw InputError(what + " = " + format_number(v) + " is outside " + range);
     };
     if (!(lat_deg >= -90 && lat_deg <= 90)) bad("latitude (deg)", lat_deg, "[-90, 90]");
     if (!(elevation_m > -500 && elevation_m < 9000))
@@ -180,16 +174,16 @@ void DailyWeather::validate() const {
     if (!(tmin_c > -90 && tmin_c < 60)) bad("tmin (degC)", tmin_c, "(-90, 60)");
     if (!(tmax_c > -90 && tmax_c < 60)) bad("tmax (degC)", tmax_c, "(-90, 60)");
     if (tmax_c < tmin_c)
-        throw InputError("tmax (" + num(tmax_c) + " degC) is below tmin (" + num(tmin_c) +
-                         " degC)");
+        throw InputError("tmax (" + format_number(tmax_c) + " degC) is below tmin (" +
+                         format_number(tmin_c) + " degC)");
     for (auto [v, name] : {std::pair{rh_min_pct, "rh min (%)"}, std::pair{rh_max_pct, "rh max (%)"},
                            std::pair{rh_mean_pct, "rh mean (%)"}})
         if (v && !(*v >= 0 && *v <= 100)) bad(name, *v, "[0, 100]");
     if (rh_min_pct.has_value() != rh_max_pct.has_value())
         throw InputError("give both rh min and rh max, or neither");
     if (rh_min_pct && rh_max_pct && *rh_min_pct > *rh_max_pct)
-        throw InputError("rh min (" + num(*rh_min_pct) + " %) exceeds rh max (" + num(*rh_max_pct) +
-                         " %)");
+        throw InputError("rh min (" + format_number(*rh_min_pct) + " %) exceeds rh max (" +
+                         format_number(*rh_max_pct) + " %)");
     if (!(u2_m_per_s >= 0 && u2_m_per_s < 100))
         bad("wind speed at 2 m (m/s)", u2_m_per_s, "[0, 100)");
     if (rs_mj && !(*rs_mj >= 0 && *rs_mj < 50))

@@ -34,12 +34,6 @@ constexpr ClassRow kRawls[kTextureCount] = {
     {"silty_clay", 0.479, 0.387, 0.250, 0.09},      {"clay", 0.475, 0.396, 0.272, 0.06},
 };
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 } // namespace
 
 std::string texture_name(Texture t) {
@@ -61,17 +55,17 @@ void SoilComposition::validate(const std::string& where) const {
     for (int k = 0; k < 3; ++k)
         if (!(parts[k] >= 0.0) || !std::isfinite(parts[k]))
             throw InputError(where + ": " + names[k] + " must be a percentage >= 0, got " +
-                             num(parts[k]));
+                             format_number(parts[k]));
     const double sum = sand_pct + silt_pct + clay_pct;
     if (std::abs(sum - 100.0) > kSumTolerancePct)
         throw InputError(where + ": sand + silt + clay must be 100 % (within 2), got " +
-                         num(sand_pct) + " + " + num(silt_pct) + " + " + num(clay_pct) + " = " +
-                         num(sum));
+                         format_number(sand_pct) + " + " + format_number(silt_pct) + " + " +
+                         format_number(clay_pct) + " = " + format_number(sum));
     if (!(ph >= 0.0 && ph <= 14.0))
-        throw InputError(where + ": pH must be in [0, 14], got " + num(ph));
+        throw InputError(where + ": pH must be in [0, 14], got " + format_number(ph));
     if (organic_matter_pct && !(*organic_matter_pct >= 0.0 && *organic_matter_pct <= 20.0))
         throw InputError(where + ": organic matter must be in [0, 20] %, got " +
-                         num(*organic_matter_pct));
+                         format_number(*organic_matter_pct));
 }
 
 Texture classify_texture(double sand, double silt, double clay) {
@@ -92,8 +86,8 @@ Texture classify_texture(double sand, double silt, double clay) {
     if (C >= 35 && Sa > 45) return Texture::sandy_clay;
     if (C >= 40 && Si >= 40) return Texture::silty_clay;
     if (C >= 40 && Sa <= 45 && Si < 40) return Texture::clay;
-    throw Error("texture: no USDA class for sand " + num(Sa) + " silt " + num(Si) + " clay " +
-                num(C) + " (a gap in the class rules)");
+    throw Error("texture: no USDA class for sand " + format_number(Sa) + " silt " +
+                format_number(Si) + " clay " + format_number(C) + " (a gap in the class rules)");
 }
 
 SoilProperties class_properties(Texture t) {
@@ -174,11 +168,12 @@ SoilMap uniform_soil(const GridSpec& grid, const SoilComposition& c) {
 void RandomSoilParams::validate() const {
     mean.validate("soil.mean");
     if (!(amplitude_pct >= 0 && amplitude_pct <= 50))
-        throw InputError("soil.amplitude_pct must be in [0, 50], got " + num(amplitude_pct));
+        throw InputError("soil.amplitude_pct must be in [0, 50], got " +
+                         format_number(amplitude_pct));
     if (!(ph_amplitude >= 0 && ph_amplitude <= 7))
-        throw InputError("soil.ph_amplitude must be in [0, 7], got " + num(ph_amplitude));
+        throw InputError("soil.ph_amplitude must be in [0, 7], got " + format_number(ph_amplitude));
     if (!(patch_size_m > 0))
-        throw InputError("soil.patch_size_m must be > 0, got " + num(patch_size_m));
+        throw InputError("soil.patch_size_m must be > 0, got " + format_number(patch_size_m));
 }
 
 SoilMap random_soil(const GridSpec& grid, const RandomSoilParams& p, std::uint64_t seed) {

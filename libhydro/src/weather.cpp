@@ -26,19 +26,13 @@ double harmonic(double mean, double amplitude, int peak, int doy) {
     return mean + amplitude * std::cos(2 * std::numbers::pi * (doy - peak) / kDaysPerYear);
 }
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 } // namespace
 
 void Climate::validate() const {
     auto in = [&](double v, double lo, double hi, const char* key) {
         if (!(v >= lo && v <= hi))
-            throw InputError("climate " + name + ": " + key + " = " + num(v) + " is outside [" +
-                             num(lo) + ", " + num(hi) + "]");
+            throw InputError("climate " + name + ": " + key + " = " + format_number(v) +
+                             " is outside [" + format_number(lo) + ", " + format_number(hi) + "]");
     };
     in(latitude_deg, -90, 90, "latitude_deg");
     in(elevation_m, -500, 9000, "elevation_m");

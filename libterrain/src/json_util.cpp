@@ -5,6 +5,12 @@
 
 namespace ecoterra {
 
+std::string format_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
     std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
     for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
@@ -20,11 +26,6 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 namespace {
 std::string key_path(const std::string& where, const std::string& key) {
     return where.empty() ? key : where + "." + key;
-}
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
 }
 } // namespace
 
@@ -54,8 +55,8 @@ double get_number(const nlohmann::json& obj, const std::string& key, double fall
         throw InputError(key_path(where, key) + " must be a number, got " + v.dump());
     const double d = v.get<double>();
     if (!(d >= min && d <= max))
-        throw InputError(key_path(where, key) + " = " + num(d) + " is outside [" + num(min) + ", " +
-                         num(max) + "]");
+        throw InputError(key_path(where, key) + " = " + format_number(d) + " is outside [" +
+                         format_number(min) + ", " + format_number(max) + "]");
     return d;
 }
 

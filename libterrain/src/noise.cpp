@@ -21,19 +21,13 @@ constexpr double kPerlinScale = std::numbers::sqrt2;
 /// Padding of the gaussian surface's FFT grid, in correlation lengths (correlation e^-8 there).
 constexpr double kGaussianPadLengths = 8.0;
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 void require_positive(double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v))
-        throw InputError(std::string(name) + " must be > 0, got " + num(v));
+        throw InputError(std::string(name) + " must be > 0, got " + format_number(v));
 }
 void require_nonnegative(double v, const char* name) {
     if (!(v >= 0.0) || !std::isfinite(v))
-        throw InputError(std::string(name) + " must be >= 0, got " + num(v));
+        throw InputError(std::string(name) + " must be >= 0, got " + format_number(v));
 }
 
 double fade(double t) {
@@ -108,7 +102,7 @@ void validate(const VariableSurfaceParams& p) {
     if (!std::isfinite(p.spectral_exponent) || p.spectral_exponent < 0.0 ||
         p.spectral_exponent > 6.0)
         throw InputError("variable: spectral exponent must be in [0, 6], got " +
-                         num(p.spectral_exponent));
+                         format_number(p.spectral_exponent));
 }
 
 RasterD perlin_surface(const GridSpec& grid, const PerlinSurfaceParams& p, std::uint64_t seed) {

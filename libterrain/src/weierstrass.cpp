@@ -19,26 +19,20 @@ constexpr double kNegligibleAmplitude = 1e-17;
 /// Rows of the output computed by one task; fixed so results do not depend on the thread count.
 constexpr int kRowBlock = 32;
 
-std::string num(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 int resolve_nmax(const GridSpec& grid, const WMParams& p, std::vector<std::string>& warnings) {
     const int nyq = wm_nyquist_nmax(p.L_m, p.gamma, grid.cell_size_m);
     if (p.n_max <= 0) {
         if (nyq < 1)
-            throw InputError("W-M: the cell size " + num(grid.cell_size_m) +
-                             " m is too coarse for L = " + num(p.L_m) +
+            throw InputError("W-M: the cell size " + format_number(grid.cell_size_m) +
+                             " m is too coarse for L = " + format_number(p.L_m) +
                              " m: even the n = 1 term is above the Nyquist frequency");
         return nyq;
     }
     if (p.n_max > nyq)
         warnings.push_back("W-M: n_max = " + std::to_string(p.n_max) +
                            " is above the Nyquist cutoff " + std::to_string(nyq) + " for cell " +
-                           num(grid.cell_size_m) + " m; terms n > " + std::to_string(nyq) +
-                           " alias into pseudo-noise on the grid");
+                           format_number(grid.cell_size_m) + " m; terms n > " +
+                           std::to_string(nyq) + " alias into pseudo-noise on the grid");
     return p.n_max;
 }
 
@@ -50,16 +44,16 @@ void validate(const WMParams& p) {
         throw InputError("W-M: n_max must be >= 1 (or 0 for the Nyquist cutoff), got " +
                          std::to_string(p.n_max));
     if (!(p.gamma > 1.0) || !std::isfinite(p.gamma))
-        throw InputError("W-M: gamma must be > 1, got " + num(p.gamma));
+        throw InputError("W-M: gamma must be > 1, got " + format_number(p.gamma));
     if (!(p.D > 2.0 && p.D < 3.0))
-        throw InputError("W-M: fractal dimension D must be in (2, 3), got " + num(p.D));
+        throw InputError("W-M: fractal dimension D must be in (2, 3), got " + format_number(p.D));
     if (!(p.L_m > 0.0) || !std::isfinite(p.L_m))
-        throw InputError("W-M: L must be > 0 m, got " + num(p.L_m));
+        throw InputError("W-M: L must be > 0 m, got " + format_number(p.L_m));
     if (!(p.G_m > 0.0) || !std::isfinite(p.G_m))
-        throw InputError("W-M: G must be > 0 m, got " + num(p.G_m));
+        throw InputError("W-M: G must be > 0 m, got " + format_number(p.G_m));
     if (!(p.phase_max_rad > 0.0 && p.phase_max_rad <= 2.0 * kPi))
         throw InputError("W-M: the phase interval must be in (0, 2 pi] rad, got " +
-                         num(p.phase_max_rad));
+                         format_number(p.phase_max_rad));
 }
 
 double wm_amplitude(const WMParams& p) {
@@ -190,9 +184,10 @@ void validate(const MultifractalParams& p) {
     validate(p.mid);
     validate(p.high);
     if (!(p.filter_sigma_m >= 0.0) || !std::isfinite(p.filter_sigma_m))
-        throw InputError("multifractal: filter sigma must be >= 0 m, got " + num(p.filter_sigma_m));
+        throw InputError("multifractal: filter sigma must be >= 0 m, got " +
+                         format_number(p.filter_sigma_m));
     if (!(p.relief_m > 0.0) || !std::isfinite(p.relief_m))
-        throw InputError("multifractal: relief must be > 0 m, got " + num(p.relief_m));
+        throw InputError("multifractal: relief must be > 0 m, got " + format_number(p.relief_m));
     if (!std::isfinite(p.base_elevation_m))
         throw InputError("multifractal: base elevation must be finite");
 }

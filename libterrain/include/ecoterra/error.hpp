@@ -23,6 +23,9 @@ public:
     using Error::Error;
 };
 
+/// A number as a short string for messages ("0.05", "1e-08"), as an ostream prints it.
+std::string format_number(double v);
+
 /// Returns "<context>: <message>" for re-throwing with more context.
 inline std::string with_context(const std::string& context, const std::exception& e) {
     return context + ": " + e.what();

@@ -136,7 +136,6 @@ void run_pond(const PondArgs& a) {
     const double seconds = sw.seconds();
     const terrain::RasterD depth = c.depth_map();
     const auto ids = c.id_map();
-    double input = 0;
     std::int64_t valid = 0, wet = 0;
     for (std::int64_t k = 0; k < dem.size(); ++k) {
         if (std::isnan(dem.data()[k])) continue;
@@ -144,7 +143,7 @@ void run_pond(const PondArgs& a) {
         wet += depth.data()[k] > 0;
     }
     const double area = dem.cell_size() * dem.cell_size();
-    input = a.depth_m * area * static_cast<double>(valid);
+    const double input = a.depth_m * area * static_cast<double>(valid);
     const double stored = c.total_volume_m3(), lost = c.lost_m3();
     terrain::io::Hdf5Writer h5(a.output);
     h5.raster("/surface_water_depth_m", depth, "m", "standing water depth at equilibrium");

@@ -35,6 +35,19 @@ struct Hdf5Writer::Impl {
         }
     }
 
+    /// Calls f on the dataset or group at `object`, creating the group if it does not exist.
+    template <class F>
+    void on_object(const std::string& object, F&& f) {
+        if (object != "/" && !file.nameExists(object)) ensure_parents(object + "/");
+        if (object != "/" && file.childObjType(object) == H5O_TYPE_DATASET) {
+            H5::DataSet ds = file.openDataSet(object);
+            f(ds);
+        } else {
+            H5::Group g = file.openGroup(object);
+            f(g);
+        }
+    }
+
     template <class T>
     void raster(const std::string& path, const Raster<T>& r, const H5::PredType& mem,
                 const H5::PredType& disk, const std::string& units, const std::string& desc) {
@@ -128,30 +141,14 @@ void Hdf5Writer::series(const std::string& path, const std::vector<std::int32_t>
 void Hdf5Writer::attribute(const std::string& object, const std::string& name,
                            const std::string& value) {
     const std::string& path = object;
-    ECOTERRA_H5_GUARD({
-        if (object != "/" && !m_impl->file.nameExists(object)) m_impl->ensure_parents(object + "/");
-        if (object != "/" && m_impl->file.childObjType(object) == H5O_TYPE_DATASET) {
-            H5::DataSet ds = m_impl->file.openDataSet(object);
-            string_attr(ds, name, value);
-        } else {
-            H5::Group g = m_impl->file.openGroup(object);
-            string_attr(g, name, value);
-        }
-    })
+    ECOTERRA_H5_GUARD(
+        m_impl->on_object(object, [&](H5::H5Object& o) { string_attr(o, name, value); }))
 }
 
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
     const std::string& path = object;
-    ECOTERRA_H5_GUARD({
-        if (object != "/" && !m_impl->file.nameExists(object)) m_impl->ensure_parents(object + "/");
-        if (object != "/" && m_impl->file.childObjType(object) == H5O_TYPE_DATASET) {
-            H5::DataSet ds = m_impl->file.openDataSet(object);
-            double_attr(ds, name, value);
-        } else {
-            H5::Group g = m_impl->file.openGroup(object);
-            double_attr(g, name, value);
-        }
-    })
+    ECOTERRA_H5_GUARD(
+        m_impl->on_object(object, [&](H5::H5Object& o) { double_attr(o, name, value); }))
 }
 
 void Hdf5Writer::commit() {

@@ -10,6 +10,7 @@ find_package(Boost 1.74 REQUIRED)                      # libboost-graph-dev (hea
 find_package(SUNDIALS 6 REQUIRED)                      # libsundials-dev (CVODE, KLU)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3) # libfftw3-dev
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)  # libcairo2-dev (run pictures)
 if(ECOTERRA_BUILD_TESTS)
   find_package(Catch2 2 REQUIRED)                      # catch2 (v2 in Debian 12)
 endif()

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("ecoterra ") + ecoterra::app::version());
     ecoterra::app::add_terrain_command(app);
     ecoterra::app::add_hydro_command(app);
+    ecoterra::app::add_eco_commands(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -7,5 +7,7 @@ namespace ecoterra::app {
 void add_terrain_command(CLI::App& app);
 /// `ecoterra hydro soil|et|pond|run`.
 void add_hydro_command(CLI::App& app);
+/// `ecoterra run`, `ecoterra stand`, `ecoterra export vegetation`.
+void add_eco_commands(CLI::App& app);
 
 } // namespace ecoterra::app

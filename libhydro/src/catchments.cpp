@@ -539,3 +539,67 @@ double Catchments::total_volume_m3() const {
 }
 
 } // namespace ecoterra::hydro
+
+namespace ecoterra::hydro {
+
+void Catchments::save_state(ArchiveWriter& a) const {
+    a.put<std::uint64_t>(m_list.size());
+    for (const auto& k : m_list) {
+        a.put(k.id);
+        a.put_vector(k.seeds);
+        a.put(k.volume_m3);
+        a.put(k.level_m);
+        a.put_vector(k.cells);
+        a.put(k.previous_level_m);
+        a.put(k.dynamic);
+        a.put(k.dirty);
+        a.put(k.filled_volume_m3);
+        a.put(k.fill_max_z);
+        a.put(k.filled_seeds);
+        a.put(k.last_spill_cell);
+        a.put(k.last_spill_level);
+        a.put(k.spills_into);
+    }
+    a.put_vector(m_owner);
+    a.put_vector(m_seed_owner);
+    a.put(m_next_id);
+    a.put(m_lost_m3);
+    a.put(m_fills);
+    a.put(m_cells_filled);
+}
+
+void Catchments::load_state(ArchiveReader& a) {
+    const auto n = a.get<std::uint64_t>();
+    std::vector<Catchment> list(n);
+    for (auto& k : list) {
+        k.id = a.get<std::int32_t>();
+        k.seeds = a.get_vector<std::int64_t>();
+        k.volume_m3 = a.get<double>();
+        k.level_m = a.get<double>();
+        k.cells = a.get_vector<std::int64_t>();
+        k.previous_level_m = a.get<double>();
+        k.dynamic = a.get<bool>();
+        k.dirty = a.get<bool>();
+        k.filled_volume_m3 = a.get<double>();
+        k.fill_max_z = a.get<double>();
+        k.filled_seeds = a.get<std::size_t>();
+        k.last_spill_cell = a.get<std::int64_t>();
+        k.last_spill_level = a.get<double>();
+        k.spills_into = a.get<std::int32_t>();
+    }
+    auto owner = a.get_vector<std::int32_t>();
+    auto seed_owner = a.get_vector<std::int32_t>();
+    if (owner.size() != m_owner.size() || seed_owner.size() != m_seed_owner.size())
+        throw Error("catchment checkpoint: " + std::to_string(owner.size()) +
+                    " cells, the terrain has " + std::to_string(m_owner.size()));
+    m_list = std::move(list);
+    m_owner = std::move(owner);
+    m_seed_owner = std::move(seed_owner);
+    m_next_id = a.get<std::int32_t>();
+    m_lost_m3 = a.get<double>();
+    m_fills = a.get<std::int64_t>();
+    m_cells_filled = a.get<std::int64_t>();
+    reindex();
+}
+
+} // namespace ecoterra::hydro

@@ -364,3 +364,26 @@ long Groundwater::steps_taken() const {
 }
 
 } // namespace ecoterra::hydro
+
+namespace ecoterra::hydro {
+
+void Groundwater::save_state(ArchiveWriter& a) const {
+    const double* yy = N_VGetArrayPointer(m->y.v);
+    a.put_vector(std::vector<double>(yy, yy + m->nvar() + 1));
+    a.put(m->t_now);
+    a.put(m->last_step);
+    a.put(m->steps);
+}
+
+void Groundwater::load_state(ArchiveReader& a) {
+    const auto y = a.get_vector<double>();
+    if (static_cast<std::int64_t>(y.size()) != m->nvar() + 1)
+        throw Error("groundwater checkpoint: " + std::to_string(y.size()) + " values for " +
+                    std::to_string(m->nvar() + 1) + " unknowns (another terrain?)");
+    std::copy(y.begin(), y.end(), N_VGetArrayPointer(m->y.v));
+    m->t_now = a.get<double>();
+    m->last_step = a.get<double>();
+    m->steps = a.get<long>();
+}
+
+} // namespace ecoterra::hydro

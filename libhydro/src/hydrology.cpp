@@ -15,6 +15,38 @@ constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerDay = 86400.0;
 } // namespace
 
+const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns() {
+    static const std::array<BudgetColumn, kBudgetColumns> cols = {{
+        {"day", "simulation day, 1-based"},
+        {"year", "simulation year (or calendar year)"},
+        {"day_of_year", "day of year"},
+        {"rain_mm", "rain over the domain"},
+        {"evaporation_mm", "soil and open-water evaporation"},
+        {"transpiration_mm", "transpiration supplied to plants"},
+        {"infiltration_mm", "infiltration into the soil"},
+        {"runoff_out_mm", "surface water that left through the domain edge"},
+        {"groundwater_out_mm", "groundwater that left through fixed-head edges"},
+        {"recharge_mm", "percolation to the water table"},
+        {"d_soil_storage_mm", "change in root-zone storage"},
+        {"d_surface_storage_mm", "change in standing surface water"},
+        {"d_groundwater_storage_mm", "change in groundwater storage"},
+        {"residual_mm", "rain - outputs - storage changes"},
+    }};
+    return cols;
+}
+
+std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w,
+                                                    const DailyFluxes& f, double domain_m2) {
+    const double to_mm = kMmPerM / domain_m2;
+    return {static_cast<double>(day),   static_cast<double>(w.year),
+            static_cast<double>(w.doy), f.rain * to_mm,
+            f.evaporation * to_mm,      f.transpiration * to_mm,
+            f.infiltration * to_mm,     f.runoff_out * to_mm,
+            f.groundwater_out * to_mm,  f.recharge * to_mm,
+            f.d_soil * to_mm,           f.d_surface * to_mm,
+            f.d_groundwater * to_mm,    f.residual * to_mm};
+}
+
 void HydrologyOptions::validate() const {
     auto in = [](double v, double lo, double hi, const char* key) {
         if (!(v >= lo && v <= hi)) {
@@ -37,36 +69,27 @@ HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
                                const terrain::RasterD& veg, const HydrologyOptions& opt,
                                const Climate& climate)
     : m_dem(dem), m_soil(soil), m_veg(veg), m_opt(opt), m_climate(climate), m_catch(dem),
-      m_area(dem.cell_size() * dem.cell_size()) {
+      m_table(RunoffTable::standard()), m_area(dem.cell_size() * dem.cell_size()) {
     opt.validate();
     climate.validate();
     if (!(soil.grid() == dem.grid()))
         throw InputError("the soil map's grid does not match the terrain's");
     if (!(veg.grid() == dem.grid()))
         throw InputError("the vegetation-density raster's grid does not match the terrain's");
-    for (std::int64_t k = 0; k < dem.size(); ++k) {
+    for (std::int64_t k = 0; k < dem.size(); ++k)
         if (std::isnan(dem.data()[k]))
             throw InputError("the terrain has NODATA cells; fill or crop them before a hydrology "
                              "run");
-        const double v = veg.data()[k];
-        if (!(v >= 0 && v <= 1))
-            throw InputError("vegetation density must be in [0, 1], got " + std::to_string(v) +
-                             " at cell " + std::to_string(k));
-    }
     const auto& g = dem.grid();
     m_theta = terrain::RasterD(g);
     m_coef = terrain::RasterD(g);
     m_transp_supplied = terrain::RasterD(g, 0.0);
     m_slope = terrain::slope_aspect(dem).slope;
-    const RunoffTable table = RunoffTable::standard();
     for (std::int64_t k = 0; k < dem.size(); ++k) {
         const double wp = soil.wilting_point.data()[k], fc = soil.field_capacity.data()[k];
         m_theta.data()[k] = wp + opt.initial_saturation * (fc - wp);
-        m_coef.data()[k] = m_slope.data()[k] < opt.flat_slope
-                               ? 0.0
-                               : table.coefficient(veg.data()[k], m_slope.data()[k],
-                                                   static_cast<Texture>(soil.texture.data()[k]));
     }
+    set_vegetation_density(veg);
     m_order.resize(static_cast<std::size_t>(dem.size()));
     std::iota(m_order.begin(), m_order.end(), 0);
     std::stable_sort(m_order.begin(), m_order.end(),
@@ -78,6 +101,28 @@ HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
 }
 
 HydrologyModel::~HydrologyModel() = default;
+
+void HydrologyModel::set_vegetation_density(const terrain::RasterD& veg) {
+    if (!(veg.grid() == m_dem.grid()))
+        throw InputError("the vegetation-density raster's grid does not match the terrain's");
+    for (std::int64_t k = 0; k < veg.size(); ++k) {
+        const double v = veg.data()[k];
+        if (!(v >= 0 && v <= 1))
+            throw InputError("vegetation density must be in [0, 1], got " + std::to_string(v) +
+                             " at cell " + std::to_string(k));
+    }
+    m_veg = veg;
+    update_runoff_coefficients();
+}
+
+void HydrologyModel::update_runoff_coefficients() {
+    for (std::int64_t k = 0; k < m_dem.size(); ++k)
+        m_coef.data()[k] =
+            m_slope.data()[k] < m_opt.flat_slope
+                ? 0.0
+                : m_table.coefficient(m_veg.data()[k], m_slope.data()[k],
+                                      static_cast<Texture>(m_soil.texture.data()[k]));
+}
 
 double HydrologyModel::soil_storage_m3() const {
     double s = 0;
@@ -277,6 +322,39 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
         throw Error(s.str());
     }
     return f;
+}
+
+} // namespace ecoterra::hydro
+
+namespace ecoterra::hydro {
+
+void HydrologyModel::save_state(ArchiveWriter& a) const {
+    a.put_raster(m_theta);
+    a.put_raster(m_transp_supplied);
+    m_catch.save_state(a);
+    a.put<bool>(m_gw != nullptr);
+    if (m_gw) m_gw->save_state(a);
+    a.put(m_cum_residual);
+    a.put(m_cum_throughput);
+    a.put(m_day);
+}
+
+void HydrologyModel::load_state(ArchiveReader& a) {
+    auto theta = a.get_raster<double>();
+    auto supplied = a.get_raster<double>();
+    if (!(theta.grid() == m_dem.grid()) || !(supplied.grid() == m_dem.grid()))
+        throw Error("hydrology checkpoint: its grid differs from the terrain's");
+    m_theta = std::move(theta);
+    m_transp_supplied = std::move(supplied);
+    m_catch.load_state(a);
+    const bool gw = a.get<bool>();
+    if (gw != (m_gw != nullptr))
+        throw Error("hydrology checkpoint: groundwater is " + std::string(gw ? "on" : "off") +
+                    " in the checkpoint and " + (m_gw ? "on" : "off") + " in the scene");
+    if (m_gw) m_gw->load_state(a);
+    m_cum_residual = a.get<double>();
+    m_cum_throughput = a.get<double>();
+    m_day = a.get<int>();
 }
 
 } // namespace ecoterra::hydro

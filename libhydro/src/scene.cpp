@@ -289,6 +289,30 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     return scene;
 }
 
+void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil) {
+    h5.raster("/soil/sand_pct", soil.sand_pct, "%", "sand");
+    h5.raster("/soil/silt_pct", soil.silt_pct, "%", "silt");
+    h5.raster("/soil/clay_pct", soil.clay_pct, "%", "clay");
+    h5.raster("/soil/ph", soil.ph, "1", "soil pH");
+    h5.raster(
+        "/soil/texture_class", soil.texture, "1",
+        "USDA texture class: 0 sand, 1 loamy sand, 2 sandy loam, 3 loam, 4 silt loam, 5 silt, "
+        "6 sandy clay loam, 7 clay loam, 8 silty clay loam, 9 sandy clay, 10 silty clay, 11 clay");
+    h5.raster("/soil/porosity", soil.porosity, "m3/m3", "porosity");
+    h5.raster("/soil/field_capacity", soil.field_capacity, "m3/m3", "field capacity (33 kPa)");
+    h5.raster("/soil/wilting_point", soil.wilting_point, "m3/m3", "wilting point (1500 kPa)");
+    h5.raster("/soil/ksat_m_per_s", soil.ksat_m_per_s, "m/s", "saturated hydraulic conductivity");
+}
+
+void write_budget_series(terrain::io::Hdf5Writer& h5,
+                         const std::vector<double> (&series)[kBudgetColumns]) {
+    const auto& cols = daily_budget_columns();
+    for (int k = 0; k < kBudgetColumns; ++k)
+        h5.series(std::string("/series/daily/") + cols[k].name, series[k], k < 3 ? "1" : "mm/day",
+                  std::string(cols[k].description) +
+                      (k < 3 ? "" : " (mm per day over the whole domain)"));
+}
+
 HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
                                 const fs::path& png_dir,
                                 const std::function<void(int, int, double)>& progress) {
@@ -298,24 +322,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     WeatherGenerator gen(sc.climate, sc.seed);
     const int total = sc.observed ? static_cast<int>(sc.observed->days.size()) : 365 * sc.years;
     const double domain_m2 = sc.dem.grid().width_m() * sc.dem.grid().height_m();
-    const double to_mm = 1000.0 / domain_m2;
-    std::vector<double> series[14];
-    enum {
-        kDay,
-        kYear,
-        kDoy,
-        kRain,
-        kEvap,
-        kTransp,
-        kInf,
-        kOut,
-        kGwOut,
-        kRecharge,
-        kDSoil,
-        kDSurf,
-        kDGw,
-        kRes
-    };
+    std::vector<double> series[kBudgetColumns];
+    enum { kRain = 3, kEvap, kTransp, kInf, kOut, kGwOut };
     HydroRunSummary sum;
     int snapshot = 0;
     auto write_snapshot = [&](const DayWeather& w, int day) {
@@ -338,14 +346,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         const DayWeather w =
             sc.observed ? sc.observed->days[static_cast<std::size_t>(d - 1)] : gen.next();
         const DailyFluxes f = model.step(w);
-        const double row[14] = {static_cast<double>(d),     static_cast<double>(w.year),
-                                static_cast<double>(w.doy), f.rain * to_mm,
-                                f.evaporation * to_mm,      f.transpiration * to_mm,
-                                f.infiltration * to_mm,     f.runoff_out * to_mm,
-                                f.groundwater_out * to_mm,  f.recharge * to_mm,
-                                f.d_soil * to_mm,           f.d_surface * to_mm,
-                                f.d_groundwater * to_mm,    f.residual * to_mm};
-        for (int k = 0; k < 14; ++k) series[k].push_back(row[k]);
+        const auto row = daily_budget_row(d, w, f, domain_m2);
+        for (int k = 0; k < kBudgetColumns; ++k) series[k].push_back(row[k]);
         sum.rain_mm += row[kRain];
         sum.evaporation_mm += row[kEvap];
         sum.transpiration_mm += row[kTransp];
@@ -361,51 +363,9 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
                             std::max(model.cumulative_throughput_m3(), 1e-300);
     // Maps and series.
     h5.raster("/terrain/elevation", sc.dem, "m", "terrain elevation");
-    h5.raster("/soil/sand_pct", sc.soil.sand_pct, "%", "sand");
-    h5.raster("/soil/silt_pct", sc.soil.silt_pct, "%", "silt");
-    h5.raster("/soil/clay_pct", sc.soil.clay_pct, "%", "clay");
-    h5.raster("/soil/ph", sc.soil.ph, "1", "soil pH");
-    h5.raster(
-        "/soil/texture_class", sc.soil.texture, "1",
-        "USDA texture class: 0 sand, 1 loamy sand, 2 sandy loam, 3 loam, 4 silt loam, 5 silt, "
-        "6 sandy clay loam, 7 clay loam, 8 silty clay loam, 9 sandy clay, 10 silty clay, 11 clay");
-    h5.raster("/soil/porosity", sc.soil.porosity, "m3/m3", "porosity");
-    h5.raster("/soil/field_capacity", sc.soil.field_capacity, "m3/m3", "field capacity (33 kPa)");
-    h5.raster("/soil/wilting_point", sc.soil.wilting_point, "m3/m3", "wilting point (1500 kPa)");
-    h5.raster("/soil/ksat_m_per_s", sc.soil.ksat_m_per_s, "m/s",
-              "saturated hydraulic conductivity");
+    write_soil_maps(h5, sc.soil);
     h5.raster("/vegetation/density", sc.vegetation_density, "1", "vegetation density (fraction)");
-    const char* names[14] = {"day",
-                             "year",
-                             "day_of_year",
-                             "rain_mm",
-                             "evaporation_mm",
-                             "transpiration_mm",
-                             "infiltration_mm",
-                             "runoff_out_mm",
-                             "groundwater_out_mm",
-                             "recharge_mm",
-                             "d_soil_storage_mm",
-                             "d_surface_storage_mm",
-                             "d_groundwater_storage_mm",
-                             "residual_mm"};
-    const char* desc[14] = {"simulation day, 1-based",
-                            "simulation year (or calendar year)",
-                            "day of year",
-                            "rain over the domain",
-                            "soil and open-water evaporation",
-                            "transpiration supplied to plants",
-                            "infiltration into the soil",
-                            "surface water that left through the domain edge",
-                            "groundwater that left through fixed-head edges",
-                            "percolation to the water table",
-                            "change in root-zone storage",
-                            "change in standing surface water",
-                            "change in groundwater storage",
-                            "rain - outputs - storage changes"};
-    for (int k = 0; k < 14; ++k)
-        h5.series(std::string("/series/daily/") + names[k], series[k], k < 3 ? "1" : "mm/day",
-                  std::string(desc[k]) + (k < 3 ? "" : " (mm per day over the whole domain)"));
+    write_budget_series(h5, series);
     h5.attribute("/series/daily", "cumulative_residual_relative", sum.residual_relative);
     json p = prov;
     p["scene"] = sc.resolved;

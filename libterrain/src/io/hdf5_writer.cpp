@@ -138,6 +138,24 @@ void Hdf5Writer::series(const std::string& path, const std::vector<std::int32_t>
     ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_INT32, units, d))
 }
 
+void Hdf5Writer::series(const std::string& path, const std::vector<std::int64_t>& v,
+                        const std::string& units, const std::string& d) {
+    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_INT64, units, d))
+}
+void Hdf5Writer::series(const std::string& path, const std::vector<std::uint8_t>& v,
+                        const std::string& units, const std::string& d) {
+    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_UINT8, units, d))
+}
+
+void Hdf5Writer::external_link(const std::string& path, const std::string& file,
+                               const std::string& object) {
+    ECOTERRA_H5_GUARD(m_impl->ensure_parents(path));
+    if (H5Lcreate_external(file.c_str(), object.c_str(), m_impl->file.getId(), path.c_str(),
+                           H5P_DEFAULT, H5P_DEFAULT) < 0)
+        throw IoError(m_impl->where + ": cannot create the external link " + path + " -> " + file +
+                      ":" + object);
+}
+
 void Hdf5Writer::attribute(const std::string& object, const std::string& name,
                            const std::string& value) {
     const std::string& path = object;

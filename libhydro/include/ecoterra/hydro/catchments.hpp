@@ -22,6 +22,7 @@
 //
 // With water first routed to the pits along D8, the equilibrium is that of the Fill-Spill-Merge
 // algorithm of Barnes, Callaghan & Wickert (2021, ESurf 9:105) with the domain edge as ocean.
+#include "ecoterra/archive.hpp"
 #include "ecoterra/hydro/routing.hpp"
 #include "ecoterra/terrain/raster.hpp"
 
@@ -80,6 +81,10 @@ public:
     /// Work counters (for benchmarks): catchment fills and cells taken by them, since construction.
     std::int64_t fills() const { return m_fills; }
     std::int64_t cells_filled() const { return m_cells_filled; }
+
+    /// Checkpoint: every catchment and the owner maps, bit-exact.
+    void save_state(ArchiveWriter& a) const;
+    void load_state(ArchiveReader& a);
 
 private:
     struct Fill {

@@ -14,6 +14,7 @@
 // analytic sparse Jacobian and the KLU direct solver. The cumulative outflow is an extra ODE
 // variable, so the budget uses the integrated boundary flux. Every SUNDIALS call is checked; the
 // context, integrator, vectors, matrix and solver are owned by RAII wrappers.
+#include "ecoterra/archive.hpp"
 #include "ecoterra/terrain/raster.hpp"
 
 #include <memory>
@@ -48,6 +49,10 @@ public:
     double storage_m3() const;
     /// Steps CVODE took so far (for benchmarks).
     long steps_taken() const;
+
+    /// Checkpoint: heads, cumulative outflow, integrator time and step-size hint.
+    void save_state(ArchiveWriter& a) const;
+    void load_state(ArchiveReader& a);
 
 private:
     struct Impl;

@@ -29,6 +29,7 @@
 #include "ecoterra/hydro/soil.hpp"
 #include "ecoterra/hydro/weather.hpp"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -62,6 +63,17 @@ struct DailyFluxes {
     double residual = 0;
 };
 
+/// The daily water-budget series written by every run: 14 columns, the first three (day, year,
+/// day_of_year) counts, the rest in mm/day over the whole domain.
+inline constexpr int kBudgetColumns = 14;
+struct BudgetColumn {
+    const char* name;
+    const char* description;
+};
+const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns();
+std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w,
+                                                    const DailyFluxes& f, double domain_m2);
+
 class HydrologyModel {
 public:
     HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
@@ -87,13 +99,25 @@ public:
     double groundwater_storage_m3() const;
     int day() const { return m_day; }
 
+    /// Replaces the vegetation-density raster (0..1) and recomputes the runoff coefficients; the
+    /// ecosystem calls it as canopies change.
+    void set_vegetation_density(const terrain::RasterD& density);
+    const terrain::RasterD& vegetation_density() const { return m_veg; }
+
+    /// Checkpoint of the evolving state (soil water, catchments, groundwater, budget totals).
+    /// load_state() expects a model built from the same terrain, soil and options.
+    void save_state(ArchiveWriter& a) const;
+    void load_state(ArchiveReader& a);
+
 private:
+    void update_runoff_coefficients();
     terrain::RasterD m_dem;
     SoilMap m_soil;
     terrain::RasterD m_veg;
     HydrologyOptions m_opt;
     Climate m_climate;
     Catchments m_catch;
+    RunoffTable m_table;
     terrain::RasterD m_theta, m_slope, m_coef, m_transp_supplied;
     std::vector<std::int64_t> m_order; ///< cells by decreasing elevation
     std::unique_ptr<Groundwater> m_gw;

@@ -3,6 +3,8 @@
 // Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
 #include "ecoterra/hydro/hydrology.hpp"
 
+#include "ecoterra/terrain/io/hdf5_writer.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -41,6 +43,13 @@ struct HydroRunSummary {
 /// Runs the scene and writes the HDF5 output (atomically). `progress(day, total_days, seconds)`
 /// is called once per simulated month. With `png_dir`, pictures of the final state go there:
 /// hillshade.png, soil_moisture.png, surface_water_depth.png.
+/// Writes the soil maps under /soil/.
+void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil);
+
+/// Writes the daily budget series under /series/daily/.
+void write_budget_series(terrain::io::Hdf5Writer& h5,
+                         const std::vector<double> (&series)[kBudgetColumns]);
+
 HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
                                 const nlohmann::json& provenance,
                                 const std::filesystem::path& png_dir = {},

@@ -36,6 +36,13 @@ public:
                 const std::string& description);
     void series(const std::string& path, const std::vector<std::int32_t>& v,
                 const std::string& units, const std::string& description);
+    void series(const std::string& path, const std::vector<std::int64_t>& v,
+                const std::string& units, const std::string& description);
+    void series(const std::string& path, const std::vector<std::uint8_t>& v,
+                const std::string& units, const std::string& description);
+    /// A link at `path` to the object `object` of another HDF5 file (`file` is relative to this
+    /// file's folder or absolute); readers follow it transparently.
+    void external_link(const std::string& path, const std::string& file, const std::string& object);
     /// A string attribute on a group (created if needed) or dataset.
     void attribute(const std::string& object, const std::string& name, const std::string& value);
     void attribute(const std::string& object, const std::string& name, double value);

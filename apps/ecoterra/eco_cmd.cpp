@@ -1,0 +1,223 @@
+// `ecoterra run`, `ecoterra stand`, `ecoterra export vegetation`.
+#include "common.hpp"
+#include "subcommands.hpp"
+
+#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/json_util.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+namespace ecoterra::app {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct RunArgs {
+    std::string scene, output = "run.h5", resume, pictures_dir;
+    std::optional<int> years;
+    std::optional<std::uint64_t> seed;
+    std::vector<std::string> sets;
+    bool no_pictures = false;
+};
+
+void run_run(const RunArgs& a) {
+    if (a.scene.empty() && a.resume.empty())
+        throw InputError("run: give a scene file, or --resume RUN.h5");
+    std::optional<eco::EcoScene> scene;
+    std::vector<std::string> sets = a.sets;
+    if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
+    if (!a.scene.empty()) {
+        json j = parse_json(terrain::io::read_text(a.scene), a.scene);
+        if (a.years && a.resume.empty())
+            sets.push_back("simulation.years=" + std::to_string(*a.years));
+        hydro::apply_overrides(j, sets);
+        const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
+        try {
+            scene = eco::load_eco_scene(j, base);
+        } catch (const InputError& e) {
+            throw InputError(a.scene + ": " + e.what());
+        }
+        for (const auto& n : scene->ecosystem.notes)
+            std::fprintf(stderr, "note: %s: %s\n", scene->ecosystem.source.c_str(), n.c_str());
+    } else if (!sets.empty()) {
+        throw InputError("run --resume: --set and --seed need the scene file too (and then must "
+                         "not change it)");
+    }
+    eco::RunOptions opt;
+    opt.resume = !a.resume.empty();
+    opt.output = opt.resume ? fs::path(a.resume) : fs::path(a.output);
+    opt.pictures = !a.no_pictures;
+    opt.picture_dir = a.pictures_dir;
+    opt.provenance = provenance({{"scene_file", a.scene}, {"overrides", sets}});
+    if (opt.resume) opt.years = a.years;
+    if (scene) {
+        const auto& g = scene->hydro.dem.grid();
+        std::printf("ecosystem: %s, %zu species, %s competition, %.4g x %.4g m (terrain %d x %d "
+                    "cells of %.4g m, plant grid %.4g m), seed %llu\n",
+                    scene->ecosystem.name.c_str(), scene->ecosystem.species.size(),
+                    eco::competition_name(scene->competition).c_str(), g.width_m(), g.height_m(),
+                    g.nx, g.ny, g.cell_size_m, scene->plant_cell_m,
+                    static_cast<unsigned long long>(scene->seed));
+    }
+    const auto sum =
+        eco::run_ecosystem(scene ? &*scene : nullptr, opt, [](const eco::RunProgress& p) {
+            constexpr int kBar = 24;
+            const int done = p.years > 0 ? kBar * p.year / p.years : kBar;
+            std::string bar(static_cast<std::size_t>(done), '#');
+            bar.resize(kBar, '.');
+            std::fprintf(stderr,
+                         "\r  [%s] year %d/%d  %zu plants  BA %.2f m2/ha  %.3g plant-years/s  ",
+                         bar.c_str(), p.year, p.years, p.plants, p.basal_area_m2_per_ha,
+                         p.plant_years / std::max(p.seconds, 1e-9));
+        });
+    std::fputc('\n', stderr);
+    const auto& st = sum.stand;
+    std::printf("%d years run (%d in total)%s in %.2f s: %.3g plant-years/s, %.3g simulated "
+                "years/s\n",
+                sum.years_run, sum.years_total,
+                sum.reached_target ? ", stopped at the target basal area" : "", sum.seconds,
+                sum.plant_years / sum.seconds, sum.years_run / sum.seconds);
+    std::printf("stand: %lld stems, %.1f stems/ha, basal area %.2f m2/ha (%.1f ft2/acre), Dq "
+                "%.1f cm, SDI %.0f per ha\n",
+                static_cast<long long>(st.stems), st.stems_per_ha, st.basal_area_m2_per_ha,
+                st.basal_area_m2_per_ha * eco::kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * 100,
+                st.sdi_per_ha);
+    std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
+                sum.water_residual_relative, sum.carbon_residual_relative);
+    std::printf("wrote %s (%d snapshots)\n", opt.output.string().c_str(), sum.snapshots);
+    if (!sum.picture_dir.empty())
+        std::printf("pictures: %s/{stems,dbh_histogram,stand_history,soil_moisture,"
+                    "surface_water_depth}.png\n",
+                    sum.picture_dir.string().c_str());
+}
+
+struct StandArgs {
+    std::string run, json_out;
+    int snapshot = -1;
+};
+
+void run_stand(const StandArgs& a) {
+    const auto info = eco::read_run_info(a.run);
+    const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
+    std::vector<double> dbh;
+    for (std::size_t k = 0; k < s.dbh_m.size(); ++k)
+        dbh.push_back(s.height_m[k] > eco::kBreastHeightM ? s.dbh_m[k] : 0.0);
+    const auto all = eco::stand_metrics(dbh, info.area_m2);
+    json out = eco::to_json(all);
+    out["run"] = a.run;
+    out["snapshot"] = s.index;
+    out["year"] = s.year;
+    std::printf("%s, snapshot %d (year %d), %.4g ha\n", a.run.c_str(), s.index, s.year,
+                all.area_ha);
+    auto print = [](const std::string& label, const eco::StandMetrics& m) {
+        std::printf("%-24s %7lld stems %9.1f /ha  BA %7.2f m2/ha %7.1f ft2/acre  Dq %6.1f cm  "
+                    "SDI %6.0f /ha\n",
+                    label.c_str(), static_cast<long long>(m.stems), m.stems_per_ha,
+                    m.basal_area_m2_per_ha, m.basal_area_m2_per_ha * eco::kFt2PerAcrePerM2PerHa,
+                    m.quadratic_mean_dbh_m * 100, m.sdi_per_ha);
+    };
+    print("all species", all);
+    json per = json::object();
+    for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
+        std::vector<double> d;
+        for (std::size_t k = 0; k < dbh.size(); ++k)
+            if (static_cast<std::size_t>(s.species[k]) == sp) d.push_back(dbh[k]);
+        const auto m = eco::stand_metrics(d, info.area_m2);
+        print(info.species[sp], m);
+        per[info.species[sp]] = eco::to_json(m);
+    }
+    out["species"] = per;
+    std::printf("DBH classes (cm)   stems/ha\n");
+    for (std::size_t i = 0; i < all.histogram.size(); ++i)
+        std::printf("  %3zu-%-3zu        %9.1f\n", i * 5, i * 5 + 5,
+                    static_cast<double>(all.histogram[i]) / all.area_ha);
+    if (all.fit_valid)
+        std::printf("negative exponential: N = %.4g exp(-%.4f d_cm), q = %.3f per 5 cm, R2 = "
+                    "%.3f\n",
+                    std::exp(all.intercept) / all.area_ha, all.rate_per_cm,
+                    std::exp(5 * all.rate_per_cm), all.r2);
+    else
+        std::printf("negative exponential: fewer than 3 non-empty classes, no fit\n");
+    if (!a.json_out.empty()) {
+        terrain::io::AtomicOutput o(a.json_out);
+        std::ofstream f(o.temp_path());
+        f << out.dump(2) << "\n";
+        f.close();
+        if (!f) throw IoError(a.json_out + ": write failed");
+        o.commit();
+        std::printf("wrote %s\n", a.json_out.c_str());
+    }
+}
+
+struct ExportArgs {
+    std::string run, output;
+    int snapshot = -1;
+};
+
+void run_export_vegetation(const ExportArgs& a) {
+    const auto info = eco::read_run_info(a.run);
+    const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
+    terrain::io::AtomicOutput o(a.output);
+    std::ofstream f(o.temp_path());
+    f << "x_m,y_m,z_m,species,dbh_cm,height_m,crown_radius_m\n";
+    f.precision(10);
+    for (std::size_t k = 0; k < s.id.size(); ++k) {
+        const auto sp = static_cast<std::size_t>(s.species[k]);
+        const std::string name = sp < info.species.size() ? info.species[sp] : std::to_string(sp);
+        f << s.x_m[k] << ',' << s.y_m[k] << ',' << s.z_m[k] << ',' << name << ','
+          << s.dbh_m[k] * 100.0 << ',' << s.height_m[k] << ',' << s.crown_radius_m[k] << '\n';
+    }
+    f.close();
+    if (!f) throw IoError(a.output + ": write failed");
+    o.commit();
+    std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.id.size(), s.index, s.year,
+                a.output.c_str());
+}
+
+} // namespace
+
+void add_eco_commands(CLI::App& app) {
+    auto r = std::make_shared<RunArgs>();
+    CLI::App* run = app.add_subcommand("run", "grow an ecosystem: the coupled engine");
+    run->add_option("scene", r->scene, "scene JSON file (docs/formats.md)");
+    run->add_option("-o,--output", r->output, "HDF5 run file (snapshots go to NAME.snapshots/)")
+        ->capture_default_str();
+    run->add_option("--resume", r->resume, "continue the run in this file from its last snapshot");
+    run->add_option("--years", r->years,
+                    "simulated years (a new run: overrides simulation.years; --resume: years to "
+                    "add)");
+    run->add_option("--seed", r->seed, "random seed (overrides simulation.seed)");
+    run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
+    run->add_flag("--no-pictures", r->no_pictures, "skip the pictures");
+    run->add_option("--pictures", r->pictures_dir, "picture folder (default NAME.pictures/)");
+    run->callback([r] { run_run(*r); });
+
+    auto s = std::make_shared<StandArgs>();
+    CLI::App* stand = app.add_subcommand("stand", "stand metrics of a run snapshot");
+    stand->add_option("run", s->run, "HDF5 run file")->required();
+    stand->add_option("--snapshot", s->snapshot, "snapshot index (negative: from the last)")
+        ->capture_default_str();
+    stand->add_option("--json", s->json_out, "also write the metrics as JSON");
+    stand->callback([s] { run_stand(*s); });
+
+    auto e = std::make_shared<ExportArgs>();
+    CLI::App* exp = app.add_subcommand("export", "export run contents");
+    exp->require_subcommand(1);
+    CLI::App* veg = exp->add_subcommand("vegetation", "one CSV row per stem (NRMM-style list)");
+    veg->add_option("run", e->run, "HDF5 run file")->required();
+    veg->add_option("--snapshot", e->snapshot, "snapshot index (negative: from the last)")
+        ->capture_default_str();
+    veg->add_option("-o,--output", e->output, "CSV file")->required();
+    veg->callback([e] { run_export_vegetation(*e); });
+}
+
+} // namespace ecoterra::app

@@ -1,0 +1,49 @@
+#pragma once
+// Crowns on the plant grid and asymmetric light competition (paper 002 s3, Fig 2).
+//
+// A crown covers the cells whose centres lie within its radius of the stem, and always the cell
+// holding the stem. Plants are taken from the tallest down; L(c) is the leaf area index already
+// stacked over cell c by taller crowns (plants of equal height do not shade each other).
+//   blocking      shade_p = (cells of p with L > 0) / (cells of p)     (paper 002 Fig 2: a crown
+//   with
+//                 one of its four cells under a taller crown is 1/4 shaded)
+//   beer_lambert  shade_p = 1 - mean over cells of exp(-k L(c))       (Monsi & Saeki 1953; k = 0.5,
+//                 iLand and 3-PG)
+// The ground shade raster is 1 where any crown covers a cell (blocking) or 1 - exp(-k L_total).
+#include "ecoterra/terrain/raster.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace ecoterra::eco {
+
+/// Inclusive run of columns [x0, x1] in one row of the plant grid.
+struct Span {
+    std::int32_t row = 0, x0 = 0, x1 = 0;
+};
+
+/// The crown (= root) cells of every plant, as runs of cells.
+struct CrownSet {
+    std::vector<Span> spans;
+    std::vector<std::uint32_t> offset; ///< plant i's spans are [offset[i], offset[i+1])
+    std::vector<std::int32_t> cells;   ///< number of cells of plant i
+    void clear() {
+        spans.clear();
+        offset.assign(1, 0);
+        cells.clear();
+    }
+    /// Appends the crown of radius r (m) centred at (x, y) (m).
+    void add(const terrain::GridSpec& g, double x, double y, double r);
+    std::size_t size() const { return cells.size(); }
+};
+
+enum class ShadingMode { blocking, beer_lambert };
+
+/// Shade fraction per plant (in the order of `crowns`) and the ground shade raster.
+/// `height_m` and `lai` (leaf area per crown area) are per plant.
+std::vector<double> compute_shading(const terrain::GridSpec& g, const CrownSet& crowns,
+                                    const std::vector<double>& height_m,
+                                    const std::vector<double>& lai, ShadingMode mode,
+                                    double extinction, terrain::RasterD* ground_shade);
+
+} // namespace ecoterra::eco

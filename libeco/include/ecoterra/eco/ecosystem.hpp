@@ -1,0 +1,97 @@
+#pragma once
+// The coupled engine (paper 002 s3-4): terrain, soil, weather, hydrology and plants stepped day by
+// day. Daily: weather, plant water demand -> hydrology -> supply -> carbohydrate balance,
+// starvation. Every canopy_interval_days: wood -> diameter -> height, crown, leaf area (allometry),
+// crowns and shading. Yearly (day 365): ageing, mortality (maximum age, background), seed
+// production, dispersal and establishment, background arrivals, canopy cover -> the hydrology's
+// vegetation density, the yearly series. The light-only mode replaces the plant processes by the
+// geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s6).
+#include "ecoterra/archive.hpp"
+#include "ecoterra/eco/plant.hpp"
+#include "ecoterra/eco/roots.hpp"
+#include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/hydro/hydrology.hpp"
+#include "ecoterra/hydro/weather.hpp"
+#include "ecoterra/random.hpp"
+
+#include <memory>
+
+namespace ecoterra::eco {
+
+/// A table of equal-length double columns with names, units and descriptions.
+struct Table {
+    std::vector<std::string> names, units, descriptions;
+    std::vector<std::vector<double>> columns;
+    void add_column(std::string name, std::string unit, std::string description);
+    void push_row(const std::vector<double>& row);
+    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
+};
+
+class Ecosystem {
+public:
+    explicit Ecosystem(const EcoScene& scene);
+    ~Ecosystem();
+
+    /// Steps one day; returns true when the day closed a year.
+    bool step_day();
+    /// Steps to the end of the current year.
+    void run_year();
+
+    int years_done() const { return m_years_done; }
+    int days_done() const { return m_days_done; }
+    const hydro::DayWeather& last_weather() const { return m_weather; }
+    const std::vector<Plant>& plants() const { return m_plants; }
+    const EcoScene& scene() const { return m_scene; }
+    const hydro::HydrologyModel& hydrology() const { return *m_hydro; }
+    const terrain::GridSpec& plant_grid() const { return m_pgrid; }
+    /// Ground shade on the plant grid (see canopy.hpp).
+    const terrain::RasterD& ground_shade() const { return m_ground_shade; }
+    StandMetrics stand() const;
+    const Table& yearly() const { return m_yearly; }
+    const Table& daily() const { return m_daily; }
+    double carbon_residual_relative() const;
+
+    void save_state(ArchiveWriter& a) const;
+    void load_state(ArchiveReader& a);
+
+private:
+    void place_initial_plants();
+    Plant new_plant(std::uint16_t species, double x, double y, double dbh_m);
+    bool establishes(const Species& s, double x, double y, Rng& rng) const;
+    void refresh_canopy();
+    void rebuild_crowns();
+    void update_vegetation_density();
+    void year_end_coupled();
+    void year_end_light_only();
+    void year_end_common();
+    void remove_dead(const std::vector<char>& dead);
+
+    EcoScene m_scene;
+    terrain::GridSpec m_pgrid;
+    CellMap m_map{};
+    double m_hydro_cell_area = 1;
+    std::unique_ptr<hydro::HydrologyModel> m_hydro;
+    hydro::WeatherGenerator m_gen;
+    hydro::DayWeather m_weather;
+    Rng m_rng_seed, m_rng_mort, m_rng_arrival;
+    std::vector<Plant> m_plants;
+    std::int64_t m_next_id = 1;
+    CrownSet m_crowns;
+    terrain::RasterD m_ground_shade;
+    std::vector<double> m_request, m_ratio, m_fraction, m_demand;
+    int m_years_done = 0, m_days_done = 0;
+    Table m_yearly, m_daily;
+    // Year accumulators.
+    struct YearSums {
+        double births = 0, deaths_starvation = 0, deaths_age = 0, deaths_background = 0,
+               deaths_overlap = 0, seeds = 0, seeds_lost = 0;
+        double production = 0, maintenance = 0, growth_resp = 0, recruit_carbon = 0,
+               dead_carbon = 0;
+        double demand_m3 = 0, supplied_m3 = 0;
+    } m_sum;
+    double m_stock_at_year_start = 0;
+    double m_cum_carbon_residual = 0, m_cum_carbon_throughput = 0;
+};
+
+} // namespace ecoterra::eco

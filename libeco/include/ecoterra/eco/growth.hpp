@@ -1,0 +1,51 @@
+#pragma once
+// Growth percentage and the daily carbohydrate balance (paper 002 s3; equations rebuilt in
+// docs/ecosystem.md s3).
+//
+// Factors, each in [0, 1] (Gaussian responses around the species' desired state, width =
+// tolerance):
+//   shade   f_s = 1 if s <= s*, else exp(-((s - s*)/tol)^2 / 2)     s = shade fraction (0..1)
+//   water   f_w = 1 if x >= x*, else exp(-((x* - x)/tol)^2 / 2)     x = fraction of demand met
+//   pH      f_p = exp(-((pH - pH*)/tol)^2 / 2)
+//   texture f_t = 1 in the desired USDA class, else exp(-(d/tol)^2 / 2), d = distance (percentage
+//                 points of sand, silt, clay) from the cell's composition to the class centroid
+//   growth percentage G = f_s f_w f_t f_p
+// Daily carbohydrate (kg CH2O) of a plant with leaf area LA (m2) and height H (m):
+//   production   P = p_max * LA * G * phen(doy) * f_T(Tmean),  f_T = clamp((T - Tb)/(To - Tb), 0,
+//   1) maintenance  R = r_m / 365 * LA_full * H * Q10^((T - 20)/10)   (pipe model: living sapwood
+//                volume ~ leaf area x height, Shinozaki et al. 1964; Q10 = 2, Ryan 1991)
+//   surplus P - R fills the reserve up to C_max = c_res * LA_full; what is left builds wood after
+//   growth respiration (a fraction kGrowthRespiration of it, Penning de Vries 1975); a deficit
+//   drains the reserve; an empty reserve kills the plant (starvation).
+#include "ecoterra/eco/plant.hpp"
+
+namespace ecoterra::eco {
+
+inline constexpr double kGrowthRespiration = 0.25; ///< fraction of new wood's carbohydrate
+inline constexpr double kQ10 = 2.0;                ///< maintenance respiration per 10 degC
+inline constexpr double kRespirationRefC = 20.0;   ///< reference temperature of r_m, degC
+inline constexpr double kDaysPerYear = 365.0;
+
+double shade_factor(const Preference& p, double shade_fraction);
+double water_factor(const Preference& p, double supply_fraction);
+double ph_factor(const Preference& p, double ph);
+double texture_factor(hydro::Texture desired, double tolerance_pct, double sand_pct,
+                      double silt_pct, double clay_pct);
+/// Centroid (sand, silt, clay %) of a USDA texture class over the texture triangle.
+std::array<double, 3> texture_centroid(hydro::Texture t);
+
+/// Leaf-on fraction on a day of year: 1 for evergreens, else 1 inside [leaf_on, leaf_off).
+double phenology(const Species& s, int doy);
+double temperature_factor(const Species& s, double tmean_c);
+
+struct CarbonDay {
+    double production_kg = 0, maintenance_kg = 0, growth_respiration_kg = 0;
+    double to_reserve_kg = 0, to_wood_kg = 0;
+    bool starved = false;
+};
+
+/// One day of the carbohydrate balance. `growth` is the growth percentage G, `light_phen` the
+/// product phen * f_T, `leaf_area_full` the in-leaf leaf area. Updates reserve and wood.
+CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double tmean_c);
+
+} // namespace ecoterra::eco

@@ -1,0 +1,54 @@
+#pragma once
+// Plants and their allometry.
+//
+//   height      H(D) = 1.3 + (Hmax - 1.3) (1 - exp(-b D_cm))       [m]  (SORTIE-ND;
+//   Chapman-Richards
+//                                                                       family, reference forest.md
+//                                                                       s2)
+//   crown       R(D) = min(c1 D_cm^c2, Rmax), at least kMinCrownRadius [m] (SORTIE-ND power law)
+//   roots       root radius = crown radius                                    (paper 002 s3)
+//   leaf area   LA = LAI_crown * pi R^2                                [m2]
+//   stem mass   M(D) = rho * F * (pi/4) D^2 H(D)                       [kg]  (F = kStemFormFactor)
+// with D the trunk diameter at breast height (1.3 m) in m, D_cm = 100 D.
+#include "ecoterra/eco/species.hpp"
+
+#include <cstdint>
+
+namespace ecoterra::eco {
+
+inline constexpr double kBreastHeightM = 1.3;
+/// Stem form factor: stem volume / (basal area x height); 0.5 for a paraboloid (Husch, Beers &
+/// Kershaw 2003, Forest Mensuration, ch. 6).
+inline constexpr double kStemFormFactor = 0.5;
+/// The smallest crown a plant has (a seedling still occupies the cell holding its stem), m.
+inline constexpr double kMinCrownRadiusM = 0.1;
+
+struct Plant {
+    std::int64_t id = 0;
+    std::uint16_t species = 0;
+    double x_m = 0, y_m = 0, z_m = 0;
+    double dbh_m = 0, height_m = 0, crown_radius_m = 0;
+    double age_yr = 0;
+    double reserve_kg = 0; ///< carbohydrate store
+    double wood_kg = 0;    ///< stem dry mass (carbohydrate built into wood)
+    // Cached at the canopy refresh:
+    double leaf_area_m2 = 0;
+    double shade_fraction = 0;
+    double soil_factor = 1; ///< texture x pH factors at the plant's cell (constant)
+    // Accumulated over the current year:
+    double growth_sum = 0; ///< sum of the daily growth percentage (0..1) over leaf-on days
+    double growth_days = 0;
+};
+
+namespace allometry {
+double height_m(const Species& s, double dbh_m);
+double crown_radius_m(const Species& s, double dbh_m);
+double leaf_area_m2(const Species& s, double crown_radius_m);
+double stem_mass_kg(const Species& s, double dbh_m);
+/// Inverse of stem_mass_kg (Newton on a monotone function, bracketed).
+double dbh_from_stem_mass(const Species& s, double mass_kg, double guess_m);
+/// Sets height, crown radius and leaf area from dbh.
+void apply(const Species& s, Plant& p);
+} // namespace allometry
+
+} // namespace ecoterra::eco

@@ -1,0 +1,34 @@
+#pragma once
+// Root-water competition on the grid (paper 002 s3: "each cell occupied by roots will uptake the
+// required amount of water from the soil for that tree, as a fraction of the total occupied cells
+// for each plant in the cell").
+//
+// A plant's daily demand T_p (m3) is split evenly over its root cells (root radius = crown radius).
+// The requests of all plants are summed per hydrology cell and sent to the hydrology, which
+// supplies S_h <= R_h without drawing the soil below the wilting point. Each cell's supply is
+// shared among the plants rooted in it in proportion to their requests, so plant p receives
+//   supplied_p = sum over its cells c of (T_p / n_p) * S_h(c) / R_h(c),
+// and the fraction of its demand met is the mean of S_h/R_h over its root cells. The plant grid
+// may be finer than the hydrology grid by an integer factor; a plant cell then draws on the
+// hydrology cell that contains it.
+#include "ecoterra/eco/canopy.hpp"
+
+namespace ecoterra::eco {
+
+struct CellMap {
+    int factor = 1;   ///< plant cells per hydrology cell along a side
+    int hydro_nx = 0; ///< hydrology grid columns
+    std::int64_t hydro(int row, int col) const {
+        return static_cast<std::int64_t>(row / factor) * hydro_nx + col / factor;
+    }
+};
+
+/// Adds each plant's demand (m3/day) to `request_m3` (per hydrology cell).
+void scatter_demand(const CrownSet& roots, const std::vector<double>& demand_m3, const CellMap& map,
+                    std::vector<double>& request_m3);
+
+/// Fraction of demand met per plant: the mean of ratio[h] over each plant's root cells.
+void gather_supply(const CrownSet& roots, const CellMap& map, const std::vector<double>& ratio,
+                   std::vector<double>& fraction);
+
+} // namespace ecoterra::eco

@@ -1,0 +1,44 @@
+#pragma once
+// The ecosystem scene: the hydrology scene (terrain, soil, climate, hydrology) grown with a
+// "vegetation" block and extra "simulation" keys. docs/formats.md lists every key, its unit,
+// default and range; unknown keys are errors.
+#include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/hydro/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+
+namespace ecoterra::eco {
+
+enum class Competition { coupled, light_only };
+std::string competition_name(Competition c);
+
+struct InitialPlants {
+    enum class Kind { bare, random, file } kind = Kind::bare;
+    double stems_per_ha = 0;    ///< random: stem density
+    double max_dbh_m = 0.3;     ///< random: diameters uniform in [recruit dbh, max]
+    std::filesystem::path file; ///< file: CSV with x_m,y_m,species,dbh_cm[,age_yr]
+};
+
+struct EcoScene {
+    hydro::HydroScene hydro;
+    EcosystemDef ecosystem;
+    Competition competition = Competition::coupled;
+    ShadingMode shading = ShadingMode::blocking;
+    double extinction = 0.5;      ///< Beer-Lambert k
+    double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
+    int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
+    InitialPlants initial;
+    int years = 1;
+    std::optional<double> target_basal_area_m2_per_ha;
+    int snapshot_interval_years = 5;
+    std::uint64_t seed = 1;
+    nlohmann::json resolved;
+};
+
+EcoScene load_eco_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
+
+} // namespace ecoterra::eco

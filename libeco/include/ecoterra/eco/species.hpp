@@ -1,0 +1,108 @@
+#pragma once
+// Species and ecosystem files.
+//
+// An ecosystem file is JSON with a "Species" array. Each entry carries the ten keys of a MAVS
+// ecosystem species ("Mesh File", "Species Name", "Num New Per Area", "Growth Rate", "Max Height",
+// "Min Height", "Mesh Height", "Height To Diameter Ratio", "Max Age", "Rotate Mesh"; MAVS
+// data/ecosystem_files/*.json, reference mavs.md s2.3) and an optional "physiology" object. A MAVS
+// file is read as it is: the MAVS top-level keys ("Texture Inputs", "Surface Mesh", ...) are
+// accepted and ignored, and every physiology value that is not given takes a default derived from
+// the MAVS keys or a documented literature value; the loader lists each such default in
+// `notes`. docs/ecosystem.md gives every parameter's meaning, unit and source.
+#include "ecoterra/hydro/soil.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ecoterra::eco {
+
+/// A desired state and a tolerance (the width of the Gaussian response), in the variable's unit.
+struct Preference {
+    double desired = 0.0;
+    double tolerance = 1.0;
+};
+
+/// Two-part exponential dispersal kernel (Lischke & Loeffler 2006, iLand): the dispersal distance
+/// is exponential with mean `mean_distance_m` with probability 1 - long_fraction, and with mean
+/// `long_distance_m` otherwise.
+struct DispersalKernel {
+    double mean_distance_m = 20.0;
+    double long_distance_m = 100.0;
+    double long_fraction = 0.1;
+};
+
+struct Species {
+    // --- MAVS keys ---
+    std::string mesh_file;           ///< "Mesh File": the species identity in MAVS
+    std::string name;                ///< "Species Name" (falls back to the mesh file)
+    double new_per_area_per_yr = 0;  ///< "Num New Per Area", arrivals m^-2 yr^-1
+    double growth_rate_per_yr = 0.1; ///< "Growth Rate": r of H = Hmax (1 - exp(-r t)) (light-only)
+    double max_height_m = 20;        ///< "Max Height": asymptotic height Hmax, m
+    double min_height_m = 0;         ///< "Min Height": MAVS prunes plants below it, m
+    double mesh_height = 1;          ///< "Mesh Height": unscaled mesh height, mesh units
+    double height_to_diameter_ratio = 0.05; ///< "Height To Diameter Ratio" (MAVS competition)
+    double max_age_yr = 100;                ///< "Max Age", yr
+    bool rotate_mesh = false;               ///< "Rotate Mesh"
+
+    // --- allometry ---
+    double height_dbh_slope_per_cm = 0.03;    ///< b of H = 1.3 + (Hmax - 1.3)(1 - exp(-b D_cm))
+    double crown_radius_coefficient_m = 0.25; ///< c1 of R = c1 D_cm^c2, m
+    double crown_radius_exponent = 0.7;       ///< c2
+    double max_crown_radius_m = 10.0;
+    double wood_density_kg_per_m3 = 600.0; ///< dry wood mass per fresh volume
+    double leaf_area_per_crown_area = 4.0; ///< leaf area index of the crown, m2/m2
+
+    // --- carbon ---
+    double max_production_kg_per_m2_leaf_per_day = 0.004;   ///< carbohydrate, full conditions
+    double respiration_kg_per_m2_leaf_per_m_per_yr = 0.015; ///< maintenance at 20 degC, per m2
+                                                            ///< leaf per m of height
+    double reserve_capacity_kg_per_m2_leaf = 0.4;
+    double initial_reserve_fraction = 0.5; ///< of capacity, for recruits
+    double temperature_base_c = 5.0;       ///< production starts above it
+    double temperature_optimum_c = 20.0;   ///< production is full above it
+    bool evergreen = false;
+    int leaf_on_doy = 90, leaf_off_doy = 305; ///< deciduous leaf season (northern hemisphere)
+
+    // --- environment preferences (paper 002 s3: shade, water, soil type, pH) ---
+    Preference shade{0.0, 0.5}; ///< shade fraction, 0..1 (more shade than desired hurts)
+    Preference water{1.0, 0.3}; ///< fraction of the transpiration demand met (less hurts)
+    Preference ph{6.5, 1.0};    ///< soil pH (two-sided)
+    hydro::Texture texture = hydro::Texture::silt_loam; ///< desired USDA class
+    double texture_tolerance_pct = 30.0; ///< distance in the texture triangle, percentage points
+
+    // --- water ---
+    double transpiration_per_leaf_area = 0.2; ///< m3 water per m2 leaf per m of reference ET
+
+    // --- reproduction and death ---
+    double maturity_age_yr = 15;
+    double seeds_per_yr_at_30cm = 10; ///< established-seedling potential of a 30 cm tree per yr
+    DispersalKernel dispersal;
+    double germination_min_light = 0.05;     ///< fraction of full light at the ground
+    double germination_min_soil_water = 0.2; ///< relative extractable soil water, 0..1
+    double germination_probability = 0.5;    ///< of a seed landing on a suitable cell
+    double recruit_dbh_m = 0.01;             ///< a recruit enters with this diameter
+    double background_mortality_per_yr = 0.005;
+
+    /// Physiology keys that took their default (for the report).
+    std::vector<std::string> defaulted;
+};
+
+struct EcosystemDef {
+    std::string name;
+    std::filesystem::path source;
+    std::vector<Species> species;
+    std::vector<std::string> notes; ///< defaults taken, MAVS keys ignored
+};
+
+/// Reads an ecosystem file. Throws InputError naming the file, the species and the key for
+/// missing, out-of-range or unknown values, and for files that are not JSON.
+EcosystemDef load_ecosystem(const std::filesystem::path& path);
+EcosystemDef parse_ecosystem(const nlohmann::json& j, const std::string& source);
+
+/// The species as JSON with every parameter (the resolved form stored in outputs).
+nlohmann::json species_to_json(const Species& s);
+
+} // namespace ecoterra::eco

@@ -1,0 +1,36 @@
+#pragma once
+// Stand metrics (forest mensuration).
+//   basal area        BA = sum(pi D^2 / 4) / area                 m2/ha (x 4.356 = ft2/acre)
+//   quadratic mean D  Dq = sqrt(mean(D^2))
+//   Reineke SDI       SDI = N (Dq / 25.4 cm)^1.605                per ha (Reineke 1933)
+//   reverse-J fit     ln N_i = ln k0 - k1 d_i over 5 cm classes with N_i > 0 (least squares);
+//                     q = exp(5 k1) per 5 cm class (de Liocourt; Meyer 1952), R2 of the log fit.
+// Only stems that reached breast height (D > 0) count.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace ecoterra::eco {
+
+inline constexpr double kFt2PerAcrePerM2PerHa = 4.356; ///< 1 m2/ha in ft2/acre
+inline constexpr double kReinekeExponent = 1.605;
+inline constexpr double kReinekeReferenceDbhCm = 25.4;
+
+struct StandMetrics {
+    double area_ha = 0;
+    double basal_area_m2_per_ha = 0, stems_per_ha = 0;
+    double mean_dbh_m = 0, quadratic_mean_dbh_m = 0;
+    double sdi_per_ha = 0;
+    double class_width_cm = 5.0;
+    std::vector<std::int64_t> histogram; ///< counts per class [i w, (i+1) w) cm
+    double rate_per_cm = 0, q_per_class = 0, r2 = 0, intercept = 0;
+    bool fit_valid = false; ///< at least 3 non-empty classes
+    std::int64_t stems = 0;
+};
+
+StandMetrics stand_metrics(const std::vector<double>& dbh_m, double area_m2,
+                           double class_width_cm = 5.0);
+nlohmann::json to_json(const StandMetrics& m);
+
+} // namespace ecoterra::eco

@@ -1,0 +1,88 @@
+#include "ecoterra/eco/canopy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace ecoterra::eco {
+
+void CrownSet::add(const terrain::GridSpec& g, double x, double y, double r) {
+    if (offset.empty()) offset.push_back(0);
+    const double cs = g.cell_size_m;
+    const int ic = std::clamp(static_cast<int>(std::floor((x - g.origin_x_m) / cs)), 0, g.nx - 1);
+    const int jc = std::clamp(static_cast<int>(std::floor((y - g.origin_y_m) / cs)), 0, g.ny - 1);
+    const int j0 = std::max(0, static_cast<int>(std::ceil(g.row_of(y - r))));
+    const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(g.row_of(y + r))));
+    std::int32_t n = 0;
+    bool has_stem_cell = false;
+    for (int j = j0; j <= j1; ++j) {
+        const double dy = g.y_of(j) - y;
+        const double h2 = r * r - dy * dy;
+        if (h2 < 0) continue;
+        const double hw = std::sqrt(h2);
+        const int i0 = std::max(0, static_cast<int>(std::ceil(g.col_of(x - hw))));
+        const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor(g.col_of(x + hw))));
+        if (i1 < i0) continue;
+        spans.push_back({j, i0, i1});
+        n += i1 - i0 + 1;
+        if (j == jc && ic >= i0 && ic <= i1) has_stem_cell = true;
+    }
+    if (!has_stem_cell) {
+        spans.push_back({jc, ic, ic});
+        ++n;
+    }
+    offset.push_back(static_cast<std::uint32_t>(spans.size()));
+    cells.push_back(n);
+}
+
+std::vector<double> compute_shading(const terrain::GridSpec& g, const CrownSet& crowns,
+                                    const std::vector<double>& height,
+                                    const std::vector<double>& lai, ShadingMode mode, double k,
+                                    terrain::RasterD* ground) {
+    const std::size_t n = crowns.size();
+    std::vector<double> shade(n, 0.0);
+    std::vector<double> stack(static_cast<std::size_t>(g.size()), 0.0);
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return height[a] > height[b]; });
+    std::size_t i = 0;
+    while (i < n) {
+        std::size_t end = i + 1;
+        while (end < n && height[order[end]] == height[order[i]]) ++end;
+        for (std::size_t q = i; q < end; ++q) {
+            const std::uint32_t p = order[q];
+            double acc = 0;
+            for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
+                const Span& sp = crowns.spans[s];
+                const double* row = stack.data() + static_cast<std::int64_t>(sp.row) * g.nx;
+                if (mode == ShadingMode::blocking) {
+                    for (int x = sp.x0; x <= sp.x1; ++x) acc += row[x] > 0 ? 1.0 : 0.0;
+                } else {
+                    for (int x = sp.x0; x <= sp.x1; ++x) acc += 1.0 - std::exp(-k * row[x]);
+                }
+            }
+            shade[p] = acc / crowns.cells[p];
+        }
+        for (std::size_t q = i; q < end; ++q) {
+            const std::uint32_t p = order[q];
+            for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
+                const Span& sp = crowns.spans[s];
+                double* row = stack.data() + static_cast<std::int64_t>(sp.row) * g.nx;
+                for (int x = sp.x0; x <= sp.x1; ++x) row[x] += lai[p];
+            }
+        }
+        i = end;
+    }
+    if (ground) {
+        *ground = terrain::RasterD(g, 0.0);
+        for (std::int64_t c = 0; c < g.size(); ++c) {
+            const double l = stack[static_cast<std::size_t>(c)];
+            ground->data()[c] =
+                mode == ShadingMode::blocking ? (l > 0 ? 1.0 : 0.0) : 1.0 - std::exp(-k * l);
+        }
+    }
+    return shade;
+}
+
+} // namespace ecoterra::eco

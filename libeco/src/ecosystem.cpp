@@ -1,0 +1,646 @@
+#include "ecoterra/eco/ecosystem.hpp"
+
+#include "ecoterra/eco/dispersal.hpp"
+#include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/roots.hpp"
+#include "ecoterra/hydro/penman.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace ecoterra::eco {
+
+namespace {
+constexpr double kMmPerM = 1000.0;
+constexpr int kDaysPerYearInt = 365;
+/// Light-only mode: diameters approach the one at which H = 95 % of Hmax (MAVS's saturating
+/// growth curve applied to the stem, see docs/ecosystem.md s6).
+constexpr double kLightOnlyHeightFraction = 0.95;
+constexpr double kCarbonTolerance = 1e-9;
+constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
+constexpr std::uint32_t kCheckpointVersion = 1;
+} // namespace
+
+void Table::add_column(std::string name, std::string unit, std::string description) {
+    names.push_back(std::move(name));
+    units.push_back(std::move(unit));
+    descriptions.push_back(std::move(description));
+    columns.emplace_back();
+}
+
+void Table::push_row(const std::vector<double>& row) {
+    for (std::size_t k = 0; k < columns.size(); ++k) columns[k].push_back(row[k]);
+}
+
+Ecosystem::Ecosystem(const EcoScene& scene)
+    : m_scene(scene), m_gen(scene.hydro.climate, scene.seed), m_rng_seed(scene.seed, "eco.seeding"),
+      m_rng_mort(scene.seed, "eco.mortality"), m_rng_arrival(scene.seed, "eco.arrival") {
+    const auto& hg = scene.hydro.dem.grid();
+    m_map.factor = static_cast<int>(std::lround(hg.cell_size_m / scene.plant_cell_m));
+    m_map.hydro_nx = hg.nx;
+    m_pgrid = hg;
+    m_pgrid.cell_size_m = hg.cell_size_m / m_map.factor;
+    m_pgrid.nx = hg.nx * m_map.factor;
+    m_pgrid.ny = hg.ny * m_map.factor;
+    terrain::ensure_fits_in_memory(m_pgrid.size(), 24.0, "the plant grid");
+    m_hydro_cell_area = hg.cell_size_m * hg.cell_size_m;
+    m_hydro = std::make_unique<hydro::HydrologyModel>(scene.hydro.dem, scene.hydro.soil,
+                                                      terrain::RasterD(hg, 0.0),
+                                                      scene.hydro.options, scene.hydro.climate);
+    m_ground_shade = terrain::RasterD(m_pgrid, 0.0);
+    for (const auto& c : hydro::daily_budget_columns())
+        m_daily.add_column(c.name, std::string(c.name).ends_with("_mm") ? "mm/day" : "1",
+                           c.description);
+    const std::vector<std::array<const char*, 3>> yearly = {
+        {"year", "1", "completed simulation years"},
+        {"basal_area_m2_per_ha", "m2/ha", "basal area of stems at breast height"},
+        {"stems_per_ha", "1/ha", "stems that reached breast height (1.3 m)"},
+        {"mean_dbh_m", "m", "arithmetic mean trunk diameter at breast height"},
+        {"quadratic_mean_dbh_m", "m", "quadratic mean diameter Dq"},
+        {"reineke_sdi_per_ha", "1/ha", "Reineke stand density index N (Dq/25.4 cm)^1.605"},
+        {"live_plants", "1", "live plants, including those below breast height"},
+        {"births", "1", "recruits established this year"},
+        {"deaths_starvation", "1", "deaths by an exhausted carbohydrate reserve"},
+        {"deaths_age", "1", "deaths at the species' maximum age"},
+        {"deaths_background", "1", "deaths by the background rate"},
+        {"deaths_overlap", "1", "light-only deaths by crown overlap"},
+        {"seeds_dispersed", "1", "seeds produced and dispersed"},
+        {"seeds_lost_outside", "1", "seeds that landed outside the terrain"},
+        {"production_kg", "kg", "carbohydrate produced"},
+        {"maintenance_respiration_kg", "kg", "maintenance respiration"},
+        {"growth_respiration_kg", "kg", "growth respiration of new wood"},
+        {"recruit_carbon_kg", "kg", "carbohydrate of new recruits (from outside the balance)"},
+        {"dead_carbon_kg", "kg", "wood and reserve of plants that died"},
+        {"wood_stock_kg", "kg", "stem dry mass of live plants at year end"},
+        {"reserve_stock_kg", "kg", "carbohydrate reserve of live plants at year end"},
+        {"carbon_residual_kg", "kg",
+         "stock change - (production - respiration + recruits - dead); round-off only"},
+        {"transpiration_demand_mm", "mm", "plant water demand over the domain"},
+        {"transpiration_supplied_mm", "mm", "plant water supplied by the soil"},
+    };
+    for (const auto& c : yearly) m_yearly.add_column(c[0], c[1], c[2]);
+    place_initial_plants();
+    refresh_canopy();
+    update_vegetation_density();
+    for (const auto& p : m_plants) m_stock_at_year_start += p.wood_kg + p.reserve_kg;
+}
+
+Ecosystem::~Ecosystem() = default;
+
+Plant Ecosystem::new_plant(std::uint16_t sp, double x, double y, double dbh) {
+    const Species& s = m_scene.ecosystem.species[sp];
+    const auto& soil = m_scene.hydro.soil;
+    Plant p;
+    p.id = m_next_id++;
+    p.species = sp;
+    p.x_m = x;
+    p.y_m = y;
+    p.z_m = m_scene.hydro.dem.sample_bilinear(x, y);
+    p.dbh_m = dbh;
+    if (m_scene.competition == Competition::light_only) {
+        p.dbh_m = 0;
+        allometry::apply(s, p);
+        p.height_m = 0;
+    } else {
+        allometry::apply(s, p);
+        p.wood_kg = allometry::stem_mass_kg(s, dbh);
+        p.reserve_kg =
+            s.initial_reserve_fraction * s.reserve_capacity_kg_per_m2_leaf * p.leaf_area_m2;
+    }
+    const auto& hg = soil.grid();
+    const int i = std::clamp(static_cast<int>((x - hg.origin_x_m) / hg.cell_size_m), 0, hg.nx - 1);
+    const int j = std::clamp(static_cast<int>((y - hg.origin_y_m) / hg.cell_size_m), 0, hg.ny - 1);
+    p.soil_factor = texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(i, j),
+                                   soil.silt_pct(i, j), soil.clay_pct(i, j)) *
+                    ph_factor(s.ph, soil.ph(i, j));
+    return p;
+}
+
+void Ecosystem::place_initial_plants() {
+    const auto& ini = m_scene.initial;
+    const auto& g = m_pgrid;
+    const auto nsp = static_cast<std::uint16_t>(m_scene.ecosystem.species.size());
+    if (ini.kind == InitialPlants::Kind::random) {
+        Rng rng(m_scene.seed, "eco.initial");
+        const double area_ha = g.width_m() * g.height_m() / 1e4;
+        const std::int64_t n = std::llround(ini.stems_per_ha * area_ha);
+        for (std::int64_t k = 0; k < n; ++k) {
+            const auto sp = static_cast<std::uint16_t>(rng.below(nsp));
+            const double x = g.origin_x_m + rng.uniform() * g.width_m();
+            const double y = g.origin_y_m + rng.uniform() * g.height_m();
+            const Species& s = m_scene.ecosystem.species[sp];
+            const double d = rng.uniform(s.recruit_dbh_m, std::max(ini.max_dbh_m, s.recruit_dbh_m));
+            Plant p = new_plant(sp, x, y, d);
+            if (m_scene.competition == Competition::light_only) {
+                // Age that gives this diameter on the light-only growth curve.
+                const double d95 =
+                    -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
+                p.age_yr = std::ceil(-std::log(std::max(1e-9, 1 - std::min(d / d95, 0.999))) /
+                                     s.growth_rate_per_yr);
+                p.dbh_m = d95 * (1 - std::exp(-s.growth_rate_per_yr * p.age_yr));
+                allometry::apply(s, p);
+            }
+            m_plants.push_back(p);
+        }
+    } else if (ini.kind == InitialPlants::Kind::file) {
+        std::ifstream in(ini.file);
+        if (!in) throw InputError(ini.file.string() + ": cannot open the initial plant list");
+        std::string line;
+        std::getline(in, line);
+        if (line.rfind("x_m,y_m,species,dbh_cm", 0) != 0)
+            throw InputError(ini.file.string() +
+                             ": the header must start with x_m,y_m,species,dbh_cm, got '" + line +
+                             "'");
+        int lineno = 1;
+        while (std::getline(in, line)) {
+            ++lineno;
+            if (line.empty()) continue;
+            std::stringstream ss(line);
+            std::string f[5];
+            int nf = 0;
+            while (nf < 5 && std::getline(ss, f[nf], ',')) ++nf;
+            const std::string where = ini.file.string() + " line " + std::to_string(lineno);
+            if (nf < 4) throw InputError(where + ": expected x_m,y_m,species,dbh_cm[,age_yr]");
+            double x, y, dcm, age = 0;
+            try {
+                x = std::stod(f[0]);
+                y = std::stod(f[1]);
+                dcm = std::stod(f[3]);
+                if (nf == 5) age = std::stod(f[4]);
+            } catch (const std::exception&) {
+                throw InputError(where + ": not a number in '" + line + "'");
+            }
+            if (!g.contains_point(x, y))
+                throw InputError(where + ": position (" + format_number(x) + ", " +
+                                 format_number(y) + ") m is outside the terrain");
+            if (!(dcm > 0 && dcm < 500))
+                throw InputError(where + ": dbh_cm = " + f[3] + " is outside (0, 500)");
+            int sp = -1;
+            for (std::size_t k = 0; k < nsp; ++k) {
+                const auto& s = m_scene.ecosystem.species[k];
+                if (s.name == f[2] || s.mesh_file == f[2]) sp = static_cast<int>(k);
+            }
+            if (sp < 0)
+                throw InputError(where + ": species '" + f[2] + "' is not in " +
+                                 m_scene.ecosystem.source.string());
+            Plant p = new_plant(static_cast<std::uint16_t>(sp), x, y, dcm / 100.0);
+            p.age_yr = age;
+            if (m_scene.competition == Competition::light_only) {
+                p.dbh_m = dcm / 100.0;
+                allometry::apply(m_scene.ecosystem.species[static_cast<std::size_t>(sp)], p);
+            }
+            m_plants.push_back(p);
+        }
+    }
+}
+
+void Ecosystem::refresh_canopy() {
+    const auto& sp = m_scene.ecosystem.species;
+    const auto n = static_cast<std::int64_t>(m_plants.size());
+    if (m_scene.competition == Competition::coupled) {
+#pragma omp parallel for schedule(static)
+        for (std::int64_t k = 0; k < n; ++k) {
+            Plant& p = m_plants[static_cast<std::size_t>(k)];
+            const Species& s = sp[p.species];
+            p.dbh_m = allometry::dbh_from_stem_mass(s, p.wood_kg, p.dbh_m);
+            allometry::apply(s, p);
+        }
+    }
+    rebuild_crowns();
+    std::vector<double> h(m_plants.size()), lai(m_plants.size());
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        const Plant& p = m_plants[k];
+        h[k] = p.height_m;
+        lai[k] = sp[p.species].leaf_area_per_crown_area;
+    }
+    const auto shade = compute_shading(m_pgrid, m_crowns, h, lai, m_scene.shading,
+                                       m_scene.extinction, &m_ground_shade);
+    for (std::size_t k = 0; k < m_plants.size(); ++k) m_plants[k].shade_fraction = shade[k];
+}
+
+bool Ecosystem::step_day() {
+    m_weather = m_gen.next();
+    const auto& w = m_weather;
+    ++m_days_done;
+    const auto& species = m_scene.ecosystem.species;
+    const auto& hg = m_scene.hydro.dem.grid();
+    const bool coupled = m_scene.competition == Competition::coupled;
+    hydro::DailyFluxes f;
+    if (coupled) {
+        const auto& cl = m_scene.hydro.climate;
+        hydro::et::DailyWeather dw;
+        dw.lat_deg = cl.latitude_deg;
+        dw.elevation_m = cl.elevation_m;
+        dw.doy = std::min(w.doy, 366);
+        dw.tmin_c = w.tmin_c;
+        dw.tmax_c = w.tmax_c;
+        dw.tdew_c = w.tdew_c;
+        dw.u2_m_per_s = w.u2_m_per_s;
+        dw.rs_mj = w.rs_mj;
+        const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
+        std::vector<double> phen(species.size());
+        for (std::size_t s = 0; s < species.size(); ++s) phen[s] = phenology(species[s], w.doy);
+        const std::size_t n = m_plants.size();
+        m_demand.assign(n, 0.0);
+        for (std::size_t k = 0; k < n; ++k) {
+            const Plant& p = m_plants[k];
+            m_demand[k] = species[p.species].transpiration_per_leaf_area * p.leaf_area_m2 *
+                          phen[p.species] * et0_m;
+        }
+        m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
+        scatter_demand(m_crowns, m_demand, m_map, m_request);
+        terrain::RasterD request_mm(hg);
+        for (std::int64_t c = 0; c < hg.size(); ++c)
+            request_mm.data()[c] =
+                m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
+        f = m_hydro->step(w, &request_mm);
+        const auto& supplied = m_hydro->transpiration_supplied_mm();
+        m_ratio.assign(static_cast<std::size_t>(hg.size()), 1.0);
+        bool all_met = true;
+        for (std::int64_t c = 0; c < hg.size(); ++c) {
+            const double r = request_mm.data()[c];
+            if (r > 0) {
+                const double q = std::min(1.0, supplied.data()[c] / r);
+                m_ratio[static_cast<std::size_t>(c)] = q;
+                all_met = all_met && q == 1.0;
+            }
+        }
+        if (all_met)
+            m_fraction.assign(n, 1.0);
+        else
+            gather_supply(m_crowns, m_map, m_ratio, m_fraction);
+        const double tmean = 0.5 * (w.tmin_c + w.tmax_c);
+        std::vector<CarbonDay> cd(n);
+#pragma omp parallel for schedule(static)
+        for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
+            Plant& p = m_plants[static_cast<std::size_t>(k)];
+            const Species& s = species[p.species];
+            const double ph = phen[p.species];
+            const double g = shade_factor(s.shade, p.shade_fraction) *
+                             water_factor(s.water, m_fraction[static_cast<std::size_t>(k)]) *
+                             p.soil_factor;
+            if (ph > 0) {
+                p.growth_sum += g;
+                p.growth_days += 1;
+            }
+            cd[static_cast<std::size_t>(k)] = carbon_day(s, p, g, ph, tmean);
+        }
+        std::vector<char> dead(n, 0);
+        bool any_dead = false;
+        for (std::size_t k = 0; k < n; ++k) {
+            m_sum.production += cd[k].production_kg;
+            m_sum.maintenance += cd[k].maintenance_kg;
+            m_sum.growth_resp += cd[k].growth_respiration_kg;
+            m_sum.demand_m3 += m_demand[k];
+            m_sum.supplied_m3 += m_demand[k] * m_fraction[k];
+            if (cd[k].starved) {
+                dead[k] = 1;
+                any_dead = true;
+                m_sum.deaths_starvation += 1;
+            }
+        }
+        if (any_dead) remove_dead(dead);
+        if (m_days_done % m_scene.canopy_interval_days == 0) refresh_canopy();
+    } else {
+        f = m_hydro->step(w, nullptr);
+    }
+    const double domain_m2 = hg.width_m() * hg.height_m();
+    const auto row = hydro::daily_budget_row(m_days_done, w, f, domain_m2);
+    m_daily.push_row(std::vector<double>(row.begin(), row.end()));
+    if (w.doy < kDaysPerYearInt) return false;
+    if (coupled)
+        year_end_coupled();
+    else
+        year_end_light_only();
+    year_end_common();
+    return true;
+}
+
+void Ecosystem::run_year() {
+    while (!step_day()) {
+    }
+}
+
+void Ecosystem::remove_dead(const std::vector<char>& dead) {
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        if (dead[k]) {
+            m_sum.dead_carbon += m_plants[k].wood_kg + m_plants[k].reserve_kg;
+            continue;
+        }
+        m_plants[out++] = m_plants[k];
+    }
+    m_plants.resize(out);
+    // Crowns follow the plant order: rebuild them so the dead no longer draw water. Their shade
+    // lingers until the next canopy refresh (at most canopy_interval_days).
+    rebuild_crowns();
+}
+
+void Ecosystem::rebuild_crowns() {
+    m_crowns.clear();
+    for (const auto& p : m_plants) m_crowns.add(m_pgrid, p.x_m, p.y_m, p.crown_radius_m);
+}
+
+void Ecosystem::update_vegetation_density() {
+    // Canopy cover on the hydrology grid drives the runoff coefficients and surface ET.
+    const auto& hg = m_scene.hydro.dem.grid();
+    terrain::RasterD density(hg, 0.0);
+    const double inv = 1.0 / (m_map.factor * m_map.factor);
+    for (int j = 0; j < m_pgrid.ny; ++j)
+        for (int i = 0; i < m_pgrid.nx; ++i)
+            density(i / m_map.factor, j / m_map.factor) += m_ground_shade(i, j) * inv;
+    for (std::int64_t c = 0; c < density.size(); ++c)
+        density.data()[c] = std::clamp(density.data()[c], 0.0, 1.0);
+    m_hydro->set_vegetation_density(density);
+}
+
+bool Ecosystem::establishes(const Species& s, double x, double y, Rng& rng) const {
+    const double draw = rng.uniform(); // always drawn: the stream does not depend on the tests
+    const auto& pg = m_pgrid;
+    const int i = std::clamp(static_cast<int>((x - pg.origin_x_m) / pg.cell_size_m), 0, pg.nx - 1);
+    const int j = std::clamp(static_cast<int>((y - pg.origin_y_m) / pg.cell_size_m), 0, pg.ny - 1);
+    if (1.0 - m_ground_shade(i, j) < s.germination_min_light) return false;
+    const int hi = i / m_map.factor, hj = j / m_map.factor;
+    const auto& soil = m_scene.hydro.soil;
+    const double wp = soil.wilting_point(hi, hj), fc = soil.field_capacity(hi, hj);
+    const double rel = (m_hydro->soil_moisture()(hi, hj) - wp) / std::max(fc - wp, 1e-9);
+    if (rel < s.germination_min_soil_water) return false;
+    if (m_hydro->catchments().owner(static_cast<std::int64_t>(hj) * m_map.hydro_nx + hi) != 0)
+        return false;
+    const double suit = texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(hi, hj),
+                                       soil.silt_pct(hi, hj), soil.clay_pct(hi, hj)) *
+                        ph_factor(s.ph, soil.ph(hi, hj));
+    return draw < s.germination_probability * suit;
+}
+
+void Ecosystem::year_end_coupled() {
+    const auto& species = m_scene.ecosystem.species;
+    // Ageing and mortality (maximum age, background), in plant order.
+    std::vector<char> dead(m_plants.size(), 0);
+    bool any = false;
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        Plant& p = m_plants[k];
+        const Species& s = species[p.species];
+        p.age_yr += 1;
+        const double u = m_rng_mort.uniform();
+        if (p.age_yr >= s.max_age_yr) {
+            dead[k] = 1;
+            m_sum.deaths_age += 1;
+            any = true;
+        } else if (u < s.background_mortality_per_yr) {
+            dead[k] = 1;
+            m_sum.deaths_background += 1;
+            any = true;
+        }
+    }
+    // Seeds of the survivors.
+    std::vector<Plant> recruits;
+    const auto& g = m_pgrid;
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        const Plant& p = m_plants[k];
+        const Species& s = species[p.species];
+        if (dead[k] || p.age_yr < s.maturity_age_yr) continue;
+        const double vigor = p.growth_days > 0 ? p.growth_sum / p.growth_days : 0.0;
+        const std::int64_t n = poisson(m_rng_seed, seeds_per_year(s, p.dbh_m, vigor));
+        m_sum.seeds += static_cast<double>(n);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double d = sample_dispersal_distance(s.dispersal, m_rng_seed);
+            const double a = 2.0 * std::numbers::pi * m_rng_seed.uniform();
+            const double x = p.x_m + d * std::cos(a), y = p.y_m + d * std::sin(a);
+            if (!g.contains_point(x, y) || x >= g.origin_x_m + g.width_m() ||
+                y >= g.origin_y_m + g.height_m()) {
+                m_sum.seeds_lost += 1;
+                m_rng_seed.uniform(); // keep the stream aligned with the landed case
+                continue;
+            }
+            if (establishes(s, x, y, m_rng_seed))
+                recruits.push_back(new_plant(p.species, x, y, s.recruit_dbh_m));
+        }
+    }
+    // Background arrivals (MAVS "Num New Per Area").
+    const double area = g.width_m() * g.height_m();
+    for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        const Species& s = species[sp];
+        const std::int64_t n = poisson(m_rng_arrival, s.new_per_area_per_yr * area);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double x = g.origin_x_m + m_rng_arrival.uniform() * g.width_m();
+            const double y = g.origin_y_m + m_rng_arrival.uniform() * g.height_m();
+            if (establishes(s, x, y, m_rng_arrival))
+                recruits.push_back(
+                    new_plant(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));
+        }
+    }
+    for (auto& p : m_plants) p.growth_sum = p.growth_days = 0;
+    if (any) {
+        std::size_t out = 0;
+        for (std::size_t k = 0; k < m_plants.size(); ++k) {
+            if (dead[k]) {
+                m_sum.dead_carbon += m_plants[k].wood_kg + m_plants[k].reserve_kg;
+                continue;
+            }
+            m_plants[out++] = m_plants[k];
+        }
+        m_plants.resize(out);
+    }
+    for (auto& r : recruits) {
+        m_sum.recruit_carbon += r.wood_kg + r.reserve_kg;
+        m_plants.push_back(r);
+    }
+    m_sum.births += static_cast<double>(recruits.size());
+    refresh_canopy();
+}
+
+void Ecosystem::year_end_light_only() {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& g = m_pgrid;
+    // Growth on the saturating curve, and death at the maximum age.
+    std::vector<char> dead(m_plants.size(), 0);
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        Plant& p = m_plants[k];
+        const Species& s = species[p.species];
+        p.age_yr += 1;
+        if (p.age_yr >= s.max_age_yr) {
+            dead[k] = 1;
+            m_sum.deaths_age += 1;
+            continue;
+        }
+        const double d95 =
+            -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
+        p.dbh_m = d95 * (1 - std::exp(-s.growth_rate_per_yr * p.age_yr));
+        allometry::apply(s, p);
+    }
+    // Arrivals at the per-area rate.
+    const double area = g.width_m() * g.height_m();
+    for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        const std::int64_t n = poisson(m_rng_arrival, species[sp].new_per_area_per_yr * area);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double x = g.origin_x_m + m_rng_arrival.uniform() * g.width_m();
+            const double y = g.origin_y_m + m_rng_arrival.uniform() * g.height_m();
+            m_plants.push_back(new_plant(static_cast<std::uint16_t>(sp), x, y, 0.0));
+            dead.push_back(0);
+            m_sum.births += 1;
+        }
+    }
+    // Overlap: from the largest crown down, a plant whose crown overlaps a kept larger one dies.
+    std::vector<std::size_t> order(m_plants.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return m_plants[a].crown_radius_m > m_plants[b].crown_radius_m;
+    });
+    double rmax = 0;
+    for (const auto& p : m_plants) rmax = std::max(rmax, p.crown_radius_m);
+    const double bucket = std::max(2 * rmax, g.cell_size_m);
+    const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
+    const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
+    std::vector<std::vector<std::size_t>> kept(static_cast<std::size_t>(bx) * by);
+    for (const std::size_t k : order) {
+        if (dead[k]) continue;
+        const Plant& p = m_plants[k];
+        const int cx = static_cast<int>((p.x_m - g.origin_x_m) / bucket);
+        const int cy = static_cast<int>((p.y_m - g.origin_y_m) / bucket);
+        bool overlaps = false;
+        for (int dy = -1; dy <= 1 && !overlaps; ++dy)
+            for (int dx = -1; dx <= 1 && !overlaps; ++dx) {
+                const int x = cx + dx, y = cy + dy;
+                if (x < 0 || y < 0 || x >= bx || y >= by) continue;
+                for (const std::size_t o : kept[static_cast<std::size_t>(y) * bx + x]) {
+                    const Plant& q = m_plants[o];
+                    const double dist = std::hypot(p.x_m - q.x_m, p.y_m - q.y_m);
+                    if (dist < p.crown_radius_m + q.crown_radius_m) {
+                        overlaps = true;
+                        break;
+                    }
+                }
+            }
+        if (overlaps) {
+            dead[k] = 1;
+            m_sum.deaths_overlap += 1;
+        } else {
+            kept[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
+        }
+    }
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < m_plants.size(); ++k)
+        if (!dead[k]) m_plants[out++] = m_plants[k];
+    m_plants.resize(out);
+    refresh_canopy();
+}
+
+void Ecosystem::year_end_common() {
+    ++m_years_done;
+    const auto& hg = m_scene.hydro.dem.grid();
+    update_vegetation_density();
+
+    double wood = 0, reserve = 0;
+    for (const auto& p : m_plants) wood += p.wood_kg, reserve += p.reserve_kg;
+    const double stock = wood + reserve;
+    const double expected = m_stock_at_year_start + m_sum.production - m_sum.maintenance -
+                            m_sum.growth_resp + m_sum.recruit_carbon - m_sum.dead_carbon;
+    const double residual = stock - expected;
+    m_cum_carbon_residual += residual;
+    m_cum_carbon_throughput += m_sum.production + m_sum.maintenance + m_sum.growth_resp +
+                               m_sum.recruit_carbon + std::abs(m_sum.dead_carbon);
+    if (std::abs(m_cum_carbon_residual) >
+        kCarbonTolerance * std::max(m_cum_carbon_throughput, 1.0) + 1e-12 * stock)
+        throw Error("carbon budget broke in year " + std::to_string(m_years_done) + ": residual " +
+                    format_number(m_cum_carbon_residual) + " kg against a throughput of " +
+                    format_number(m_cum_carbon_throughput) + " kg");
+    m_stock_at_year_start = stock;
+
+    const StandMetrics st = stand();
+    const double to_mm = kMmPerM / (hg.width_m() * hg.height_m());
+    m_yearly.push_row({static_cast<double>(m_years_done),
+                       st.basal_area_m2_per_ha,
+                       st.stems_per_ha,
+                       st.mean_dbh_m,
+                       st.quadratic_mean_dbh_m,
+                       st.sdi_per_ha,
+                       static_cast<double>(m_plants.size()),
+                       m_sum.births,
+                       m_sum.deaths_starvation,
+                       m_sum.deaths_age,
+                       m_sum.deaths_background,
+                       m_sum.deaths_overlap,
+                       m_sum.seeds,
+                       m_sum.seeds_lost,
+                       m_sum.production,
+                       m_sum.maintenance,
+                       m_sum.growth_resp,
+                       m_sum.recruit_carbon,
+                       m_sum.dead_carbon,
+                       wood,
+                       reserve,
+                       residual,
+                       m_sum.demand_m3 * to_mm,
+                       m_sum.supplied_m3 * to_mm});
+    m_sum = YearSums{};
+}
+
+StandMetrics Ecosystem::stand() const {
+    std::vector<double> d;
+    d.reserve(m_plants.size());
+    for (const auto& p : m_plants) d.push_back(p.height_m > kBreastHeightM ? p.dbh_m : 0.0);
+    return stand_metrics(d, m_pgrid.width_m() * m_pgrid.height_m());
+}
+
+double Ecosystem::carbon_residual_relative() const {
+    return std::abs(m_cum_carbon_residual) / std::max(m_cum_carbon_throughput, 1e-300);
+}
+
+void Ecosystem::save_state(ArchiveWriter& a) const {
+    a.put(kCheckpointMagic);
+    a.put(kCheckpointVersion);
+    a.put(m_years_done);
+    a.put(m_days_done);
+    a.put(m_weather);
+    const auto gs = m_gen.state();
+    a.put(gs);
+    a.put(m_rng_seed.state());
+    a.put(m_rng_mort.state());
+    a.put(m_rng_arrival.state());
+    a.put_vector(m_plants);
+    a.put(m_next_id);
+    a.put_raster(m_ground_shade);
+    m_hydro->save_state(a);
+    a.put_raster(m_hydro->vegetation_density());
+    for (const auto& c : m_daily.columns) a.put_vector(c);
+    for (const auto& c : m_yearly.columns) a.put_vector(c);
+    a.put(m_sum);
+    a.put(m_stock_at_year_start);
+    a.put(m_cum_carbon_residual);
+    a.put(m_cum_carbon_throughput);
+}
+
+void Ecosystem::load_state(ArchiveReader& a) {
+    if (a.get<std::uint32_t>() != kCheckpointMagic)
+        throw InputError("the checkpoint is not an ecoterra ecosystem checkpoint");
+    const auto version = a.get<std::uint32_t>();
+    if (version != kCheckpointVersion)
+        throw InputError("the checkpoint has format version " + std::to_string(version) +
+                         ", this ecoterra reads version " + std::to_string(kCheckpointVersion));
+    m_years_done = a.get<int>();
+    m_days_done = a.get<int>();
+    m_weather = a.get<hydro::DayWeather>();
+    m_gen.set_state(a.get<hydro::WeatherGenerator::State>());
+    m_rng_seed.set_state(a.get<std::array<std::uint64_t, 4>>());
+    m_rng_mort.set_state(a.get<std::array<std::uint64_t, 4>>());
+    m_rng_arrival.set_state(a.get<std::array<std::uint64_t, 4>>());
+    m_plants = a.get_vector<Plant>();
+    m_next_id = a.get<std::int64_t>();
+    m_ground_shade = a.get_raster<double>();
+    m_hydro->load_state(a);
+    m_hydro->set_vegetation_density(a.get_raster<double>());
+    for (auto& c : m_daily.columns) c = a.get_vector<double>();
+    for (auto& c : m_yearly.columns) c = a.get_vector<double>();
+    m_sum = a.get<YearSums>();
+    m_stock_at_year_start = a.get<double>();
+    m_cum_carbon_residual = a.get<double>();
+    m_cum_carbon_throughput = a.get<double>();
+    // Crowns are derived from the plants; shade fractions are restored with them.
+    rebuild_crowns();
+}
+
+} // namespace ecoterra::eco

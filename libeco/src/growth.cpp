@@ -1,0 +1,95 @@
+#include "ecoterra/eco/growth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ecoterra::eco {
+
+namespace {
+double gauss(double d, double tol) {
+    const double z = d / tol;
+    return std::exp(-0.5 * z * z);
+}
+
+struct Centroids {
+    std::array<std::array<double, 3>, hydro::kTextureCount> c{};
+    Centroids() {
+        // Mean composition of each class over a 0.5 % lattice of the triangle.
+        std::array<double, hydro::kTextureCount> n{};
+        constexpr int kSteps = 200;
+        for (int i = 0; i <= kSteps; ++i)
+            for (int j = 0; i + j <= kSteps; ++j) {
+                const double sand = 100.0 * i / kSteps, clay = 100.0 * j / kSteps;
+                const double silt = 100.0 - sand - clay;
+                const auto t = static_cast<int>(hydro::classify_texture(sand, silt, clay));
+                c[t][0] += sand;
+                c[t][1] += silt;
+                c[t][2] += clay;
+                n[t] += 1;
+            }
+        for (int t = 0; t < hydro::kTextureCount; ++t)
+            for (auto& v : c[t]) v /= n[t];
+    }
+};
+} // namespace
+
+std::array<double, 3> texture_centroid(hydro::Texture t) {
+    static const Centroids table;
+    return table.c[static_cast<int>(t)];
+}
+
+double shade_factor(const Preference& p, double s) {
+    return s <= p.desired ? 1.0 : gauss(s - p.desired, p.tolerance);
+}
+
+double water_factor(const Preference& p, double x) {
+    return x >= p.desired ? 1.0 : gauss(p.desired - x, p.tolerance);
+}
+
+double ph_factor(const Preference& p, double ph) {
+    return gauss(ph - p.desired, p.tolerance);
+}
+
+double texture_factor(hydro::Texture desired, double tol, double sand, double silt, double clay) {
+    if (hydro::classify_texture(sand, silt, clay) == desired) return 1.0;
+    const auto c = texture_centroid(desired);
+    const double d = std::sqrt((sand - c[0]) * (sand - c[0]) + (silt - c[1]) * (silt - c[1]) +
+                               (clay - c[2]) * (clay - c[2]));
+    return gauss(d, tol);
+}
+
+double phenology(const Species& s, int doy) {
+    if (s.evergreen) return 1.0;
+    return doy >= s.leaf_on_doy && doy < s.leaf_off_doy ? 1.0 : 0.0;
+}
+
+double temperature_factor(const Species& s, double t) {
+    return std::clamp((t - s.temperature_base_c) / (s.temperature_optimum_c - s.temperature_base_c),
+                      0.0, 1.0);
+}
+
+CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double tmean_c) {
+    CarbonDay c;
+    const double la = p.leaf_area_m2;
+    c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen *
+                      temperature_factor(s, tmean_c);
+    c.maintenance_kg = s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * p.height_m *
+                       std::pow(kQ10, (tmean_c - kRespirationRefC) / 10.0);
+    const double net = c.production_kg - c.maintenance_kg;
+    const double cap = s.reserve_capacity_kg_per_m2_leaf * la;
+    if (net >= 0) {
+        c.to_reserve_kg = std::clamp(cap - p.reserve_kg, 0.0, net);
+        const double rest = net - c.to_reserve_kg;
+        c.growth_respiration_kg = kGrowthRespiration * rest;
+        c.to_wood_kg = rest - c.growth_respiration_kg;
+        p.reserve_kg += c.to_reserve_kg;
+        p.wood_kg += c.to_wood_kg;
+    } else {
+        c.to_reserve_kg = net;
+        p.reserve_kg += net;
+        if (p.reserve_kg <= 0) c.starved = true;
+    }
+    return c;
+}
+
+} // namespace ecoterra::eco

@@ -1,0 +1,265 @@
+// Run pictures drawn with Cairo (libcairo2-dev).
+#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/terrain/picture.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace ecoterra::eco {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SurfaceOwner {
+    cairo_surface_t* s;
+    cairo_t* cr;
+    SurfaceOwner(int w, int h)
+        : s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h)), cr(cairo_create(s)) {}
+    ~SurfaceOwner() {
+        cairo_destroy(cr);
+        cairo_surface_destroy(s);
+    }
+    void save(const fs::path& path) {
+        cairo_surface_flush(s);
+        if (cairo_surface_write_to_png(s, path.string().c_str()) != CAIRO_STATUS_SUCCESS)
+            throw IoError(path.string() + ": cannot write the PNG picture");
+    }
+};
+
+// Okabe-Ito palette (colour-blind safe), then greys.
+constexpr double kPalette[8][3] = {{0.90, 0.62, 0.00}, {0.34, 0.71, 0.91}, {0.00, 0.62, 0.45},
+                                   {0.94, 0.89, 0.26}, {0.00, 0.45, 0.70}, {0.84, 0.37, 0.00},
+                                   {0.80, 0.47, 0.65}, {0.40, 0.40, 0.40}};
+
+void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0) {
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, x - align * e.width, y);
+    cairo_show_text(cr, s.c_str());
+}
+
+std::string fmt(double v, int digits = 1) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+double nice_step(double range) {
+    const double raw = range / 5.0;
+    const double p = std::pow(10.0, std::floor(std::log10(raw)));
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * p >= raw) return m * p;
+    return 10 * p;
+}
+
+/// A plot frame with axes and ticks; returns the data->pixel mapping.
+struct Frame {
+    double x0, y0, w, h, xmin, xmax, ymin, ymax;
+    double px(double x) const { return x0 + (x - xmin) / (xmax - xmin) * w; }
+    double py(double y) const { return y0 + h - (y - ymin) / (ymax - ymin) * h; }
+    void draw(cairo_t* cr, const std::string& xlabel, const std::string& ylabel,
+              const std::string& title) const {
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_set_line_width(cr, 1);
+        cairo_rectangle(cr, x0, y0, w, h);
+        cairo_stroke(cr);
+        const double sx = nice_step(xmax - xmin), sy = nice_step(ymax - ymin);
+        for (double v = std::ceil(xmin / sx) * sx; v <= xmax + 1e-9; v += sx) {
+            cairo_move_to(cr, px(v), y0 + h);
+            cairo_line_to(cr, px(v), y0 + h + 5);
+            cairo_stroke(cr);
+            text(cr, px(v), y0 + h + 18, fmt(v, sx < 1 ? 1 : 0), 12, 0.5);
+        }
+        for (double v = std::ceil(ymin / sy) * sy; v <= ymax + 1e-9; v += sy) {
+            cairo_move_to(cr, x0 - 5, py(v));
+            cairo_line_to(cr, x0, py(v));
+            cairo_stroke(cr);
+            text(cr, x0 - 8, py(v) + 4, fmt(v, sy < 1 ? 1 : 0), 12, 1.0);
+        }
+        text(cr, x0 + w / 2, y0 + h + 38, xlabel, 13, 0.5);
+        cairo_save(cr);
+        cairo_move_to(cr, x0 - 52, y0 + h / 2);
+        cairo_rotate(cr, -M_PI / 2);
+        cairo_set_font_size(cr, 13);
+        cairo_text_extents_t e;
+        cairo_text_extents(cr, ylabel.c_str(), &e);
+        cairo_rel_move_to(cr, -e.width / 2, 0);
+        cairo_show_text(cr, ylabel.c_str());
+        cairo_restore(cr);
+        text(cr, x0 + w / 2, y0 - 10, title, 14, 0.5);
+    }
+};
+
+void white(cairo_t* cr) {
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+}
+
+void draw_stems(const Ecosystem& eco, const fs::path& path) {
+    const auto& g = eco.plant_grid();
+    const auto& dem = eco.scene().hydro.dem;
+    constexpr double kMapPx = 760.0, kLegendPx = 220.0;
+    const double scale = kMapPx / std::max(g.width_m(), g.height_m());
+    const int mw = static_cast<int>(std::ceil(g.width_m() * scale));
+    const int mh = static_cast<int>(std::ceil(g.height_m() * scale));
+    SurfaceOwner s(mw + static_cast<int>(kLegendPx), mh + 40);
+    cairo_t* cr = s.cr;
+    white(cr);
+    // Hillshade, scaled to the map.
+    const terrain::Image hs = terrain::hillshade_image(dem);
+    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, hs.width, hs.height);
+    unsigned char* data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int y = 0; y < hs.height; ++y)
+        for (int x = 0; x < hs.width; ++x) {
+            const auto& p = hs.pixels[static_cast<std::size_t>(y) * hs.width + x];
+            auto* q = reinterpret_cast<std::uint32_t*>(data + y * stride) + x;
+            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
+                 p.b;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, 0, 30);
+    cairo_scale(cr, static_cast<double>(mw) / hs.width, static_cast<double>(mh) / hs.height);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+    // Crowns, largest first so small plants stay visible.
+    std::vector<std::size_t> order(eco.plants().size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    const auto& plants = eco.plants();
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return plants[a].crown_radius_m > plants[b].crown_radius_m;
+    });
+    cairo_set_line_width(cr, 0.8);
+    for (const std::size_t k : order) {
+        const Plant& p = plants[k];
+        const auto* c = kPalette[std::min<std::size_t>(p.species, 7)];
+        const double cx = (p.x_m - g.origin_x_m) * scale;
+        const double cy = 30 + (g.height_m() - (p.y_m - g.origin_y_m)) * scale;
+        const double r = std::max(1.0, p.crown_radius_m * scale);
+        cairo_arc(cr, cx, cy, r, 0, 2 * M_PI);
+        cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.55);
+        cairo_fill_preserve(cr);
+        cairo_set_source_rgba(cr, 0.1, 0.1, 0.1, 0.8);
+        cairo_stroke(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    const StandMetrics st = eco.stand();
+    text(cr, 10, 20,
+         "Year " + std::to_string(eco.years_done()) + ": " + std::to_string(plants.size()) +
+             " plants, BA " + fmt(st.basal_area_m2_per_ha) + " m2/ha (" +
+             fmt(st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa) + " ft2/acre)",
+         14);
+    const auto& species = eco.scene().ecosystem.species;
+    for (std::size_t k = 0; k < species.size(); ++k) {
+        const auto* c = kPalette[std::min<std::size_t>(k, 7)];
+        const double y = 50 + 24.0 * static_cast<double>(k);
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_arc(cr, mw + 20, y - 4, 7, 0, 2 * M_PI);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, mw + 34, y, species[k].name, 12);
+    }
+    text(cr, mw + 12, 50 + 24.0 * static_cast<double>(species.size()) + 10,
+         "circle = crown, " + fmt(g.width_m(), 0) + " m wide", 11);
+    s.save(path);
+}
+
+void draw_histogram(const Ecosystem& eco, const fs::path& path) {
+    SurfaceOwner s(720, 460);
+    cairo_t* cr = s.cr;
+    white(cr);
+    const StandMetrics st = eco.stand();
+    const double w = st.class_width_cm;
+    const double nclass = std::max<double>(4, static_cast<double>(st.histogram.size()));
+    double ymax = 1;
+    for (auto c : st.histogram) ymax = std::max(ymax, static_cast<double>(c) / st.area_ha);
+    Frame f{80, 40, 600, 340, 0, nclass * w, 0, ymax * 1.1};
+    for (std::size_t i = 0; i < st.histogram.size(); ++i) {
+        const double v = static_cast<double>(st.histogram[i]) / st.area_ha;
+        cairo_rectangle(cr, f.px(static_cast<double>(i) * w) + 1, f.py(v), f.px(w) - f.px(0) - 2,
+                        f.py(0) - f.py(v));
+        cairo_set_source_rgb(cr, 0.34, 0.71, 0.91);
+        cairo_fill(cr);
+    }
+    if (st.fit_valid) {
+        cairo_set_source_rgb(cr, 0.84, 0.37, 0.0);
+        cairo_set_line_width(cr, 2);
+        for (int k = 0; k <= 200; ++k) {
+            const double x = 0.5 * w + (nclass - 1) * w * k / 200.0;
+            const double y = std::exp(st.intercept - st.rate_per_cm * x) / st.area_ha;
+            if (k == 0)
+                cairo_move_to(cr, f.px(x), f.py(std::min(y, f.ymax)));
+            else
+                cairo_line_to(cr, f.px(x), f.py(std::min(y, f.ymax)));
+        }
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, f.x0 + f.w - 10, f.y0 + 20,
+             "N = k exp(-" + fmt(st.rate_per_cm, 3) + " d), q = " +
+                 fmt(std::exp(st.rate_per_cm * 5), 2) + " per 5 cm, R2 = " + fmt(st.r2, 2),
+             12, 1.0);
+    }
+    f.draw(cr, "trunk diameter at breast height (cm), 5 cm classes", "stems per ha",
+           "Year " + std::to_string(eco.years_done()) + ", BA " + fmt(st.basal_area_m2_per_ha) +
+               " m2/ha, " + fmt(st.stems_per_ha, 0) + " stems/ha");
+    s.save(path);
+}
+
+void draw_history(const Ecosystem& eco, const fs::path& path) {
+    SurfaceOwner s(720, 680);
+    cairo_t* cr = s.cr;
+    white(cr);
+    const Table& t = eco.yearly();
+    const auto col = [&](const char* name) -> const std::vector<double>& {
+        for (std::size_t k = 0; k < t.names.size(); ++k)
+            if (t.names[k] == name) return t.columns[k];
+        throw Error(std::string("no yearly column ") + name);
+    };
+    const auto& year = col("year");
+    const auto draw_line = [&](const std::vector<double>& y, double top, const std::string& label,
+                               const std::string& title) {
+        double ymax = 1e-9;
+        for (double v : y) ymax = std::max(ymax, v);
+        Frame f{80, top,       600, 230, 0, std::max(1.0, year.empty() ? 1.0 : year.back()),
+                0,  ymax * 1.1};
+        cairo_set_source_rgb(cr, 0.0, 0.45, 0.70);
+        cairo_set_line_width(cr, 2);
+        for (std::size_t k = 0; k < y.size(); ++k) {
+            if (k == 0)
+                cairo_move_to(cr, f.px(year[k]), f.py(y[k]));
+            else
+                cairo_line_to(cr, f.px(year[k]), f.py(y[k]));
+        }
+        cairo_stroke(cr);
+        f.draw(cr, "simulation year", label, title);
+    };
+    draw_line(col("basal_area_m2_per_ha"), 40, "m2/ha", "Basal area");
+    draw_line(col("stems_per_ha"), 380, "stems/ha", "Stems at breast height");
+    s.save(path);
+}
+
+} // namespace
+
+void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    draw_stems(eco, dir / "stems.png");
+    draw_histogram(eco, dir / "dbh_histogram.png");
+    draw_history(eco, dir / "stand_history.png");
+    const auto& hy = eco.hydrology();
+    terrain::write_png_rgb(terrain::colormap_image(hy.soil_moisture()), dir / "soil_moisture.png");
+    terrain::write_png_rgb(terrain::colormap_image(hy.surface_water_depth()),
+                           dir / "surface_water_depth.png");
+}
+
+} // namespace ecoterra::eco

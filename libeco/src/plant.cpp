@@ -1,0 +1,62 @@
+#include "ecoterra/eco/plant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ecoterra::eco::allometry {
+
+namespace {
+constexpr double kCmPerM = 100.0;
+}
+
+double height_m(const Species& s, double d) {
+    return kBreastHeightM + (s.max_height_m - kBreastHeightM) *
+                                (1.0 - std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM));
+}
+
+double crown_radius_m(const Species& s, double d) {
+    const double r = s.crown_radius_coefficient_m * std::pow(d * kCmPerM, s.crown_radius_exponent);
+    return std::clamp(r, kMinCrownRadiusM, s.max_crown_radius_m);
+}
+
+double leaf_area_m2(const Species& s, double r) {
+    return s.leaf_area_per_crown_area * std::numbers::pi * r * r;
+}
+
+double stem_mass_kg(const Species& s, double d) {
+    return s.wood_density_kg_per_m3 * kStemFormFactor * 0.25 * std::numbers::pi * d * d *
+           height_m(s, d);
+}
+
+double dbh_from_stem_mass(const Species& s, double mass, double guess) {
+    if (!(mass > 0)) return 0.0;
+    // Bracket, then Newton steps kept inside the bracket (M is increasing in D).
+    double lo = 0, hi = std::max(guess, 1e-4);
+    while (stem_mass_kg(s, hi) < mass) hi *= 2;
+    double d = std::clamp(guess, lo, hi);
+    for (int it = 0; it < 60; ++it) {
+        const double m = stem_mass_kg(s, d) - mass;
+        if (m > 0)
+            hi = d;
+        else
+            lo = d;
+        const double dh = s.height_dbh_slope_per_cm * kCmPerM * (s.max_height_m - kBreastHeightM) *
+                          std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM);
+        const double c = s.wood_density_kg_per_m3 * kStemFormFactor * 0.25 * std::numbers::pi;
+        const double dm = c * (2 * d * height_m(s, d) + d * d * dh);
+        double next = dm > 0 ? d - m / dm : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::abs(next - d) <= 1e-13 * std::max(d, 1e-6)) return next;
+        d = next;
+    }
+    return d;
+}
+
+void apply(const Species& s, Plant& p) {
+    p.height_m = height_m(s, p.dbh_m);
+    p.crown_radius_m = crown_radius_m(s, p.dbh_m);
+    p.leaf_area_m2 = leaf_area_m2(s, p.crown_radius_m);
+}
+
+} // namespace ecoterra::eco::allometry

@@ -1,0 +1,345 @@
+#include "ecoterra/eco/run_file.hpp"
+
+#include "ecoterra/terrain/io/hdf5_writer.hpp"
+
+#include <H5Cpp.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace ecoterra::eco {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string snapshot_dir_name(const fs::path& output) {
+    return output.stem().string() + ".snapshots";
+}
+
+std::string snapshot_file_name(int index) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.h5", index);
+    return name;
+}
+
+std::uint64_t raster_hash(const terrain::RasterD& r) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    const auto* p = reinterpret_cast<const unsigned char*>(r.data());
+    for (std::size_t k = 0; k < static_cast<std::size_t>(r.size()) * sizeof(double); ++k) {
+        h ^= p[k];
+        h *= 0x100000001b3ULL;
+    }
+    return h;
+}
+
+void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t) {
+    for (std::size_t k = 0; k < t.names.size(); ++k)
+        h5.series(group + "/" + t.names[k], t.columns[k], t.units[k], t.descriptions[k]);
+}
+
+void write_snapshot(const Ecosystem& eco, const fs::path& path) {
+    terrain::io::Hdf5Writer h5(path);
+    const auto& plants = eco.plants();
+    const auto& w = eco.last_weather();
+    std::vector<std::int64_t> id;
+    std::vector<std::int32_t> species;
+    std::vector<double> col[8];
+    for (const auto& p : plants) {
+        id.push_back(p.id);
+        species.push_back(p.species);
+        const double v[8] = {p.x_m,    p.y_m,       p.z_m, p.height_m, p.dbh_m, p.crown_radius_m,
+                             p.age_yr, p.reserve_kg};
+        for (int k = 0; k < 8; ++k) col[k].push_back(v[k]);
+    }
+    h5.series("/plants/id", id, "1", "plant id, unique within the run");
+    h5.series("/plants/species", species, "1", "index into /species of the run file");
+    const char* names[8] = {
+        "x_m", "y_m", "z_m", "height_m", "dbh_m", "crown_radius_m", "age_yr", "carbohydrate_kg"};
+    const char* units[8] = {"m", "m", "m", "m", "m", "m", "yr", "kg"};
+    const char* desc[8] = {"stem position, east",
+                           "stem position, north",
+                           "ground elevation at the stem",
+                           "plant height",
+                           "trunk diameter at breast height (1.3 m; 0 below it)",
+                           "crown (and root) radius",
+                           "age",
+                           "carbohydrate reserve"};
+    for (int k = 0; k < 8; ++k)
+        h5.series(std::string("/plants/") + names[k], col[k], units[k], desc[k]);
+    const auto& hy = eco.hydrology();
+    h5.raster("/soil_moisture", hy.soil_moisture(), "m3/m3",
+              "volumetric soil water in the root zone");
+    h5.raster("/surface_water_depth_m", hy.surface_water_depth(), "m", "standing water depth");
+    h5.raster("/catchment_id", hy.catchment_ids(), "1", "catchment holding the cell, 0 = dry");
+    h5.raster("/water_table_depth_m", hy.water_table_depth(), "m",
+              "depth of the water table below the surface (NaN without groundwater)");
+    h5.raster("/shade_fraction", eco.ground_shade(), "1",
+              "light intercepted by crowns above the ground (plant grid)");
+    h5.attribute("/", "year", static_cast<double>(eco.years_done()));
+    h5.attribute("/", "day", static_cast<double>(eco.days_done()));
+    h5.attribute("/", "date",
+                 "simulation year " + std::to_string(w.year) + ", day " + std::to_string(w.doy));
+    h5.commit();
+}
+
+void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance, int snapshots) {
+    terrain::io::Hdf5Writer h5(path);
+    const EcoScene& sc = eco.scene();
+    h5.raster("/terrain/elevation", sc.hydro.dem, "m", "terrain elevation (hydrology grid)");
+    hydro::write_soil_maps(h5, sc.hydro.soil);
+    json sp = json::array();
+    std::string names;
+    for (const auto& s : sc.ecosystem.species) {
+        sp.push_back(species_to_json(s));
+        names += (names.empty() ? "" : "\n") + s.name;
+    }
+    h5.attribute("/species", "json", sp.dump());
+    h5.attribute("/species", "names", names);
+    h5.attribute("/species", "ecosystem", sc.ecosystem.name);
+    h5.attribute("/provenance", "json", provenance.dump());
+    h5.attribute("/provenance", "seed", static_cast<double>(sc.seed));
+    write_table(h5, "/series/yearly", eco.yearly());
+    write_table(h5, "/series/daily", eco.daily());
+    ArchiveWriter a;
+    eco.save_state(a);
+    h5.series("/checkpoint/state", a.bytes(), "1",
+              "full model state at the last snapshot (binary, ecoterra checkpoint format)");
+    h5.attribute("/checkpoint", "year", static_cast<double>(eco.years_done()));
+    h5.attribute("/checkpoint", "terrain_hash", std::to_string(raster_hash(sc.hydro.dem)));
+    const std::string dir = snapshot_dir_name(path);
+    for (int k = 0; k < snapshots; ++k) {
+        char link[32];
+        std::snprintf(link, sizeof link, "/snapshots/%04d", k);
+        h5.external_link(link, dir + "/" + snapshot_file_name(k), "/");
+    }
+    h5.attribute("/snapshots", "count", static_cast<double>(snapshots));
+    h5.attribute("/", "area_m2", eco.plant_grid().width_m() * eco.plant_grid().height_m());
+    h5.commit();
+}
+
+std::string read_string_attr(const H5::H5Object& o, const std::string& name) {
+    H5::Attribute a = o.openAttribute(name);
+    std::string v;
+    a.read(a.getStrType(), v);
+    return v;
+}
+
+double read_double_attr(const H5::H5Object& o, const std::string& name) {
+    double v = 0;
+    o.openAttribute(name).read(H5::PredType::NATIVE_DOUBLE, &v);
+    return v;
+}
+
+template <class T>
+std::vector<T> read_vector(const H5::Group& g, const std::string& name, const H5::PredType& t) {
+    H5::DataSet ds = g.openDataSet(name);
+    hsize_t n = 0;
+    ds.getSpace().getSimpleExtentDims(&n);
+    std::vector<T> v(n);
+    if (n) ds.read(v.data(), t);
+    return v;
+}
+
+H5::H5File open_run(const fs::path& run) {
+    H5::Exception::dontPrint();
+    if (!fs::exists(run)) throw InputError(run.string() + ": no such run file");
+    try {
+        H5::H5File f(run.string(), H5F_ACC_RDONLY);
+        if (!f.nameExists("/provenance") || !f.nameExists("/checkpoint"))
+            throw InputError(run.string() + ": not an ecoterra ecosystem run (no /checkpoint)");
+        return f;
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": not a readable HDF5 file (" + e.getDetailMsg() + ")");
+    }
+}
+
+} // namespace
+
+RunInfo read_run_info(const fs::path& run) {
+    H5::H5File f = open_run(run);
+    RunInfo info;
+    try {
+        info.provenance = json::parse(read_string_attr(f.openGroup("/provenance"), "json"));
+        std::string names = read_string_attr(f.openGroup("/species"), "names");
+        std::size_t start = 0;
+        for (;;) {
+            const auto nl = names.find('\n', start);
+            info.species.push_back(names.substr(start, nl - start));
+            if (nl == std::string::npos) break;
+            start = nl + 1;
+        }
+        info.snapshots = static_cast<int>(read_double_attr(f.openGroup("/snapshots"), "count"));
+        info.area_m2 = read_double_attr(f.openGroup("/"), "area_m2");
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": incomplete ecoterra run file (" + e.getDetailMsg() +
+                         ")");
+    } catch (const json::exception& e) {
+        throw InputError(run.string() + ": /provenance json is damaged (" + e.what() + ")");
+    }
+    return info;
+}
+
+SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
+    const RunInfo info = read_run_info(run);
+    if (info.snapshots == 0) throw InputError(run.string() + ": the run has no snapshots");
+    const int k = index < 0 ? info.snapshots + index : index;
+    if (k < 0 || k >= info.snapshots)
+        throw InputError(run.string() + ": --snapshot " + std::to_string(index) +
+                         " is outside 0.." + std::to_string(info.snapshots - 1));
+    H5::H5File f = open_run(run);
+    char name[32];
+    std::snprintf(name, sizeof name, "/snapshots/%04d", k);
+    SnapshotPlants s;
+    s.index = k;
+    try {
+        H5::Group g = f.openGroup(name);
+        s.year = static_cast<int>(read_double_attr(g, "year"));
+        H5::Group p = g.openGroup("plants");
+        const auto& D = H5::PredType::NATIVE_DOUBLE;
+        s.id = read_vector<std::int64_t>(p, "id", H5::PredType::NATIVE_INT64);
+        s.species = read_vector<std::int32_t>(p, "species", H5::PredType::NATIVE_INT32);
+        s.x_m = read_vector<double>(p, "x_m", D);
+        s.y_m = read_vector<double>(p, "y_m", D);
+        s.z_m = read_vector<double>(p, "z_m", D);
+        s.height_m = read_vector<double>(p, "height_m", D);
+        s.dbh_m = read_vector<double>(p, "dbh_m", D);
+        s.crown_radius_m = read_vector<double>(p, "crown_radius_m", D);
+        s.age_yr = read_vector<double>(p, "age_yr", D);
+        s.carbohydrate_kg = read_vector<double>(p, "carbohydrate_kg", D);
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": cannot read snapshot " + std::to_string(k) + " (" +
+                         snapshot_dir_name(run) + "/" + snapshot_file_name(k) +
+                         " missing or damaged: " + e.getDetailMsg() + ")");
+    }
+    return s;
+}
+
+RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
+                         const std::function<void(const RunProgress&)>& progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path out = opt.output;
+    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent))
+        throw IoError(out.string() + ": the folder " + parent.string() + " does not exist");
+    std::unique_ptr<Ecosystem> eco;
+    json prov = opt.provenance;
+    int snapshots = 0;
+    int years_total = 0;
+    if (opt.resume) {
+        const RunInfo info = read_run_info(out);
+        const json& stored = info.provenance;
+        if (!stored.contains("scene") || !stored.contains("version"))
+            throw InputError(out.string() + ": /provenance lacks the scene or the version");
+        if (prov.contains("version") && stored["version"] != prov["version"])
+            throw InputError(out.string() + ": written by ecoterra " + stored["version"].dump() +
+                             ", this is " + prov["version"].dump() +
+                             "; a checkpoint resumes only with the version that wrote it");
+        json stored_scene = stored["scene"];
+        if (scene) {
+            json a = scene->resolved, b = stored_scene;
+            a["simulation"].erase("years");
+            b["simulation"].erase("years");
+            if (a != b)
+                throw InputError(out.string() + ": the run was made from another scene; resume "
+                                                "it without a scene file or with the same scene");
+        }
+        const EcoScene sc = load_eco_scene(stored_scene, "/");
+        eco = std::make_unique<Ecosystem>(sc);
+        H5::H5File f = open_run(out);
+        std::vector<std::uint8_t> bytes;
+        std::string hash;
+        try {
+            bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
+                                              H5::PredType::NATIVE_UINT8);
+            hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
+        } catch (const H5::Exception& e) {
+            throw InputError(out.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
+        }
+        if (hash != std::to_string(raster_hash(sc.hydro.dem)))
+            throw InputError(out.string() + ": the terrain rebuilt from the stored scene differs "
+                                            "from the run's (was the terrain file changed?)");
+        ArchiveReader r(bytes.data(), bytes.size(), out.string());
+        eco->load_state(r);
+        snapshots = info.snapshots;
+        prov["scene"] = stored_scene;
+        prov["resumed_from_year"] = eco->years_done();
+        if (stored.contains("resumed_from_year"))
+            prov["first_resumed_from_year"] = stored["resumed_from_year"];
+        years_total = stored_scene["simulation"]["years"].get<int>();
+    } else {
+        if (!scene) throw InputError("run: a scene is required");
+        eco = std::make_unique<Ecosystem>(*scene);
+        prov["scene"] = scene->resolved;
+        years_total = scene->years;
+    }
+    const EcoScene& sc = eco->scene();
+    const int to_run = opt.years ? *opt.years : years_total - eco->years_done();
+    if (to_run <= 0)
+        throw InputError(out.string() + ": the run already has " +
+                         std::to_string(eco->years_done()) + " of its " +
+                         std::to_string(years_total) + " years; give --years N to continue");
+    const fs::path snap_dir = parent / snapshot_dir_name(out);
+    std::error_code ec;
+    fs::create_directories(snap_dir, ec);
+    if (ec)
+        throw IoError(snap_dir.string() + ": cannot create the snapshot folder: " + ec.message());
+
+    RunSummary sum;
+    double plant_years = 0;
+    const int first_year = eco->years_done();
+    for (int y = 1; y <= to_run; ++y) {
+        eco->run_year();
+        plant_years += static_cast<double>(eco->plants().size());
+        const StandMetrics st = eco->stand();
+        const bool reached = sc.target_basal_area_m2_per_ha && !opt.years &&
+                             st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
+        const bool last = y == to_run || reached;
+        if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
+            write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots));
+            ++snapshots;
+            write_main(*eco, out, prov, snapshots);
+        }
+        if (progress) {
+            RunProgress p;
+            p.year = eco->years_done();
+            p.years = first_year + to_run;
+            p.plants = eco->plants().size();
+            p.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
+            p.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            p.plant_years = plant_years;
+            progress(p);
+        }
+        if (reached) {
+            sum.reached_target = true;
+            break;
+        }
+    }
+    if (!opt.resume) {
+        // Snapshot files of an earlier run into the same path that the new run did not replace.
+        for (int k = snapshots;; ++k) {
+            const fs::path stale = snap_dir / snapshot_file_name(k);
+            if (!fs::exists(stale)) break;
+            fs::remove(stale, ec);
+        }
+    }
+    sum.years_run = eco->years_done() - first_year;
+    sum.years_total = eco->years_done();
+    sum.snapshots = snapshots;
+    sum.stand = eco->stand();
+    sum.plant_years = plant_years;
+    sum.water_residual_relative = std::abs(eco->hydrology().cumulative_residual_m3()) /
+                                  std::max(eco->hydrology().cumulative_throughput_m3(), 1e-300);
+    sum.carbon_residual_relative = eco->carbon_residual_relative();
+    if (opt.pictures) {
+        sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
+                                                  : opt.picture_dir;
+        draw_run_pictures(*eco, sum.picture_dir);
+    }
+    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return sum;
+}
+
+} // namespace ecoterra::eco

@@ -1,0 +1,126 @@
+#include "ecoterra/eco/scene_config.hpp"
+
+#include "ecoterra/json_util.hpp"
+
+#include <cmath>
+
+namespace ecoterra::eco {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string competition_name(Competition c) {
+    return c == Competition::coupled ? "coupled" : "light_only";
+}
+
+EcoScene load_eco_scene(const json& s, const fs::path& base) {
+    if (!s.is_object()) throw InputError("scene: must be a JSON object");
+    require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
+                       "");
+    EcoScene e;
+    // The hydrology half, with the hydrology-only keys.
+    json h = s;
+    const json veg = s.value("vegetation", json::object());
+    const json sim = s.value("simulation", json::object());
+    require_known_keys(veg,
+                       {"ecosystem", "competition", "shading", "extinction_coefficient",
+                        "plant_cell_m", "canopy_interval_days", "initial"},
+                       "vegetation");
+    require_known_keys(sim,
+                       {"years", "seed", "snapshot_interval_years", "target_basal_area_m2_per_ha"},
+                       "simulation");
+    h["vegetation"] = {{"density", 0.0}};
+    h["simulation"] = json::object();
+    for (const char* k : {"years", "seed"})
+        if (sim.contains(k)) h["simulation"][k] = sim[k];
+    if (h.contains("climate") && h["climate"].contains("csv"))
+        throw InputError("climate.csv: observed weather is not supported in ecosystem runs yet; "
+                         "use the weather generator (climate.preset and parameters)");
+    e.hydro = hydro::load_hydro_scene(h, base);
+    e.years = e.hydro.years;
+    e.seed = e.hydro.seed;
+    e.resolved = e.hydro.resolved;
+    e.resolved.erase("vegetation");
+
+    const std::string w = "vegetation";
+    if (!veg.contains("ecosystem"))
+        throw InputError("vegetation.ecosystem: missing (an ecosystem file, e.g. "
+                         "data/ecosystems/humid_subtropical_broadleaf.json)");
+    fs::path eco = get_string(veg, "ecosystem", "", w);
+    if (eco.is_relative()) eco = base / eco;
+    e.ecosystem = load_ecosystem(eco);
+    const std::string comp = get_string(veg, "competition", "coupled", w);
+    if (comp == "coupled")
+        e.competition = Competition::coupled;
+    else if (comp == "light_only")
+        e.competition = Competition::light_only;
+    else
+        throw InputError("vegetation.competition must be coupled or light_only, got '" + comp +
+                         "'");
+    const std::string sh = get_string(veg, "shading", "blocking", w);
+    if (sh == "blocking")
+        e.shading = ShadingMode::blocking;
+    else if (sh == "beer_lambert")
+        e.shading = ShadingMode::beer_lambert;
+    else
+        throw InputError("vegetation.shading must be blocking or beer_lambert, got '" + sh + "'");
+    e.extinction = get_number(veg, "extinction_coefficient", e.extinction, w, 0.01, 5);
+    const double terrain_cell = e.hydro.dem.grid().cell_size_m;
+    e.plant_cell_m = get_number(veg, "plant_cell_m", std::min(1.0, terrain_cell), w, 0.05, 100);
+    const double ratio = terrain_cell / e.plant_cell_m;
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 || std::round(ratio) < 1)
+        throw InputError("vegetation.plant_cell_m = " + format_number(e.plant_cell_m) +
+                         " must divide the terrain cell (" + format_number(terrain_cell) +
+                         " m) a whole number of times");
+    e.canopy_interval_days =
+        static_cast<int>(get_integer(veg, "canopy_interval_days", 7, w, 1, 365));
+    json init_resolved = "bare";
+    if (veg.contains("initial")) {
+        const json& in = veg.at("initial");
+        if (in.is_string() && in.get<std::string>() == "bare") {
+            e.initial.kind = InitialPlants::Kind::bare;
+        } else if (in.is_object() && in.contains("random")) {
+            require_known_keys(in, {"random"}, "vegetation.initial");
+            const json& r = in.at("random");
+            require_known_keys(r, {"stems_per_ha", "max_dbh_m"}, "vegetation.initial.random");
+            e.initial.kind = InitialPlants::Kind::random;
+            e.initial.stems_per_ha =
+                get_number(r, "stems_per_ha", 500, "vegetation.initial.random", 0, 1e5);
+            e.initial.max_dbh_m =
+                get_number(r, "max_dbh_m", 0.3, "vegetation.initial.random", 0.001, 5);
+            init_resolved = {
+                {"random",
+                 {{"stems_per_ha", e.initial.stems_per_ha}, {"max_dbh_m", e.initial.max_dbh_m}}}};
+        } else if (in.is_object() && in.contains("file")) {
+            require_known_keys(in, {"file"}, "vegetation.initial");
+            e.initial.kind = InitialPlants::Kind::file;
+            e.initial.file = get_string(in, "file", "", "vegetation.initial");
+            if (e.initial.file.is_relative()) e.initial.file = base / e.initial.file;
+            init_resolved = {{"file", e.initial.file.string()}};
+        } else {
+            throw InputError("vegetation.initial must be \"bare\", {\"random\": {...}} or "
+                             "{\"file\": \"stems.csv\"}, got " +
+                             in.dump());
+        }
+    }
+    e.snapshot_interval_years =
+        static_cast<int>(get_integer(sim, "snapshot_interval_years", 5, "simulation", 1, 100000));
+    if (sim.contains("target_basal_area_m2_per_ha"))
+        e.target_basal_area_m2_per_ha =
+            get_number(sim, "target_basal_area_m2_per_ha", 0, "simulation", 0.001, 500);
+    e.resolved["vegetation"] = {{"ecosystem", eco.string()},
+                                {"competition", comp},
+                                {"shading", sh},
+                                {"extinction_coefficient", e.extinction},
+                                {"plant_cell_m", e.plant_cell_m},
+                                {"canopy_interval_days", e.canopy_interval_days},
+                                {"initial", init_resolved}};
+    e.resolved["simulation"] = {{"years", e.years},
+                                {"seed", e.seed},
+                                {"snapshot_interval_years", e.snapshot_interval_years}};
+    if (e.target_basal_area_m2_per_ha)
+        e.resolved["simulation"]["target_basal_area_m2_per_ha"] = *e.target_basal_area_m2_per_ha;
+    return e;
+}
+
+} // namespace ecoterra::eco

@@ -1,0 +1,76 @@
+#include "ecoterra/eco/stand_metrics.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace ecoterra::eco {
+
+namespace {
+constexpr double kM2PerHa = 1e4;
+}
+
+StandMetrics stand_metrics(const std::vector<double>& dbh, double area_m2, double width_cm) {
+    StandMetrics m;
+    m.class_width_cm = width_cm;
+    m.area_ha = area_m2 / kM2PerHa;
+    double sum = 0, sum2 = 0;
+    for (const double d : dbh) {
+        if (!(d > 0)) continue;
+        ++m.stems;
+        sum += d;
+        sum2 += d * d;
+        const auto cls = static_cast<std::size_t>(std::floor(d * 100.0 / width_cm));
+        if (m.histogram.size() <= cls) m.histogram.resize(cls + 1, 0);
+        ++m.histogram[cls];
+    }
+    if (m.stems == 0 || !(m.area_ha > 0)) return m;
+    const double n = static_cast<double>(m.stems);
+    m.basal_area_m2_per_ha = 0.25 * std::numbers::pi * sum2 / m.area_ha;
+    m.stems_per_ha = n / m.area_ha;
+    m.mean_dbh_m = sum / n;
+    m.quadratic_mean_dbh_m = std::sqrt(sum2 / n);
+    m.sdi_per_ha =
+        m.stems_per_ha *
+        std::pow(m.quadratic_mean_dbh_m * 100.0 / kReinekeReferenceDbhCm, kReinekeExponent);
+    // Log-linear least squares over non-empty classes.
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    int k = 0;
+    for (std::size_t i = 0; i < m.histogram.size(); ++i) {
+        if (m.histogram[i] == 0) continue;
+        const double x = (static_cast<double>(i) + 0.5) * width_cm;
+        const double y = std::log(static_cast<double>(m.histogram[i]));
+        sx += x, sy += y, sxx += x * x, sxy += x * y, syy += y * y;
+        ++k;
+    }
+    if (k >= 3) {
+        const double vx = sxx - sx * sx / k, vy = syy - sy * sy / k, cxy = sxy - sx * sy / k;
+        const double slope = cxy / vx;
+        m.rate_per_cm = -slope;
+        m.intercept = (sy - slope * sx) / k;
+        m.q_per_class = std::exp(m.rate_per_cm * width_cm);
+        m.r2 = vy > 0 ? cxy * cxy / (vx * vy) : 1.0;
+        m.fit_valid = true;
+    }
+    return m;
+}
+
+nlohmann::json to_json(const StandMetrics& m) {
+    nlohmann::json fit = nullptr;
+    if (m.fit_valid)
+        fit = {{"rate_per_cm", m.rate_per_cm},
+               {"q_per_5cm", std::exp(m.rate_per_cm * 5.0)},
+               {"r2", m.r2},
+               {"intercept_ln_count", m.intercept}};
+    return {{"area_ha", m.area_ha},
+            {"stems", m.stems},
+            {"basal_area_m2_per_ha", m.basal_area_m2_per_ha},
+            {"basal_area_ft2_per_acre", m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa},
+            {"stems_per_ha", m.stems_per_ha},
+            {"mean_dbh_m", m.mean_dbh_m},
+            {"quadratic_mean_dbh_m", m.quadratic_mean_dbh_m},
+            {"reineke_sdi_per_ha", m.sdi_per_ha},
+            {"dbh_histogram", {{"class_width_cm", m.class_width_cm}, {"counts", m.histogram}}},
+            {"exponential_fit", fit}};
+}
+
+} // namespace ecoterra::eco

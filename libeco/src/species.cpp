@@ -215,10 +215,15 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     std::set<std::string> seen;
     int index = 0;
     for (const auto& e : j.at("Species")) {
-        const std::string label =
-            e.is_object() && e.contains("Species Name") && e.at("Species Name").is_string()
-                ? "'" + e.at("Species Name").get<std::string>() + "'"
-                : "#" + std::to_string(index);
+        std::string label;
+        if (e.is_object() && e.contains("Species Name") && e.at("Species Name").is_string()) {
+            label = e.at("Species Name").get<std::string>();
+            label.insert(label.begin(), '\'');
+            label.push_back('\'');
+        } else {
+            label = std::to_string(index);
+            label.insert(label.begin(), '#');
+        }
         try {
             Species s = parse_species(e);
             if (!seen.insert(s.mesh_file).second)

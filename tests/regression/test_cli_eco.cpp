@@ -1,0 +1,219 @@
+// The coupled engine end to end: budgets, determinism across thread counts, bit-exact resume,
+// the issue's invocations as written, and bad input.
+#include "support/run_cli.hpp"
+
+#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <omp.h>
+
+using namespace ecoterra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A 40 m x 40 m scene on the shipped broadleaf ecosystem, with an initial stand.
+json small_scene(int years, const std::string& competition = "coupled") {
+    return {{"terrain",
+             {{"generate",
+               {{"method", "fbm"},
+                {"size", 20},
+                {"cell_size_m", 2.0},
+                {"seed", 5},
+                {"params", {{"D", 2.3}, {"rms_m", 0.8}}}}}}},
+            {"soil",
+             {{"uniform", {{"sand_pct", 15}, {"silt_pct", 70}, {"clay_pct", 15}, {"ph", 6.2}}}}},
+            {"climate", {{"preset", "humid_subtropical"}}},
+            {"vegetation",
+             {{"ecosystem",
+               (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string()},
+              {"competition", competition},
+              {"initial", {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}}}}},
+            {"simulation", {{"years", years}, {"seed", 9}, {"snapshot_interval_years", 2}}}};
+}
+
+eco::EcoScene load(const json& j) {
+    return eco::load_eco_scene(j, test::data_dir());
+}
+
+void write(const fs::path& p, const std::string& text) {
+    std::ofstream(p) << text;
+}
+
+} // namespace
+
+TEST_CASE("ecosystem: budgets close, plants live, die and recruit", "[eco][engine]") {
+    const auto sc = load(small_scene(6));
+    eco::Ecosystem e(sc);
+    const std::size_t n0 = e.plants().size();
+    REQUIRE(n0 == 96); // 600 per ha on 0.16 ha
+    for (int y = 0; y < 6; ++y) e.run_year();
+    CHECK(e.years_done() == 6);
+    CHECK(e.days_done() == 6 * 365);
+    CHECK(e.carbon_residual_relative() < 1e-12);
+    const auto& h = e.hydrology();
+    CHECK(std::abs(h.cumulative_residual_m3()) < 1e-9 * h.cumulative_throughput_m3());
+    const auto& t = e.yearly();
+    double births = 0, deaths = 0, prod = 0;
+    for (std::size_t k = 0; k < t.names.size(); ++k) {
+        double sum = 0;
+        for (double v : t.columns[k]) sum += v;
+        if (t.names[k] == "births") births = sum;
+        if (t.names[k].rfind("deaths_", 0) == 0) deaths += sum;
+        if (t.names[k] == "production_kg") prod = sum;
+    }
+    CHECK(births > 0);
+    CHECK(prod > 0);
+    CHECK(e.plants().size() == n0 + static_cast<std::size_t>(births - deaths));
+    // Plants transpire: the hydrology saw a positive transpiration.
+    double tr = 0;
+    for (std::size_t k = 0; k < e.daily().names.size(); ++k)
+        if (e.daily().names[k] == "transpiration_mm")
+            for (double v : e.daily().columns[k]) tr += v;
+    CHECK(tr > 100.0); // mm over 6 years
+    for (const auto& p : e.plants()) {
+        CHECK(p.dbh_m > 0);
+        CHECK(p.reserve_kg > 0);
+        CHECK(p.height_m > eco::kBreastHeightM - 1e-12);
+    }
+}
+
+TEST_CASE("ecosystem: same seed, same plants on 1 and 2 threads", "[eco][engine]") {
+    const auto sc = load(small_scene(3));
+    auto grow = [&](int threads) {
+        omp_set_num_threads(threads);
+        eco::Ecosystem e(sc);
+        for (int y = 0; y < 3; ++y) e.run_year();
+        return e.plants();
+    };
+    const auto a = grow(1), b = grow(2);
+    omp_set_num_threads(2);
+    REQUIRE(a.size() == b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k].id == b[k].id);
+        CHECK(a[k].dbh_m == b[k].dbh_m);
+        CHECK(a[k].reserve_kg == b[k].reserve_kg);
+    }
+}
+
+TEST_CASE("ecosystem: light-only kills the smaller of overlapping crowns", "[eco][engine]") {
+    const auto sc = load(small_scene(4, "light_only"));
+    eco::Ecosystem e(sc);
+    for (int y = 0; y < 4; ++y) e.run_year();
+    const auto& p = e.plants();
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t j = i + 1; j < p.size(); ++j)
+            CHECK(std::hypot(p[i].x_m - p[j].x_m, p[i].y_m - p[j].y_m) >=
+                  p[i].crown_radius_m + p[j].crown_radius_m);
+    double overlap = 0;
+    for (std::size_t k = 0; k < e.yearly().names.size(); ++k)
+        if (e.yearly().names[k] == "deaths_overlap")
+            for (double v : e.yearly().columns[k]) overlap += v;
+    CHECK(overlap > 0);
+}
+
+TEST_CASE("run: resume continues bit for bit", "[eco][cli][resume]") {
+    test::TempDir dir;
+    write(dir / "scene.json", small_scene(4).dump());
+    auto r = test::run(dir, "run scene.json -o full.h5 --no-pictures");
+    REQUIRE(r.code == 0);
+    r = test::run(dir, "run scene.json -o part.h5 --years 2 --no-pictures");
+    REQUIRE(r.code == 0);
+    r = test::run(dir, "run --resume part.h5 --years 2 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
+    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
+    CHECK(a.year == 4);
+    CHECK(b.year == 4);
+    CHECK(a.id == b.id);
+    CHECK(a.dbh_m == b.dbh_m);
+    CHECK(a.carbohydrate_kg == b.carbohydrate_kg);
+    CHECK(a.x_m == b.x_m);
+    // The same scene with a different seed is refused, and the run file is left as it was.
+    const auto before = fs::file_size(dir / "part.h5");
+    r = test::run(dir, "run scene.json --resume part.h5 --seed 10 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("another scene"));
+    CHECK(fs::file_size(dir / "part.h5") == before);
+    // A file that is not a run.
+    write(dir / "junk.h5", "not hdf5");
+    r = test::run(dir, "run --resume junk.h5 --years 1");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("junk.h5"));
+}
+
+TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
+    test::TempDir dir;
+    const std::string q = (test::data_dir() / "scenes/quickstart.json").string();
+    auto r = test::run(dir, "run " + q + " -o run.h5 --years 3");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK(fs::exists(dir / "run.pictures/stems.png"));
+    CHECK(fs::exists(dir / "run.pictures/dbh_histogram.png"));
+    CHECK(fs::exists(dir / "run.snapshots/0000.h5"));
+    r = test::run(dir, "run " + q +
+                           " -o light.h5 --years 3 --set vegetation.competition=light_only "
+                           "--no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK_FALSE(fs::exists(dir / "light.pictures"));
+    r = test::run(dir, "run --resume run.h5 --years 2 --no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("5 in total"));
+    r = test::run(dir, "stand run.h5 --json stand.json");
+    REQUIRE(r.code == 0);
+    const json st = json::parse(terrain::io::read_text(dir / "stand.json"));
+    CHECK(st["year"] == 5);
+    for (const char* k : {"basal_area_m2_per_ha", "stems_per_ha", "dbh_histogram"})
+        CHECK(st.contains(k));
+    CHECK(st["dbh_histogram"]["class_width_cm"] == 5.0);
+    CHECK(st.contains("exponential_fit"));
+    r = test::run(dir, "export vegetation run.h5 -o stems.csv");
+    REQUIRE(r.code == 0);
+    std::ifstream csv(dir / "stems.csv");
+    std::string header;
+    std::getline(csv, header);
+    CHECK(header == "x_m,y_m,z_m,species,dbh_cm,height_m,crown_radius_m");
+    std::size_t rows = 0;
+    for (std::string line; std::getline(csv, line);) ++rows;
+    CHECK(rows == eco::read_snapshot_plants(dir / "run.h5", -1).id.size());
+}
+
+TEST_CASE("run: bad input names the file, species and key", "[eco][cli][errors]") {
+    test::TempDir dir;
+    json eco = json::parse(
+        terrain::io::read_text(test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json"));
+    eco["Species"][2]["physiology"]["shade"]["tolerance"] = 0;
+    write(dir / "bad_eco.json", eco.dump());
+    json s = small_scene(1);
+    s["vegetation"]["ecosystem"] = "bad_eco.json";
+    write(dir / "s1.json", s.dump());
+    auto r = test::run(dir, "run s1.json -o out.h5");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("bad_eco.json") && Catch::Contains("'Pecan'") &&
+                          Catch::Contains("physiology.shade.tolerance"));
+    CHECK_FALSE(fs::exists(dir / "out.h5"));
+    write(dir / "notjson.json", "{ Species: [");
+    s["vegetation"]["ecosystem"] = "notjson.json";
+    write(dir / "s2.json", s.dump());
+    r = test::run(dir, "run s2.json -o out.h5");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("notjson.json") && Catch::Contains("not valid JSON"));
+    write(dir / "stems.csv", "x_m,y_m,species,dbh_cm\n10,10,Birch,12\n500,10,Birch,12\n");
+    s["vegetation"]["ecosystem"] =
+        (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string();
+    s["vegetation"]["initial"] = {{"file", "stems.csv"}};
+    write(dir / "s3.json", s.dump());
+    r = test::run(dir, "run s3.json -o out.h5");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out,
+               Catch::Contains("stems.csv line 3") && Catch::Contains("outside the terrain"));
+    r = test::run(dir, "run s3.json -o out.h5 --set vegetation.competition=light");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("vegetation.competition"));
+    CHECK_FALSE(fs::exists(dir / "out.h5"));
+}

@@ -1,0 +1,288 @@
+// Hand-checked cases for each plant process (issue 4 s8): shading (paper 002 Fig 2), root-water
+// sharing, starvation, the dispersal kernel, allometry, stand metrics and species-file errors.
+#include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/eco/dispersal.hpp"
+#include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/roots.hpp"
+#include "ecoterra/eco/stand_metrics.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+using namespace ecoterra;
+using namespace ecoterra::eco;
+
+namespace {
+terrain::GridSpec grid(int n) {
+    terrain::GridSpec g;
+    g.nx = g.ny = n;
+    g.cell_size_m = 1.0;
+    return g;
+}
+/// A crown made of explicit cells (one span per cell).
+void add_cells(CrownSet& c, std::initializer_list<std::pair<int, int>> cells) {
+    if (c.offset.empty()) c.offset.push_back(0);
+    for (auto [x, y] : cells) c.spans.push_back({y, x, x});
+    c.offset.push_back(static_cast<std::uint32_t>(c.spans.size()));
+    c.cells.push_back(static_cast<std::int32_t>(cells.size()));
+}
+} // namespace
+
+TEST_CASE("shading: the paper's Fig 2 (A has one of four cells under taller B)", "[eco][canopy]") {
+    const auto g = grid(4);
+    CrownSet c;
+    c.clear();
+    add_cells(c, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}); // A, 2x2
+    add_cells(c, {{1, 1}, {2, 1}, {1, 2}, {2, 2}}); // B, 2x2, shares (1,1)
+    terrain::RasterD ground;
+    const auto s =
+        compute_shading(g, c, {5.0, 12.0}, {4.0, 4.0}, ShadingMode::blocking, 0.5, &ground);
+    CHECK(s[0] == Approx(0.25));
+    CHECK(s[1] == 0.0);
+    CHECK(ground(1, 1) == 1.0);
+    CHECK(ground(3, 3) == 0.0);
+    // Equal heights do not shade each other.
+    const auto eq =
+        compute_shading(g, c, {7.0, 7.0}, {4.0, 4.0}, ShadingMode::blocking, 0.5, nullptr);
+    CHECK(eq[0] == 0.0);
+    CHECK(eq[1] == 0.0);
+    // Beer-Lambert: the shared cell transmits exp(-k LAI) instead of nothing.
+    const auto b =
+        compute_shading(g, c, {5.0, 12.0}, {4.0, 4.0}, ShadingMode::beer_lambert, 0.5, nullptr);
+    CHECK(b[0] == Approx(0.25 * (1 - std::exp(-0.5 * 4.0))).epsilon(1e-12));
+}
+
+TEST_CASE("crowns cover the cells whose centres lie within the radius, and the stem cell",
+          "[eco][canopy]") {
+    const auto g = grid(20);
+    CrownSet c;
+    c.clear();
+    c.add(g, 10.0, 10.0, 3.0); // centred on a cell corner
+    c.add(g, 5.5, 5.5, 0.1);   // a seedling: only its own cell
+    c.add(g, 0.2, 19.8, 2.0);  // at a corner: clipped by the grid
+    int brute = 0;
+    for (int j = 0; j < 20; ++j)
+        for (int i = 0; i < 20; ++i) brute += std::hypot(g.x_of(i) - 10.0, g.y_of(j) - 10.0) <= 3.0;
+    CHECK(c.cells[0] == brute);
+    CHECK(c.cells[1] == 1);
+    CHECK(c.spans[c.offset[1]].row == 5);
+    CHECK(c.spans[c.offset[1]].x0 == 5);
+    int corner = 0;
+    for (int j = 0; j < 20; ++j)
+        for (int i = 0; i < 20; ++i) corner += std::hypot(g.x_of(i) - 0.2, g.y_of(j) - 19.8) <= 2.0;
+    CHECK(c.cells[2] == corner);
+}
+
+TEST_CASE("root water: a cell shared by two root balls is split by their requests",
+          "[eco][roots]") {
+    // Plant 0 roots in cells 0 and 1, plant 1 in cell 1 only (a 2x1 hydrology grid).
+    CrownSet c;
+    c.clear();
+    add_cells(c, {{0, 0}, {1, 0}});
+    add_cells(c, {{1, 0}});
+    CellMap map;
+    map.hydro_nx = 2;
+    std::vector<double> request(2, 0.0);
+    scatter_demand(c, {2.0, 3.0}, map, request); // m3
+    CHECK(request[0] == Approx(1.0));
+    CHECK(request[1] == Approx(4.0)); // 1 from plant 0, 3 from plant 1
+    // Cell 1 can supply only 2 m3 of its 4: both plants get half of what they asked there.
+    std::vector<double> frac;
+    gather_supply(c, map, {1.0, 0.5}, frac);
+    CHECK(frac[0] == Approx(0.75)); // (1 + 0.5) / 2 cells
+    CHECK(frac[1] == Approx(0.5));
+    // Water delivered = supply: 1 + 0.5 from plant 0's cells, 1.5 for plant 1 = 3 m3 = 1 + 2.
+    CHECK(2.0 * frac[0] + 3.0 * frac[1] == Approx(1.0 + 2.0));
+    // A plant grid twice as fine maps four plant cells onto one hydrology cell.
+    CellMap fine;
+    fine.factor = 2;
+    fine.hydro_nx = 1;
+    CHECK(fine.hydro(1, 1) == 0);
+    CHECK(fine.hydro(3, 1) == 1);
+}
+
+TEST_CASE("carbon: a plant in deep shade drains its reserve and starves on the day predicted",
+          "[eco][growth]") {
+    Species s;
+    s.shade = {0.0, 0.2};
+    Plant p;
+    p.dbh_m = 0.05;
+    allometry::apply(s, p);
+    p.wood_kg = allometry::stem_mass_kg(s, p.dbh_m);
+    p.reserve_kg = 0.5;
+    const double g = shade_factor(s.shade, 1.0); // fully shaded: exp(-12.5)
+    CHECK(g == Approx(std::exp(-12.5)));
+    const double tmean = 20.0; // respiration at its reference rate
+    const double daily_resp =
+        s.respiration_kg_per_m2_leaf_per_m_per_yr / 365.0 * p.leaf_area_m2 * p.height_m;
+    const double daily_prod = s.max_production_kg_per_m2_leaf_per_day * p.leaf_area_m2 * g;
+    const int expected = static_cast<int>(std::ceil(0.5 / (daily_resp - daily_prod)));
+    int day = 0;
+    double wood0 = p.wood_kg;
+    for (;;) {
+        ++day;
+        const auto c = carbon_day(s, p, g, 1.0, tmean);
+        if (c.starved) break;
+        REQUIRE(day < 100000);
+    }
+    CHECK(day == expected);
+    CHECK(p.wood_kg == wood0); // no wood was built from a deficit
+    // The same plant in full light fills its reserve first, then builds wood.
+    Plant q;
+    q.dbh_m = 0.05;
+    allometry::apply(s, q);
+    q.wood_kg = allometry::stem_mass_kg(s, q.dbh_m);
+    const auto c = carbon_day(s, q, 1.0, 1.0, tmean);
+    CHECK(c.to_reserve_kg > 0);
+    CHECK(c.production_kg - c.maintenance_kg ==
+          Approx(c.to_reserve_kg + c.to_wood_kg + c.growth_respiration_kg));
+}
+
+TEST_CASE("carbon: a full reserve carries a plant through a drought that kills a low one",
+          "[eco][growth]") {
+    Species s;
+    auto make = [&](double fill) {
+        Plant p;
+        p.dbh_m = 0.1;
+        allometry::apply(s, p);
+        p.wood_kg = allometry::stem_mass_kg(s, p.dbh_m);
+        p.reserve_kg = fill * s.reserve_capacity_kg_per_m2_leaf * p.leaf_area_m2;
+        return p;
+    };
+    Plant full = make(1.0), low = make(0.1);
+    const double g = water_factor(s.water, 0.0); // no water: exp(-0.5/0.09)
+    bool full_died = false, low_died = false;
+    for (int d = 0; d < 120; ++d) {
+        full_died = full_died || carbon_day(s, full, g, 1.0, 25.0).starved;
+        low_died = low_died || carbon_day(s, low, g, 1.0, 25.0).starved;
+    }
+    CHECK(low_died);
+    CHECK_FALSE(full_died);
+}
+
+TEST_CASE("growth factors and allometry", "[eco][growth]") {
+    Species s;
+    CHECK(shade_factor({0.2, 0.5}, 0.1) == 1.0);
+    CHECK(shade_factor({0.2, 0.5}, 0.7) == Approx(std::exp(-0.5)));
+    CHECK(water_factor({1.0, 0.3}, 0.7) == Approx(std::exp(-0.5)));
+    CHECK(ph_factor({6.5, 1.0}, 4.5) == Approx(std::exp(-2.0)));
+    CHECK(texture_factor(hydro::Texture::silt_loam, 30, 20, 65, 15) == 1.0);
+    CHECK(texture_factor(hydro::Texture::silt_loam, 30, 85, 10, 5) < 0.2);
+    const auto c = texture_centroid(hydro::Texture::clay);
+    CHECK(c[0] + c[1] + c[2] == Approx(100.0));
+    CHECK(hydro::classify_texture(c[0], c[1], c[2]) == hydro::Texture::clay);
+    CHECK(allometry::height_m(s, 0.0) == Approx(kBreastHeightM));
+    CHECK(allometry::height_m(s, 10.0) == Approx(s.max_height_m).epsilon(1e-6));
+    for (double d : {0.005, 0.1, 0.3, 0.8, 2.0}) {
+        const double m = allometry::stem_mass_kg(s, d);
+        CHECK(allometry::dbh_from_stem_mass(s, m, 0.05) == Approx(d).epsilon(1e-10));
+    }
+    // Crown radius at 30 cm within the published 2.2-2.8 m (reference forest.md s2).
+    CHECK(allometry::crown_radius_m(s, 0.3) > 2.2);
+    CHECK(allometry::crown_radius_m(s, 0.3) < 2.9);
+}
+
+TEST_CASE("dispersal: sampled distances follow the two-part exponential kernel",
+          "[eco][dispersal]") {
+    DispersalKernel k{10.0, 80.0, 0.2};
+    Rng rng(7, "test");
+    constexpr int kN = 200000;
+    double mean = 0;
+    int beyond50 = 0;
+    for (int i = 0; i < kN; ++i) {
+        const double d = sample_dispersal_distance(k, rng);
+        mean += d;
+        beyond50 += d > 50;
+    }
+    mean /= kN;
+    CHECK(mean == Approx(0.8 * 10 + 0.2 * 80).epsilon(0.01));
+    const double p50 = 0.8 * std::exp(-50.0 / 10) + 0.2 * std::exp(-50.0 / 80);
+    CHECK(beyond50 / double(kN) == Approx(p50).epsilon(0.02));
+    // Seeds scale with basal area and vigor, normalised at 30 cm.
+    Species s;
+    CHECK(seeds_per_year(s, 0.3, 1.0) == Approx(s.seeds_per_yr_at_30cm));
+    CHECK(seeds_per_year(s, 0.6, 0.5) == Approx(2.0 * s.seeds_per_yr_at_30cm));
+    // Poisson draws have the right mean on both branches.
+    for (double lam : {3.0, 120.0}) {
+        double sum = 0;
+        for (int i = 0; i < 20000; ++i) sum += static_cast<double>(poisson(rng, lam));
+        CHECK(sum / 20000 == Approx(lam).epsilon(0.02));
+    }
+}
+
+TEST_CASE("stand metrics: basal area, Reineke SDI and an exact exponential", "[eco][stand]") {
+    // 100 stems of 30 cm on 1 ha: BA = 100 pi 0.15^2 = 7.069 m2/ha.
+    std::vector<double> d(100, 0.30);
+    auto m = stand_metrics(d, 1e4);
+    CHECK(m.basal_area_m2_per_ha == Approx(100 * std::numbers::pi * 0.0225));
+    CHECK(m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa == Approx(30.79).epsilon(1e-3));
+    CHECK(m.sdi_per_ha == Approx(100 * std::pow(30.0 / 25.4, 1.605)));
+    CHECK_FALSE(m.fit_valid);
+    // Counts 64, 32, 16, 8, 4 per 5 cm class: q = 2 exactly, R2 = 1.
+    std::vector<double> e;
+    int n = 64;
+    for (int cls = 0; cls < 5; ++cls, n /= 2)
+        for (int k = 0; k < n; ++k) e.push_back((cls * 5 + 2.5) / 100.0);
+    m = stand_metrics(e, 1e4);
+    REQUIRE(m.fit_valid);
+    CHECK(m.q_per_class == Approx(2.0));
+    CHECK(m.rate_per_cm == Approx(std::log(2.0) / 5));
+    CHECK(m.r2 == Approx(1.0));
+    CHECK(m.histogram == std::vector<std::int64_t>{64, 32, 16, 8, 4});
+}
+
+TEST_CASE("species files: MAVS entries load with reported defaults; bad values are named",
+          "[eco][species]") {
+    using nlohmann::json;
+    const json mavs = {{"Texture Inputs", "x.json"},
+                       {"Species",
+                        {{{"Mesh File", "a.obj"},
+                          {"Species Name", "Oak"},
+                          {"Num New Per Area", 0.001},
+                          {"Growth Rate", 0.1},
+                          {"Max Height", 20.0},
+                          {"Min Height", 10.0},
+                          {"Mesh Height", 1.0},
+                          {"Height To Diameter Ratio", 0.05},
+                          {"Max Age", 50},
+                          {"Rotate Mesh", false}}}}};
+    const auto def = parse_ecosystem(mavs, "mavs.json");
+    REQUIRE(def.species.size() == 1);
+    CHECK(def.species[0].max_height_m == 20.0);
+    CHECK(def.species[0].maturity_age_yr == 10.0); // 0.2 x Max Age
+    bool noted = false;
+    for (const auto& n : def.notes) noted = noted || n.find("defaults for") != std::string::npos;
+    CHECK(noted);
+    auto bad = [&](const std::string& key, const json& value, const std::string& expect) {
+        json j = mavs;
+        if (key.rfind("physiology.", 0) == 0) {
+            json& p = j["Species"][0]["physiology"];
+            const std::string sub = key.substr(11);
+            const auto dot = sub.find('.');
+            if (dot == std::string::npos)
+                p[sub] = value;
+            else
+                p[sub.substr(0, dot)][sub.substr(dot + 1)] = value;
+        } else {
+            j["Species"][0][key] = value;
+        }
+        try {
+            parse_ecosystem(j, "eco.json");
+            FAIL("no error for " << key);
+        } catch (const InputError& e) {
+            const std::string msg = e.what();
+            CHECK_THAT(msg, Catch::Contains("eco.json") && Catch::Contains("'Oak'") &&
+                                Catch::Contains(expect));
+        }
+    };
+    bad("Max Height", -3.0, "Max Height");
+    bad("physiology.shade.tolerance", 0.0, "physiology.shade.tolerance");
+    bad("physiology.texture", "peat", "unknown USDA texture class 'peat'");
+    bad("physiology.leaf_area_per_crown_areaa", 3.0, "did you mean");
+    json missing = mavs;
+    missing["Species"][0].erase("Max Age");
+    CHECK_THROWS_WITH(parse_ecosystem(missing, "eco.json"),
+                      Catch::Contains("missing key 'Max Age'"));
+}

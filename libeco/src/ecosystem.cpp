@@ -198,6 +198,7 @@ void Ecosystem::place_initial_plants() {
 }
 
 void Ecosystem::refresh_canopy() {
+    remove_dead();
     const auto& sp = m_scene.ecosystem.species;
     const auto n = static_cast<std::int64_t>(m_plants.size());
     if (m_scene.competition == Competition::coupled) {
@@ -241,12 +242,18 @@ bool Ecosystem::step_day() {
         dw.u2_m_per_s = w.u2_m_per_s;
         dw.rs_mj = w.rs_mj;
         const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
-        std::vector<double> phen(species.size());
-        for (std::size_t s = 0; s < species.size(); ++s) phen[s] = phenology(species[s], w.doy);
+        const double tmean = 0.5 * (w.tmin_c + w.tmax_c);
+        const double q10 = std::pow(kQ10, (tmean - kRespirationRefC) / 10.0);
+        std::vector<double> phen(species.size()), ftemp(species.size());
+        for (std::size_t s = 0; s < species.size(); ++s) {
+            phen[s] = phenology(species[s], w.doy);
+            ftemp[s] = temperature_factor(species[s], tmean);
+        }
         const std::size_t n = m_plants.size();
         m_demand.assign(n, 0.0);
         for (std::size_t k = 0; k < n; ++k) {
             const Plant& p = m_plants[k];
+            if (!p.alive) continue;
             m_demand[k] = species[p.species].transpiration_per_leaf_area * p.leaf_area_m2 *
                           phen[p.species] * et0_m;
         }
@@ -272,11 +279,11 @@ bool Ecosystem::step_day() {
             m_fraction.assign(n, 1.0);
         else
             gather_supply(m_crowns, m_map, m_ratio, m_fraction);
-        const double tmean = 0.5 * (w.tmin_c + w.tmax_c);
         std::vector<CarbonDay> cd(n);
 #pragma omp parallel for schedule(static)
         for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
+            if (!p.alive) continue;
             const Species& s = species[p.species];
             const double ph = phen[p.species];
             const double g = shade_factor(s.shade, p.shade_fraction) *
@@ -286,10 +293,8 @@ bool Ecosystem::step_day() {
                 p.growth_sum += g;
                 p.growth_days += 1;
             }
-            cd[static_cast<std::size_t>(k)] = carbon_day(s, p, g, ph, tmean);
+            cd[static_cast<std::size_t>(k)] = carbon_day(s, p, g, ph, ftemp[p.species], q10);
         }
-        std::vector<char> dead(n, 0);
-        bool any_dead = false;
         for (std::size_t k = 0; k < n; ++k) {
             m_sum.production += cd[k].production_kg;
             m_sum.maintenance += cd[k].maintenance_kg;
@@ -297,12 +302,11 @@ bool Ecosystem::step_day() {
             m_sum.demand_m3 += m_demand[k];
             m_sum.supplied_m3 += m_demand[k] * m_fraction[k];
             if (cd[k].starved) {
-                dead[k] = 1;
-                any_dead = true;
+                // Dead from today: no more demand or carbon; removed at the next refresh.
+                m_plants[k].alive = false;
                 m_sum.deaths_starvation += 1;
             }
         }
-        if (any_dead) remove_dead(dead);
         if (m_days_done % m_scene.canopy_interval_days == 0) refresh_canopy();
     } else {
         f = m_hydro->step(w, nullptr);
@@ -324,19 +328,16 @@ void Ecosystem::run_year() {
     }
 }
 
-void Ecosystem::remove_dead(const std::vector<char>& dead) {
+void Ecosystem::remove_dead() {
     std::size_t out = 0;
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
-        if (dead[k]) {
+        if (!m_plants[k].alive) {
             m_sum.dead_carbon += m_plants[k].wood_kg + m_plants[k].reserve_kg;
             continue;
         }
         m_plants[out++] = m_plants[k];
     }
     m_plants.resize(out);
-    // Crowns follow the plant order: rebuild them so the dead no longer draw water. Their shade
-    // lingers until the next canopy refresh (at most canopy_interval_days).
-    rebuild_crowns();
 }
 
 void Ecosystem::rebuild_crowns() {
@@ -380,20 +381,18 @@ void Ecosystem::year_end_coupled() {
     const auto& species = m_scene.ecosystem.species;
     // Ageing and mortality (maximum age, background), in plant order.
     std::vector<char> dead(m_plants.size(), 0);
-    bool any = false;
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         Plant& p = m_plants[k];
         const Species& s = species[p.species];
-        p.age_yr += 1;
         const double u = m_rng_mort.uniform();
+        if (!p.alive) continue; // starved this year, counted then
+        p.age_yr += 1;
         if (p.age_yr >= s.max_age_yr) {
             dead[k] = 1;
             m_sum.deaths_age += 1;
-            any = true;
         } else if (u < s.background_mortality_per_yr) {
             dead[k] = 1;
             m_sum.deaths_background += 1;
-            any = true;
         }
     }
     // Seeds of the survivors.
@@ -402,7 +401,7 @@ void Ecosystem::year_end_coupled() {
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         const Plant& p = m_plants[k];
         const Species& s = species[p.species];
-        if (dead[k] || p.age_yr < s.maturity_age_yr) continue;
+        if (dead[k] || !p.alive || p.age_yr < s.maturity_age_yr) continue;
         const double vigor = p.growth_days > 0 ? p.growth_sum / p.growth_days : 0.0;
         const std::int64_t n = poisson(m_rng_seed, seeds_per_year(s, p.dbh_m, vigor));
         m_sum.seeds += static_cast<double>(n);
@@ -434,17 +433,9 @@ void Ecosystem::year_end_coupled() {
         }
     }
     for (auto& p : m_plants) p.growth_sum = p.growth_days = 0;
-    if (any) {
-        std::size_t out = 0;
-        for (std::size_t k = 0; k < m_plants.size(); ++k) {
-            if (dead[k]) {
-                m_sum.dead_carbon += m_plants[k].wood_kg + m_plants[k].reserve_kg;
-                continue;
-            }
-            m_plants[out++] = m_plants[k];
-        }
-        m_plants.resize(out);
-    }
+    for (std::size_t k = 0; k < m_plants.size(); ++k)
+        if (dead[k]) m_plants[k].alive = false;
+    remove_dead();
     for (auto& r : recruits) {
         m_sum.recruit_carbon += r.wood_kg + r.reserve_kg;
         m_plants.push_back(r);

@@ -69,12 +69,17 @@ double temperature_factor(const Species& s, double t) {
 }
 
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double tmean_c) {
+    return carbon_day(s, p, growth, phen, temperature_factor(s, tmean_c),
+                      std::pow(kQ10, (tmean_c - kRespirationRefC) / 10.0));
+}
+
+CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double f_temp,
+                     double q10_factor) {
     CarbonDay c;
     const double la = p.leaf_area_m2;
-    c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen *
-                      temperature_factor(s, tmean_c);
-    c.maintenance_kg = s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * p.height_m *
-                       std::pow(kQ10, (tmean_c - kRespirationRefC) / 10.0);
+    c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen * f_temp;
+    c.maintenance_kg =
+        s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * p.height_m * q10_factor;
     const double net = c.production_kg - c.maintenance_kg;
     const double cap = s.reserve_capacity_kg_per_m2_leaf * la;
     if (net >= 0) {

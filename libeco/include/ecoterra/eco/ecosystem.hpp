@@ -65,7 +65,7 @@ private:
     void year_end_coupled();
     void year_end_light_only();
     void year_end_common();
-    void remove_dead(const std::vector<char>& dead);
+    void remove_dead();
 
     EcoScene m_scene;
     terrain::GridSpec m_pgrid;

@@ -47,5 +47,9 @@ struct CarbonDay {
 /// One day of the carbohydrate balance. `growth` is the growth percentage G, `light_phen` the
 /// product phen * f_T, `leaf_area_full` the in-leaf leaf area. Updates reserve and wood.
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double tmean_c);
+/// The same with the day's temperature responses precomputed: f_T of the species and
+/// Q10^((T - 20)/10).
+CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double f_temp,
+                     double q10_factor);
 
 } // namespace ecoterra::eco

@@ -38,6 +38,7 @@ struct Plant {
     // Accumulated over the current year:
     double growth_sum = 0; ///< sum of the daily growth percentage (0..1) over leaf-on days
     double growth_days = 0;
+    bool alive = true; ///< false from a starvation death until the next canopy refresh removes it
 };
 
 namespace allometry {

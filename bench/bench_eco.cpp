@@ -1,0 +1,77 @@
+// Ecosystem benchmarks: plant-years/s and simulated years per wall second, coupled and light-only,
+// for the 1 ha quickstart scene (100 years) and a 1 km x 1 km scene (1 m plant grid, 8 m
+// hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year time it implies).
+// Usage: bench_eco [--years-1km N] [--skip-1km]
+#include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+using namespace ecoterra;
+using nlohmann::json;
+
+namespace {
+
+struct Result {
+    double seconds = 0, plant_years = 0;
+    std::size_t plants = 0;
+    double ba = 0;
+};
+
+Result grow(const eco::EcoScene& sc, int years) {
+    const auto t0 = std::chrono::steady_clock::now();
+    eco::Ecosystem e(sc);
+    Result r;
+    for (int y = 0; y < years; ++y) {
+        e.run_year();
+        r.plant_years += static_cast<double>(e.plants().size());
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.plants = e.plants().size();
+    r.ba = e.stand().basal_area_m2_per_ha;
+    return r;
+}
+
+void report(const char* name, const char* mode, int years, const Result& r) {
+    std::printf("%-34s %-10s %4d yr %8.2f s %10.3g plant-years/s %8.3g sim-yr/s  %7zu plants  "
+                "BA %5.1f m2/ha  (100 yr: %.1f s)\n",
+                name, mode, years, r.seconds, r.plant_years / r.seconds, years / r.seconds,
+                r.plants, r.ba, 100.0 * r.seconds / years);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    int years_1km = 10;
+    bool skip_1km = false;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--years-1km") == 0 && i + 1 < argc)
+            years_1km = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--skip-1km") == 0) skip_1km = true;
+    }
+    const std::filesystem::path data = ECOTERRA_DATA_DIR;
+    std::printf("ecoterra ecosystem benchmark (humid subtropical broadleaf, daily steps)\n\n");
+    json q = json::parse(terrain::io::read_text(data / "scenes/quickstart.json"));
+    for (const char* mode : {"coupled", "light_only"}) {
+        q["vegetation"]["competition"] = mode;
+        const auto sc = eco::load_eco_scene(q, data / "scenes");
+        report("1 ha quickstart (50^2 x 2 m terrain)", mode, 100, grow(sc, 100));
+    }
+    if (skip_1km) return 0;
+    json k = q;
+    k["terrain"]["generate"] = {{"method", "fbm"},
+                                {"size", 125},
+                                {"cell_size_m", 8.0},
+                                {"seed", 2},
+                                {"params", {{"D", 2.3}, {"rms_m", 6.0}}}};
+    k["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 300}, {"max_dbh_m", 0.4}}}};
+    for (const char* mode : {"coupled", "light_only"}) {
+        k["vegetation"]["competition"] = mode;
+        const auto sc = eco::load_eco_scene(k, data / "scenes");
+        report("1 km2 (125^2 x 8 m terrain, 1 m plants)", mode, years_1km, grow(sc, years_1km));
+    }
+    return 0;
+}

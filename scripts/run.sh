@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# The main job on the embedded default: builds ecoterra, generates the default multifractal terrain
-# (paper 000, majhor2023 preset), analyses it and writes its pictures into out/default/.
+# The main job on the embedded default scene: builds ecoterra and grows the 1 ha quickstart forest
+# (data/scenes/quickstart.json: humid subtropical broadleaf forest on multifractal terrain, 40
+# years, coupled model), then prints its stand table and writes its stem list and pictures into
+# out/default/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/build.sh"
 bin="$root/build/apps/ecoterra/ecoterra"
 out="$root/out/default"
 mkdir -p "$out"
-"$bin" terrain generate --preset majhor2023 --d-high 2.45 --seed 7 -o "$out/terrain.h5"
-"$bin" terrain analyze "$out/terrain.h5" --json "$out/report.json" --png "$out/pictures"
-"$bin" terrain missions "$out/terrain.h5" --count 20 --length 35 --border 5 --seed 1 \
-  -o "$out/missions.csv"
-echo "done: terrain, report and pictures are in $out"
+"$bin" run "$root/data/scenes/quickstart.json" -o "$out/run.h5"
+"$bin" stand "$out/run.h5" --json "$out/stand.json"
+"$bin" export vegetation "$out/run.h5" -o "$out/stems.csv"
+echo "done: run file $out/run.h5, stand table $out/stand.json, stems $out/stems.csv,"
+echo "      pictures in $out/run.pictures/ (stems, dbh_histogram, stand_history, soil_moisture, surface_water_depth)"

@@ -231,16 +231,7 @@ bool Ecosystem::step_day() {
     const bool coupled = m_scene.competition == Competition::coupled;
     hydro::DailyFluxes f;
     if (coupled) {
-        const auto& cl = m_scene.hydro.climate;
-        hydro::et::DailyWeather dw;
-        dw.lat_deg = cl.latitude_deg;
-        dw.elevation_m = cl.elevation_m;
-        dw.doy = std::min(w.doy, 366);
-        dw.tmin_c = w.tmin_c;
-        dw.tmax_c = w.tmax_c;
-        dw.tdew_c = w.tdew_c;
-        dw.u2_m_per_s = w.u2_m_per_s;
-        dw.rs_mj = w.rs_mj;
+        const auto dw = hydro::et_weather(w, m_scene.hydro.climate);
         const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
         const double tmean = 0.5 * (w.tmin_c + w.tmax_c);
         const double q10 = std::pow(kQ10, (tmean - kRespirationRefC) / 10.0);

@@ -47,6 +47,19 @@ std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w
             f.d_groundwater * to_mm,    f.residual * to_mm};
 }
 
+et::DailyWeather et_weather(const DayWeather& w, const Climate& c) {
+    et::DailyWeather dw;
+    dw.lat_deg = c.latitude_deg;
+    dw.elevation_m = c.elevation_m;
+    dw.doy = std::min(w.doy, 366);
+    dw.tmin_c = w.tmin_c;
+    dw.tmax_c = w.tmax_c;
+    dw.tdew_c = w.tdew_c;
+    dw.u2_m_per_s = w.u2_m_per_s;
+    dw.rs_mj = w.rs_mj;
+    return dw;
+}
+
 void HydrologyOptions::validate() const {
     auto in = [](double v, double lo, double hi, const char* key) {
         if (!(v >= lo && v <= hi)) {
@@ -152,15 +165,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     const double soil0 = soil_storage_m3(), surf0 = m_catch.total_volume_m3(),
                  gw0 = groundwater_storage_m3(), lost0 = m_catch.lost_m3();
     // Penman demands of the day (mm).
-    et::DailyWeather dw;
-    dw.lat_deg = m_climate.latitude_deg;
-    dw.elevation_m = m_climate.elevation_m;
-    dw.doy = std::min(w.doy, 366);
-    dw.tmin_c = w.tmin_c;
-    dw.tmax_c = w.tmax_c;
-    dw.tdew_c = w.tdew_c;
-    dw.u2_m_per_s = w.u2_m_per_s;
-    dw.rs_mj = w.rs_mj;
+    const et::DailyWeather dw = et_weather(w, m_climate);
     const double e0_mm = std::max(0.0, et::penman_open_water(dw, m_opt.wind));
     const double bare_mm = et::kPenmanBareSoilFactor * e0_mm;
     const double grass_mm = et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm;

@@ -74,6 +74,9 @@ const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns();
 std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w,
                                                     const DailyFluxes& f, double domain_m2);
 
+/// The ET functions' view of a generated or observed day at the climate's site.
+et::DailyWeather et_weather(const DayWeather& w, const Climate& c);
+
 class HydrologyModel {
 public:
     HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,

@@ -9,7 +9,6 @@
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -108,9 +107,7 @@ struct StandArgs {
 void run_stand(const StandArgs& a) {
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    std::vector<double> dbh;
-    for (std::size_t k = 0; k < s.dbh_m.size(); ++k)
-        dbh.push_back(s.height_m[k] > eco::kBreastHeightM ? s.dbh_m[k] : 0.0);
+    const std::vector<double>& dbh = s.dbh_m; // 0 below breast height
     const auto all = eco::stand_metrics(dbh, info.area_m2);
     json out = eco::to_json(all);
     out["run"] = a.run;
@@ -148,12 +145,7 @@ void run_stand(const StandArgs& a) {
     else
         std::printf("negative exponential: fewer than 3 non-empty classes, no fit\n");
     if (!a.json_out.empty()) {
-        terrain::io::AtomicOutput o(a.json_out);
-        std::ofstream f(o.temp_path());
-        f << out.dump(2) << "\n";
-        f.close();
-        if (!f) throw IoError(a.json_out + ": write failed");
-        o.commit();
+        terrain::io::write_text_atomic(a.json_out, out.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
 }
@@ -166,8 +158,7 @@ struct ExportArgs {
 void run_export_vegetation(const ExportArgs& a) {
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    terrain::io::AtomicOutput o(a.output);
-    std::ofstream f(o.temp_path());
+    std::ostringstream f;
     f << "x_m,y_m,z_m,species,dbh_cm,height_m,crown_radius_m\n";
     f.precision(10);
     for (std::size_t k = 0; k < s.id.size(); ++k) {
@@ -176,9 +167,7 @@ void run_export_vegetation(const ExportArgs& a) {
         f << s.x_m[k] << ',' << s.y_m[k] << ',' << s.z_m[k] << ',' << name << ','
           << s.dbh_m[k] * 100.0 << ',' << s.height_m[k] << ',' << s.crown_radius_m[k] << '\n';
     }
-    f.close();
-    if (!f) throw IoError(a.output + ": write failed");
-    o.commit();
+    terrain::io::write_text_atomic(a.output, f.str());
     std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.id.size(), s.index, s.year,
                 a.output.c_str());
 }

@@ -8,9 +8,7 @@ namespace ecoterra::eco {
 
 void CrownSet::add(const terrain::GridSpec& g, double x, double y, double r) {
     if (offset.empty()) offset.push_back(0);
-    const double cs = g.cell_size_m;
-    const int ic = std::clamp(static_cast<int>(std::floor((x - g.origin_x_m) / cs)), 0, g.nx - 1);
-    const int jc = std::clamp(static_cast<int>(std::floor((y - g.origin_y_m) / cs)), 0, g.ny - 1);
+    const auto [ic, jc] = g.clamped_cell(x, y);
     const int j0 = std::max(0, static_cast<int>(std::ceil(g.row_of(y - r))));
     const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(g.row_of(y + r))));
     std::int32_t n = 0;

@@ -19,6 +19,14 @@ constexpr int kDaysPerYearInt = 365;
 /// Light-only mode: diameters approach the one at which H = 95 % of Hmax (MAVS's saturating
 /// growth curve applied to the stem, see docs/ecosystem.md s6).
 constexpr double kLightOnlyHeightFraction = 0.95;
+/// The diameter at which H = kLightOnlyHeightFraction * Hmax, m.
+double light_only_d95_m(const Species& s) {
+    return -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
+}
+/// Light-only growth curve D(t) = D95 (1 - exp(-r t)).
+double light_only_dbh_m(const Species& s, double age_yr) {
+    return light_only_d95_m(s) * (1 - std::exp(-s.growth_rate_per_yr * age_yr));
+}
 constexpr double kCarbonTolerance = 1e-9;
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
 constexpr std::uint32_t kCheckpointVersion = 1;
@@ -51,6 +59,7 @@ Ecosystem::Ecosystem(const EcoScene& scene)
                                                       terrain::RasterD(hg, 0.0),
                                                       scene.hydro.options, scene.hydro.climate);
     m_ground_shade = terrain::RasterD(m_pgrid, 0.0);
+    m_request_mm = terrain::RasterD(hg, 0.0);
     for (const auto& c : hydro::daily_budget_columns())
         m_daily.add_column(c.name, std::string(c.name).ends_with("_mm") ? "mm/day" : "1",
                            c.description);
@@ -110,9 +119,7 @@ Plant Ecosystem::new_plant(std::uint16_t sp, double x, double y, double dbh) {
         p.reserve_kg =
             s.initial_reserve_fraction * s.reserve_capacity_kg_per_m2_leaf * p.leaf_area_m2;
     }
-    const auto& hg = soil.grid();
-    const int i = std::clamp(static_cast<int>((x - hg.origin_x_m) / hg.cell_size_m), 0, hg.nx - 1);
-    const int j = std::clamp(static_cast<int>((y - hg.origin_y_m) / hg.cell_size_m), 0, hg.ny - 1);
+    const auto [i, j] = soil.grid().clamped_cell(x, y);
     p.soil_factor = texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(i, j),
                                    soil.silt_pct(i, j), soil.clay_pct(i, j)) *
                     ph_factor(s.ph, soil.ph(i, j));
@@ -136,11 +143,10 @@ void Ecosystem::place_initial_plants() {
             Plant p = new_plant(sp, x, y, d);
             if (m_scene.competition == Competition::light_only) {
                 // Age that gives this diameter on the light-only growth curve.
-                const double d95 =
-                    -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
-                p.age_yr = std::ceil(-std::log(std::max(1e-9, 1 - std::min(d / d95, 0.999))) /
-                                     s.growth_rate_per_yr);
-                p.dbh_m = d95 * (1 - std::exp(-s.growth_rate_per_yr * p.age_yr));
+                p.age_yr = std::ceil(
+                    -std::log(std::max(1e-9, 1 - std::min(d / light_only_d95_m(s), 0.999))) /
+                    s.growth_rate_per_yr);
+                p.dbh_m = light_only_dbh_m(s, p.age_yr);
                 allometry::apply(s, p);
             }
             m_plants.push_back(p);
@@ -250,16 +256,15 @@ bool Ecosystem::step_day() {
         }
         m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
         scatter_demand(m_crowns, m_demand, m_map, m_request);
-        terrain::RasterD request_mm(hg);
         for (std::int64_t c = 0; c < hg.size(); ++c)
-            request_mm.data()[c] =
+            m_request_mm.data()[c] =
                 m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
-        f = m_hydro->step(w, &request_mm);
+        f = m_hydro->step(w, &m_request_mm);
         const auto& supplied = m_hydro->transpiration_supplied_mm();
         m_ratio.assign(static_cast<std::size_t>(hg.size()), 1.0);
         bool all_met = true;
         for (std::int64_t c = 0; c < hg.size(); ++c) {
-            const double r = request_mm.data()[c];
+            const double r = m_request_mm.data()[c];
             if (r > 0) {
                 const double q = std::min(1.0, supplied.data()[c] / r);
                 m_ratio[static_cast<std::size_t>(c)] = q;
@@ -270,7 +275,8 @@ bool Ecosystem::step_day() {
             m_fraction.assign(n, 1.0);
         else
             gather_supply(m_crowns, m_map, m_ratio, m_fraction);
-        std::vector<CarbonDay> cd(n);
+        std::vector<CarbonDay>& cd = m_carbon;
+        cd.assign(n, CarbonDay{});
 #pragma omp parallel for schedule(static)
         for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
@@ -351,9 +357,7 @@ void Ecosystem::update_vegetation_density() {
 
 bool Ecosystem::establishes(const Species& s, double x, double y, Rng& rng) const {
     const double draw = rng.uniform(); // always drawn: the stream does not depend on the tests
-    const auto& pg = m_pgrid;
-    const int i = std::clamp(static_cast<int>((x - pg.origin_x_m) / pg.cell_size_m), 0, pg.nx - 1);
-    const int j = std::clamp(static_cast<int>((y - pg.origin_y_m) / pg.cell_size_m), 0, pg.ny - 1);
+    const auto [i, j] = m_pgrid.clamped_cell(x, y);
     if (1.0 - m_ground_shade(i, j) < s.germination_min_light) return false;
     const int hi = i / m_map.factor, hj = j / m_map.factor;
     const auto& soil = m_scene.hydro.soil;
@@ -449,9 +453,7 @@ void Ecosystem::year_end_light_only() {
             m_sum.deaths_age += 1;
             continue;
         }
-        const double d95 =
-            -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
-        p.dbh_m = d95 * (1 - std::exp(-s.growth_rate_per_yr * p.age_yr));
+        p.dbh_m = light_only_dbh_m(s, p.age_yr);
         allometry::apply(s, p);
     }
     // Arrivals at the per-area rate.
@@ -564,7 +566,7 @@ void Ecosystem::year_end_common() {
 StandMetrics Ecosystem::stand() const {
     std::vector<double> d;
     d.reserve(m_plants.size());
-    for (const auto& p : m_plants) d.push_back(p.height_m > kBreastHeightM ? p.dbh_m : 0.0);
+    for (const auto& p : m_plants) d.push_back(p.dbh_m); // 0 below breast height
     return stand_metrics(d, m_pgrid.width_m() * m_pgrid.height_m());
 }
 

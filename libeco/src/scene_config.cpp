@@ -49,21 +49,12 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     fs::path eco = get_string(veg, "ecosystem", "", w);
     if (eco.is_relative()) eco = base / eco;
     e.ecosystem = load_ecosystem(eco);
-    const std::string comp = get_string(veg, "competition", "coupled", w);
-    if (comp == "coupled")
-        e.competition = Competition::coupled;
-    else if (comp == "light_only")
-        e.competition = Competition::light_only;
-    else
-        throw InputError("vegetation.competition must be coupled or light_only, got '" + comp +
-                         "'");
-    const std::string sh = get_string(veg, "shading", "blocking", w);
-    if (sh == "blocking")
-        e.shading = ShadingMode::blocking;
-    else if (sh == "beer_lambert")
-        e.shading = ShadingMode::beer_lambert;
-    else
-        throw InputError("vegetation.shading must be blocking or beer_lambert, got '" + sh + "'");
+    const std::vector<std::string> comps = {"coupled", "light_only"};
+    const std::string comp = comps[get_choice(veg, "competition", comps, 0, w)];
+    e.competition = comp == "coupled" ? Competition::coupled : Competition::light_only;
+    const std::vector<std::string> shadings = {"blocking", "beer_lambert"};
+    const std::string sh = shadings[get_choice(veg, "shading", shadings, 0, w)];
+    e.shading = sh == "blocking" ? ShadingMode::blocking : ShadingMode::beer_lambert;
     e.extinction = get_number(veg, "extinction_coefficient", e.extinction, w, 0.01, 5);
     const double terrain_cell = e.hydro.dem.grid().cell_size_m;
     e.plant_cell_m = get_number(veg, "plant_cell_m", std::min(1.0, terrain_cell), w, 0.05, 100);

@@ -178,28 +178,17 @@ HydrologyOptions load_options(const json& h, json& resolved) {
     o.root_zone_depth_m = get_number(h, "root_zone_depth_m", o.root_zone_depth_m, w);
     o.initial_saturation = get_number(h, "initial_saturation", o.initial_saturation, w);
     o.routing = parse_routing(get_string(h, "routing", "d8", w));
-    const std::string runoff = get_string(h, "runoff", "coefficients", w);
-    if (runoff == "coefficients")
-        o.runoff = RunoffMethod::coefficients;
-    else if (runoff == "curve_number")
-        o.runoff = RunoffMethod::curve_number;
-    else
-        throw InputError("hydrology.runoff must be coefficients or curve_number, got '" + runoff +
-                         "'");
+    const std::vector<std::string> runoff_methods = {"coefficients", "curve_number"};
+    const std::string runoff = runoff_methods[get_choice(h, "runoff", runoff_methods, 0, w)];
+    o.runoff = runoff == "coefficients" ? RunoffMethod::coefficients : RunoffMethod::curve_number;
     o.flat_slope = get_number(h, "flat_slope", o.flat_slope, w);
     o.grass_density_threshold =
         get_number(h, "grass_density_threshold", o.grass_density_threshold, w);
-    const std::string wind = get_string(h, "wind_function", "penman1948", w);
-    if (wind == "penman1948")
-        o.wind = et::WindFunction::penman1948;
-    else if (wind == "penman1956")
-        o.wind = et::WindFunction::penman1956;
-    else if (wind == "shuttleworth1993")
-        o.wind = et::WindFunction::shuttleworth1993;
-    else
-        throw InputError(
-            "hydrology.wind_function must be penman1948, penman1956 or shuttleworth1993, got '" +
-            wind + "'");
+    const std::vector<std::string> winds = {"penman1948", "penman1956", "shuttleworth1993"};
+    const std::size_t wi = get_choice(h, "wind_function", winds, 0, w);
+    const std::string wind = winds[wi];
+    o.wind = std::array{et::WindFunction::penman1948, et::WindFunction::penman1956,
+                        et::WindFunction::shuttleworth1993}[wi];
     o.groundwater = get_bool(h, "groundwater", o.groundwater, w);
     o.specific_yield = get_number(h, "specific_yield", o.specific_yield, w);
     o.aquifer_thickness_m = get_number(h, "aquifer_thickness_m", o.aquifer_thickness_m, w);

@@ -92,6 +92,18 @@ std::string get_string(const nlohmann::json& obj, const std::string& key,
     return v.get<std::string>();
 }
 
+std::size_t get_choice(const nlohmann::json& obj, const std::string& key,
+                       const std::vector<std::string>& choices, std::size_t fallback,
+                       const std::string& where) {
+    const std::string v = get_string(obj, key, choices.at(fallback), where);
+    for (std::size_t k = 0; k < choices.size(); ++k)
+        if (choices[k] == v) return k;
+    std::string list;
+    for (std::size_t k = 0; k < choices.size(); ++k)
+        list += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + choices[k];
+    throw InputError(key_path(where, key) + " must be " + list + ", got '" + v + "'");
+}
+
 nlohmann::json parse_json(const std::string& text, const std::string& source) {
     try {
         return nlohmann::json::parse(text);

@@ -30,6 +30,11 @@ std::string get_string(const nlohmann::json& obj, const std::string& key,
                        const std::string& fallback, const std::string& where);
 
 /// Parses JSON text, naming `source` in the error.
+/// A string that must be one of `choices`; returns its index. The error lists the choices.
+std::size_t get_choice(const nlohmann::json& obj, const std::string& key,
+                       const std::vector<std::string>& choices, std::size_t fallback,
+                       const std::string& where);
+
 nlohmann::json parse_json(const std::string& text, const std::string& source);
 
 } // namespace ecoterra

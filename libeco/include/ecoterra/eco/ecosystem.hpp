@@ -7,6 +7,7 @@
 // vegetation density, the yearly series. The light-only mode replaces the plant processes by the
 // geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s6).
 #include "ecoterra/archive.hpp"
+#include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/eco/scene_config.hpp"
@@ -79,7 +80,10 @@ private:
     std::int64_t m_next_id = 1;
     CrownSet m_crowns;
     terrain::RasterD m_ground_shade;
+    // Daily scratch (kept to avoid allocations in the daily loop).
     std::vector<double> m_request, m_ratio, m_fraction, m_demand;
+    terrain::RasterD m_request_mm;
+    std::vector<CarbonDay> m_carbon;
     int m_years_done = 0, m_days_done = 0;
     Table m_yearly, m_daily;
     // Year accumulators.

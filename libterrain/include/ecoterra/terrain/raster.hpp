@@ -46,6 +46,15 @@ struct GridSpec {
         return x >= origin_x_m && y >= origin_y_m && x <= origin_x_m + width_m() &&
                y <= origin_y_m + height_m();
     }
+    /// The cell holding (x, y), clamped into the grid (points on the far edges belong to the
+    /// last row or column).
+    std::array<int, 2> clamped_cell(double x, double y) const {
+        const auto clamp = [](double v, int n) {
+            return std::clamp(static_cast<int>(std::floor(v)), 0, n - 1);
+        };
+        return {clamp((x - origin_x_m) / cell_size_m, nx),
+                clamp((y - origin_y_m) / cell_size_m, ny)};
+    }
     bool operator==(const GridSpec& o) const = default;
 
     /// Throws InputError naming `what` if the grid is empty or its cell size is not positive.

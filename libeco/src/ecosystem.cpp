@@ -29,7 +29,7 @@ double light_only_dbh_m(const Species& s, double age_yr) {
 }
 constexpr double kCarbonTolerance = 1e-9;
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
-constexpr std::uint32_t kCheckpointVersion = 1;
+constexpr std::uint32_t kCheckpointVersion = 2;
 } // namespace
 
 void Table::add_column(std::string name, std::string unit, std::string description) {
@@ -75,6 +75,7 @@ Ecosystem::Ecosystem(const EcoScene& scene)
         {"deaths_starvation", "1", "deaths by an exhausted carbohydrate reserve"},
         {"deaths_age", "1", "deaths at the species' maximum age"},
         {"deaths_background", "1", "deaths by the background rate"},
+        {"deaths_suppression", "1", "deaths by growth suppression (low growth efficiency)"},
         {"deaths_overlap", "1", "light-only deaths by crown overlap"},
         {"seeds_dispersed", "1", "seeds produced and dispersed"},
         {"seeds_lost_outside", "1", "seeds that landed outside the terrain"},
@@ -118,6 +119,7 @@ Plant Ecosystem::new_plant(std::uint16_t sp, double x, double y, double dbh) {
         p.wood_kg = allometry::stem_mass_kg(s, dbh);
         p.reserve_kg =
             s.initial_reserve_fraction * s.reserve_capacity_kg_per_m2_leaf * p.leaf_area_m2;
+        p.mass_at_year_start_kg = p.wood_kg + p.reserve_kg;
     }
     const auto [i, j] = soil.grid().clamped_cell(x, y);
     p.soil_factor = texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(i, j),
@@ -382,12 +384,17 @@ void Ecosystem::year_end_coupled() {
         const double u = m_rng_mort.uniform();
         if (!p.alive) continue; // starved this year, counted then
         p.age_yr += 1;
+        update_growth_efficiency(p);
+        const double suppression = suppression_mortality(s, p.growth_efficiency);
         if (p.age_yr >= s.max_age_yr) {
             dead[k] = 1;
             m_sum.deaths_age += 1;
         } else if (u < s.background_mortality_per_yr) {
             dead[k] = 1;
             m_sum.deaths_background += 1;
+        } else if (u < s.background_mortality_per_yr + suppression) {
+            dead[k] = 1;
+            m_sum.deaths_suppression += 1;
         }
     }
     // Seeds of the survivors.
@@ -547,6 +554,7 @@ void Ecosystem::year_end_common() {
                        m_sum.deaths_starvation,
                        m_sum.deaths_age,
                        m_sum.deaths_background,
+                       m_sum.deaths_suppression,
                        m_sum.deaths_overlap,
                        m_sum.seeds,
                        m_sum.seeds_lost,

@@ -97,4 +97,21 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
     return c;
 }
 
+double update_growth_efficiency(Plant& p) {
+    const double mass = p.wood_kg + p.reserve_kg;
+    const double e = (mass - p.mass_at_year_start_kg) / std::max(p.leaf_area_m2, 1e-12);
+    p.mass_at_year_start_kg = mass;
+    p.growth_efficiency =
+        std::isnan(p.growth_efficiency)
+            ? e
+            : p.growth_efficiency + kSuppressionSmoothing * (e - p.growth_efficiency);
+    return e;
+}
+
+double suppression_mortality(const Species& s, double mean_efficiency) {
+    const double threshold = s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr;
+    if (!(threshold > 0)) return 0.0;
+    return s.suppression_mortality_per_yr * std::clamp(1.0 - mean_efficiency / threshold, 0.0, 1.0);
+}
+
 } // namespace ecoterra::eco

@@ -72,7 +72,8 @@ void parse_physiology(const json& p, Species& s) {
                                            "dispersal",
                                            "germination",
                                            "recruit_dbh_m",
-                                           "background_mortality_per_yr"};
+                                           "background_mortality_per_yr",
+                                           "suppression"};
     require_known_keys(p, keys, "physiology");
     Reader r{p, "physiology", s};
     s.height_dbh_slope_per_cm =
@@ -152,6 +153,18 @@ void parse_physiology(const json& p, Species& s) {
     s.recruit_dbh_m = r.num("recruit_dbh_m", s.recruit_dbh_m, 1e-4, 0.5);
     s.background_mortality_per_yr =
         r.num("background_mortality_per_yr", s.background_mortality_per_yr, 0, 1);
+    if (p.contains("suppression")) {
+        const json& m = p.at("suppression");
+        const std::string w = "physiology.suppression";
+        require_known_keys(m, {"growth_efficiency_kg_per_m2_leaf_per_yr", "mortality_per_yr"}, w);
+        s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr =
+            get_number(m, "growth_efficiency_kg_per_m2_leaf_per_yr",
+                       s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr, w, 0, 10);
+        s.suppression_mortality_per_yr =
+            get_number(m, "mortality_per_yr", s.suppression_mortality_per_yr, w, 0, 1);
+    } else {
+        s.defaulted.push_back("physiology.suppression");
+    }
 }
 
 Species parse_species(const json& e) {
@@ -286,7 +299,11 @@ json species_to_json(const Species& s) {
           {"min_soil_water", s.germination_min_soil_water},
           {"probability", s.germination_probability}}},
         {"recruit_dbh_m", s.recruit_dbh_m},
-        {"background_mortality_per_yr", s.background_mortality_per_yr}};
+        {"background_mortality_per_yr", s.background_mortality_per_yr},
+        {"suppression",
+         {{"growth_efficiency_kg_per_m2_leaf_per_yr",
+           s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr},
+          {"mortality_per_yr", s.suppression_mortality_per_yr}}}};
     return {{"Mesh File", s.mesh_file},
             {"Species Name", s.name},
             {"Num New Per Area", s.new_per_area_per_yr},

@@ -162,6 +162,35 @@ TEST_CASE("carbon: a full reserve carries a plant through a drought that kills a
     CHECK_FALSE(full_died);
 }
 
+TEST_CASE("suppression: a slow grower's running efficiency sets its death probability",
+          "[eco][growth]") {
+    Species s;
+    s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.2;
+    s.suppression_mortality_per_yr = 0.3;
+    Plant p;
+    p.dbh_m = 0.1;
+    allometry::apply(s, p);
+    p.wood_kg = allometry::stem_mass_kg(s, p.dbh_m);
+    p.reserve_kg = 1.0;
+    p.mass_at_year_start_kg = p.wood_kg + p.reserve_kg;
+    REQUIRE(std::isnan(p.growth_efficiency));
+    // Year 1: it gains 0.05 kg per m2 of leaf; the first year sets the mean.
+    p.wood_kg += 0.05 * p.leaf_area_m2;
+    CHECK(update_growth_efficiency(p) == Approx(0.05));
+    CHECK(p.growth_efficiency == Approx(0.05));
+    CHECK(suppression_mortality(s, p.growth_efficiency) == Approx(0.3 * (1 - 0.05 / 0.2)));
+    // Year 2: it loses 0.1 kg per m2 from its reserve; the mean moves a third of the way.
+    p.reserve_kg -= 0.1 * p.leaf_area_m2;
+    CHECK(update_growth_efficiency(p) == Approx(-0.1));
+    CHECK(p.growth_efficiency == Approx(0.05 + (-0.1 - 0.05) / 3).margin(1e-12));
+    CHECK(suppression_mortality(s, p.growth_efficiency) == Approx(0.3).margin(1e-12));
+    CHECK(suppression_mortality(s, -0.5) == 0.3); // capped at mu_max
+    // A vigorous plant and a species without the rule never die of it.
+    CHECK(suppression_mortality(s, 0.25) == 0.0);
+    s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.0;
+    CHECK(suppression_mortality(s, -1.0) == 0.0);
+}
+
 TEST_CASE("growth factors and allometry", "[eco][growth]") {
     Species s;
     CHECK(shade_factor({0.2, 0.5}, 0.1) == 1.0);

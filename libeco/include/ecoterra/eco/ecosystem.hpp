@@ -89,7 +89,7 @@ private:
     // Year accumulators.
     struct YearSums {
         double births = 0, deaths_starvation = 0, deaths_age = 0, deaths_background = 0,
-               deaths_overlap = 0, seeds = 0, seeds_lost = 0;
+               deaths_suppression = 0, deaths_overlap = 0, seeds = 0, seeds_lost = 0;
         double production = 0, maintenance = 0, growth_resp = 0, recruit_carbon = 0,
                dead_carbon = 0;
         double demand_m3 = 0, supplied_m3 = 0;

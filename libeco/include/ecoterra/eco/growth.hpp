@@ -17,6 +17,9 @@
 //   surplus P - R fills the reserve up to C_max = c_res * LA_full; what is left builds wood after
 //   growth respiration (a fraction kGrowthRespiration of it, Penning de Vries 1975); a deficit
 //   drains the reserve; an empty reserve kills the plant (starvation).
+// Growth suppression (yearly, after LPJ-GUESS's greff_min): growth efficiency e = net wood +
+//   reserve increment per m2 leaf over the year (kg m-2 yr-1), running mean e_bar <- e_bar +
+//   (e - e_bar)/3; death probability mu_max * clamp(1 - e_bar / e_min, 0, 1).
 #include "ecoterra/eco/plant.hpp"
 
 namespace ecoterra::eco {
@@ -51,5 +54,16 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
 /// Q10^((T - 20)/10).
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double f_temp,
                      double q10_factor);
+
+/// Weight of the newest year in the running mean of the growth efficiency: an exponential mean
+/// with the centre of mass of a 5-year running mean (alpha = 2 / (5 + 1)).
+inline constexpr double kSuppressionSmoothing = 1.0 / 3.0;
+
+/// Year end: the plant's growth efficiency e = (wood + reserve - their value a year ago) / leaf
+/// area (kg m-2 yr-1) enters its running mean (the first year sets it); returns e.
+double update_growth_efficiency(Plant& p);
+/// Yearly growth-suppression death probability mu_max * clamp(1 - mean e / e_min, 0, 1) (0 when
+/// the species' threshold e_min is 0).
+double suppression_mortality(const Species& s, double mean_efficiency);
 
 } // namespace ecoterra::eco

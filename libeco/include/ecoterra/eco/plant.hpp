@@ -13,6 +13,7 @@
 #include "ecoterra/eco/species.hpp"
 
 #include <cstdint>
+#include <limits>
 
 namespace ecoterra::eco {
 
@@ -38,6 +39,10 @@ struct Plant {
     // Accumulated over the current year:
     double growth_sum = 0; ///< sum of the daily growth percentage (0..1) over leaf-on days
     double growth_days = 0;
+    double mass_at_year_start_kg = 0; ///< wood + reserve at the last year end
+    /// Running mean of the yearly growth efficiency (net wood + reserve increment per m2 leaf),
+    /// kg m-2 yr-1; NaN until the plant's first year end.
+    double growth_efficiency = std::numeric_limits<double>::quiet_NaN();
     bool alive = true; ///< false from a starvation death until the next canopy refresh removes it
 };
 

@@ -85,6 +85,12 @@ struct Species {
     double germination_probability = 0.5;    ///< of a seed landing on a suitable cell
     double recruit_dbh_m = 0.01;             ///< a recruit enters with this diameter
     double background_mortality_per_yr = 0.005;
+    /// Growth-suppression mortality (after LPJ-GUESS's greff_min, reference forest.md s1): a plant
+    /// whose mean yearly growth efficiency (net dry-mass increment of wood and reserve per m2 of
+    /// leaf) falls below `suppression_growth_efficiency` dies with probability
+    /// suppression_mortality_per_yr * (1 - efficiency / threshold) per year.
+    double suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.15;
+    double suppression_mortality_per_yr = 0.3;
 
     /// Physiology keys that took their default (for the report).
     std::vector<std::string> defaulted;

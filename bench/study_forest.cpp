@@ -1,0 +1,233 @@
+// Validation study of the ecosystem model (docs/validation.md s3), over many seeds:
+//
+//  A. The paper's central result (paper 002 s5.2, Fig 8): the 1 ha humid subtropical quickstart
+//     grown to 11.5 m2/ha (50 ft2/acre), coupled against light-only competition. For each seed
+//     (terrain and simulation seeds both vary) it prints the years taken, stems/ha, the share of
+//     stems in small (< 10 cm), medium (10-25 cm) and large (>= 25 cm) classes and the
+//     negative-exponential fit; then the mean 5 cm histogram of each mode and its fit.
+//  B. Self-thinning (Reineke 1933): dense unmanaged stands, planted at --density stems/ha with
+//     diameters up to 5 cm, grown for --years years. Over the years after the stem count of trees
+//     >= 5 cm peaked and until Dq peaked (the even-aged phase), the least-squares slope of ln N
+//     against ln Dq (trees >= 5 cm) is compared with Reineke's -1.605, over the whole phase and
+//     over its late half.
+//
+// Usage: study_forest [--seeds N] [--years Y] [--density D] [--only-central | --only-thinning]
+#include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+using namespace ecoterra;
+using nlohmann::json;
+
+namespace {
+
+constexpr double kTargetBa = 11.5; // m2/ha, the paper's 50 ft2/acre
+constexpr double kThinningMinDbhM = 0.05;
+
+struct Line {
+    double slope = 0, intercept = 0, r2 = 0;
+};
+
+Line fit(const std::vector<double>& x, const std::vector<double>& y) {
+    const double n = static_cast<double>(x.size());
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i], syy += y[i] * y[i];
+    }
+    Line l;
+    const double vx = sxx - sx * sx / n, vy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
+    l.slope = cxy / vx;
+    l.intercept = (sy - l.slope * sx) / n;
+    l.r2 = vy > 0 ? cxy * cxy / (vx * vy) : 0;
+    return l;
+}
+
+struct Share {
+    double small = 0, medium = 0, large = 0;
+};
+
+Share shares(const eco::StandMetrics& m) {
+    Share s;
+    for (std::size_t i = 0; i < m.histogram.size(); ++i) {
+        const double lo = static_cast<double>(i) * m.class_width_cm;
+        const auto c = static_cast<double>(m.histogram[i]);
+        (lo < 10 ? s.small : lo < 25 ? s.medium : s.large) += c;
+    }
+    const double t = std::max(s.small + s.medium + s.large, 1.0);
+    s.small /= t, s.medium /= t, s.large /= t;
+    return s;
+}
+
+void central_result(const json& base, const std::filesystem::path& dir, int seeds) {
+    std::printf("A. Grown to %.1f m2/ha: coupled against light-only, %d seeds\n\n", kTargetBa,
+                seeds);
+    std::printf("%-10s %4s %5s %8s %7s %7s %7s %7s %6s\n", "mode", "seed", "years", "stems/ha",
+                "small", "medium", "large", "q/5cm", "R2");
+    for (const char* mode : {"coupled", "light_only"}) {
+        std::vector<double> mean_hist;
+        double mean_years = 0, mean_stems = 0;
+        Share mean_share;
+        int reverse_j = 0;
+        for (int seed = 1; seed <= seeds; ++seed) {
+            json q = base;
+            q["vegetation"]["competition"] = mode;
+            q["simulation"]["seed"] = seed;
+            q["terrain"]["generate"]["seed"] = 100 + seed;
+            const auto sc = eco::load_eco_scene(q, dir);
+            eco::Ecosystem e(sc);
+            while (e.years_done() < 300 && e.stand().basal_area_m2_per_ha < kTargetBa) e.run_year();
+            const auto m = e.stand();
+            const Share s = shares(m);
+            std::printf("%-10s %4d %5d %8.0f %6.0f%% %6.0f%% %6.0f%% %7.2f %6.2f\n", mode, seed,
+                        e.years_done(), m.stems_per_ha, 100 * s.small, 100 * s.medium,
+                        100 * s.large, m.q_per_class, m.r2);
+            if (mean_hist.size() < m.histogram.size()) mean_hist.resize(m.histogram.size(), 0.0);
+            for (std::size_t i = 0; i < m.histogram.size(); ++i)
+                mean_hist[i] += static_cast<double>(m.histogram[i]) / seeds;
+            mean_years += e.years_done() / static_cast<double>(seeds);
+            mean_stems += m.stems_per_ha / seeds;
+            mean_share.small += s.small / seeds;
+            mean_share.medium += s.medium / seeds;
+            mean_share.large += s.large / seeds;
+            reverse_j += m.fit_valid && m.r2 >= 0.8 && m.q_per_class > 1.2;
+        }
+        std::vector<double> x, y;
+        for (std::size_t i = 0; i < mean_hist.size(); ++i)
+            if (mean_hist[i] > 0) {
+                x.push_back((static_cast<double>(i) + 0.5) * 5.0);
+                y.push_back(std::log(mean_hist[i]));
+            }
+        const Line l = fit(x, y);
+        std::printf("%-10s mean: %.1f years, %.0f stems/ha, small %.0f%% medium %.0f%% large "
+                    "%.0f%%; reverse-J (R2 >= 0.8, q > 1.2) in %d of %d seeds\n",
+                    mode, mean_years, mean_stems, 100 * mean_share.small, 100 * mean_share.medium,
+                    100 * mean_share.large, reverse_j, seeds);
+        std::printf("%-10s mean histogram (stems/ha per 5 cm class):", mode);
+        for (double v : mean_hist) std::printf(" %.1f", v);
+        std::printf("\n%-10s fit of the mean histogram: q = %.2f per 5 cm, R2 = %.2f\n\n", mode,
+                    std::exp(-5.0 * l.slope), l.r2);
+    }
+}
+
+struct Thinning {
+    std::size_t peak = 0, top = 0;
+    double n_peak = 0, dq_peak = 0, n_top = 0, dq_top = 0;
+    Line all, late;
+};
+
+// The thinning phase runs from the year the stem count peaked to the year Dq peaked: after that
+// the first cohort's deaths at its maximum age let a new one in.
+Thinning thinning_phase(const std::vector<double>& n, const std::vector<double>& dq) {
+    Thinning t;
+    for (std::size_t i = 0; i < n.size(); ++i)
+        if (n[i] > n[t.peak]) t.peak = i;
+    t.top = t.peak;
+    for (std::size_t i = t.peak; i < dq.size(); ++i)
+        if (dq[i] > dq[t.top]) t.top = i;
+    std::vector<double> x, y;
+    for (std::size_t i = t.peak; i <= t.top; ++i)
+        if (n[i] > 0 && dq[i] > 0) {
+            x.push_back(std::log(dq[i]));
+            y.push_back(std::log(n[i]));
+        }
+    if (x.size() >= 3) t.all = fit(x, y);
+    const auto half = static_cast<std::ptrdiff_t>(x.size() / 2);
+    const std::vector<double> xl(x.begin() + half, x.end()), yl(y.begin() + half, y.end());
+    if (xl.size() >= 3) t.late = fit(xl, yl);
+    t.n_peak = n[t.peak], t.dq_peak = dq[t.peak], t.n_top = n[t.top], t.dq_top = dq[t.top];
+    return t;
+}
+
+struct Mean {
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    void add(double v) { sum += v, sum2 += v * v, ++n; }
+    double mean() const { return sum / n; }
+    double sd() const { return std::sqrt(std::max(sum2 / n - mean() * mean(), 0.0)); }
+};
+
+void self_thinning(const json& base, const std::filesystem::path& dir, int seeds, int years,
+                   double density) {
+    std::printf("B. Self-thinning: planted at %.0f stems/ha (dbh up to 5 cm), %d years\n"
+                "   stand = all trees >= %.0f cm (with ingrowth); cohort = the planted trees that "
+                "reached breast height\n\n",
+                density, years, 100 * kThinningMinDbhM);
+    std::printf("%4s %-7s %5s %8s %7s %5s %8s %7s %7s %6s %7s\n", "seed", "", "peak", "N peak",
+                "Dq", "top", "N", "Dq", "slope", "R2", "late");
+    Mean stand_all, stand_late, cohort_all, cohort_late;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        json q = base;
+        q["simulation"]["seed"] = seed;
+        q["terrain"]["generate"]["seed"] = 100 + seed;
+        q["vegetation"]["initial"] = {{"random", {{"stems_per_ha", density}, {"max_dbh_m", 0.05}}}};
+        const auto sc = eco::load_eco_scene(q, dir);
+        eco::Ecosystem e(sc);
+        std::int64_t last_planted = 0;
+        for (const auto& p : e.plants()) last_planted = std::max(last_planted, p.id);
+        const double area_ha = e.plant_grid().width_m() * e.plant_grid().height_m() / 1e4;
+        std::vector<double> n_stand, dq_stand, n_cohort, dq_cohort;
+        for (int y = 0; y < years; ++y) {
+            e.run_year();
+            double ns = 0, ds = 0, nc = 0, dc = 0;
+            for (const auto& p : e.plants()) {
+                const double d2 = p.dbh_m * p.dbh_m;
+                if (p.dbh_m >= kThinningMinDbhM) ns += 1, ds += d2;
+                if (p.id <= last_planted && p.dbh_m > 0) nc += 1, dc += d2;
+            }
+            n_stand.push_back(ns / area_ha);
+            dq_stand.push_back(ns > 0 ? std::sqrt(ds / ns) : 0.0);
+            n_cohort.push_back(nc / area_ha);
+            dq_cohort.push_back(nc > 0 ? std::sqrt(dc / nc) : 0.0);
+        }
+        const Thinning ts = thinning_phase(n_stand, dq_stand);
+        const Thinning tc = thinning_phase(n_cohort, dq_cohort);
+        for (const auto& [name, t] : {std::pair{"stand", ts}, std::pair{"cohort", tc}})
+            std::printf("%4d %-7s %5zu %8.0f %5.1fcm %5zu %8.0f %5.1fcm %7.3f %6.2f %7.3f\n", seed,
+                        name, t.peak + 1, t.n_peak, 100 * t.dq_peak, t.top + 1, t.n_top,
+                        100 * t.dq_top, t.all.slope, t.all.r2, t.late.slope);
+        stand_all.add(ts.all.slope);
+        stand_late.add(ts.late.slope);
+        cohort_all.add(tc.all.slope);
+        cohort_late.add(tc.late.slope);
+    }
+    std::printf("mean slope of ln N against ln Dq over %d seeds (Reineke: -1.605):\n", seeds);
+    std::printf("  stand:  %.3f (sd %.3f), late half %.3f (sd %.3f)\n", stand_all.mean(),
+                stand_all.sd(), stand_late.mean(), stand_late.sd());
+    std::printf("  cohort: %.3f (sd %.3f), late half %.3f (sd %.3f)\n", cohort_all.mean(),
+                cohort_all.sd(), cohort_late.mean(), cohort_late.sd());
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    int seeds = 10, years = 80;
+    double density = 4000;
+    bool central = true, thinning = true;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--only-central") == 0) thinning = false;
+        if (std::strcmp(argv[i], "--only-thinning") == 0) central = false;
+    }
+    for (int i = 1; i + 1 < argc; ++i) {
+        if (std::strcmp(argv[i], "--seeds") == 0)
+            seeds = std::atoi(argv[++i]);
+        else if (std::strcmp(argv[i], "--years") == 0)
+            years = std::atoi(argv[++i]);
+        else if (std::strcmp(argv[i], "--density") == 0)
+            density = std::atof(argv[++i]);
+    }
+    if (seeds < 1 || years < 3 || density <= 0) {
+        std::fprintf(stderr, "study_forest: --seeds >= 1, --years >= 3, --density > 0\n");
+        return 2;
+    }
+    const std::filesystem::path data = ECOTERRA_DATA_DIR;
+    const json q = json::parse(terrain::io::read_text(data / "scenes/quickstart.json"));
+    if (central) central_result(q, data / "scenes", seeds);
+    if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
+    return 0;
+}

@@ -257,7 +257,7 @@ bool Ecosystem::step_day() {
                           phen[p.species] * et0_m;
         }
         m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
-        scatter_demand(m_crowns, m_demand, m_map, m_request);
+        scatter_demand(m_roots, m_demand, m_request);
         for (std::int64_t c = 0; c < hg.size(); ++c)
             m_request_mm.data()[c] =
                 m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
@@ -276,7 +276,7 @@ bool Ecosystem::step_day() {
         if (all_met)
             m_fraction.assign(n, 1.0);
         else
-            gather_supply(m_crowns, m_map, m_ratio, m_fraction);
+            gather_supply(m_roots, m_ratio, m_fraction);
         std::vector<CarbonDay>& cd = m_carbon;
         cd.assign(n, CarbonDay{});
 #pragma omp parallel for schedule(static)
@@ -342,6 +342,7 @@ void Ecosystem::remove_dead() {
 void Ecosystem::rebuild_crowns() {
     m_crowns.clear();
     for (const auto& p : m_plants) m_crowns.add(m_pgrid, p.x_m, p.y_m, p.crown_radius_m);
+    m_roots = root_cells(m_crowns, m_map);
 }
 
 void Ecosystem::update_vegetation_density() {

@@ -1,42 +1,75 @@
 #include "ecoterra/eco/roots.hpp"
 
+#include <algorithm>
+
 namespace ecoterra::eco {
 
-void scatter_demand(const CrownSet& roots, const std::vector<double>& demand, const CellMap& map,
-                    std::vector<double>& request) {
-    // Serial on purpose: the sum order per cell must not depend on the thread count.
+RootCells root_cells(const CrownSet& roots, const CellMap& map) {
+    RootCells r;
+    r.offset.reserve(roots.size() + 1);
+    std::vector<std::int32_t> count; // per hydrology cell of the crown's bounding box
     for (std::size_t p = 0; p < roots.size(); ++p) {
-        if (!(demand[p] > 0)) continue;
-        const double share = demand[p] / roots.cells[p];
-        for (std::uint32_t s = roots.offset[p]; s < roots.offset[p + 1]; ++s) {
-            const Span& sp = roots.spans[s];
-            if (map.factor == 1) {
-                double* row = request.data() + static_cast<std::int64_t>(sp.row) * map.hydro_nx;
-                for (int x = sp.x0; x <= sp.x1; ++x) row[x] += share;
-            } else {
-                for (int x = sp.x0; x <= sp.x1; ++x) request[map.hydro(sp.row, x)] += share;
+        const double inv_n = 1.0 / roots.cells[p];
+        const std::uint32_t s0 = roots.offset[p], s1 = roots.offset[p + 1];
+        if (map.factor == 1) {
+            for (std::uint32_t s = s0; s < s1; ++s) {
+                const Span& sp = roots.spans[s];
+                for (int x = sp.x0; x <= sp.x1; ++x) {
+                    r.cell.push_back(map.hydro(sp.row, x));
+                    r.share.push_back(inv_n);
+                }
             }
+        } else {
+            // Count the root cells falling in each hydrology cell of the bounding box.
+            int hx0 = 1 << 30, hx1 = -1, hy0 = 1 << 30, hy1 = -1;
+            for (std::uint32_t s = s0; s < s1; ++s) {
+                const Span& sp = roots.spans[s];
+                hy0 = std::min(hy0, sp.row / map.factor);
+                hy1 = std::max(hy1, sp.row / map.factor);
+                hx0 = std::min(hx0, sp.x0 / map.factor);
+                hx1 = std::max(hx1, sp.x1 / map.factor);
+            }
+            const int w = hx1 - hx0 + 1;
+            count.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(hy1 - hy0 + 1), 0);
+            for (std::uint32_t s = s0; s < s1; ++s) {
+                const Span& sp = roots.spans[s];
+                std::int32_t* row = count.data() + (sp.row / map.factor - hy0) * w - hx0;
+                for (int x = sp.x0; x <= sp.x1; ++x) ++row[x / map.factor];
+            }
+            for (int j = hy0; j <= hy1; ++j)
+                for (int i = hx0; i <= hx1; ++i) {
+                    const std::int32_t c = count[static_cast<std::size_t>((j - hy0) * w + i - hx0)];
+                    if (c == 0) continue;
+                    r.cell.push_back(static_cast<std::int64_t>(j) * map.hydro_nx + i);
+                    r.share.push_back(c * inv_n);
+                }
         }
+        r.offset.push_back(static_cast<std::uint32_t>(r.cell.size()));
+    }
+    return r;
+}
+
+void scatter_demand(const RootCells& roots, const std::vector<double>& demand,
+                    std::vector<double>& request) {
+    for (std::size_t p = 0; p < roots.size(); ++p) {
+        const double d = demand[p];
+        if (!(d > 0)) continue;
+        for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e)
+            request[static_cast<std::size_t>(roots.cell[e])] += d * roots.share[e];
     }
 }
 
-void gather_supply(const CrownSet& roots, const CellMap& map, const std::vector<double>& ratio,
+void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
                    std::vector<double>& fraction) {
     const auto n = static_cast<std::int64_t>(roots.size());
     fraction.resize(static_cast<std::size_t>(n));
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = 0; p < n; ++p) {
         double acc = 0;
-        for (std::uint32_t s = roots.offset[p]; s < roots.offset[p + 1]; ++s) {
-            const Span& sp = roots.spans[s];
-            if (map.factor == 1) {
-                const double* row = ratio.data() + static_cast<std::int64_t>(sp.row) * map.hydro_nx;
-                for (int x = sp.x0; x <= sp.x1; ++x) acc += row[x];
-            } else {
-                for (int x = sp.x0; x <= sp.x1; ++x) acc += ratio[map.hydro(sp.row, x)];
-            }
-        }
-        fraction[static_cast<std::size_t>(p)] = acc / roots.cells[static_cast<std::size_t>(p)];
+        for (std::uint32_t e = roots.offset[static_cast<std::size_t>(p)];
+             e < roots.offset[static_cast<std::size_t>(p) + 1]; ++e)
+            acc += roots.share[e] * ratio[static_cast<std::size_t>(roots.cell[e])];
+        fraction[static_cast<std::size_t>(p)] = acc;
     }
 }
 

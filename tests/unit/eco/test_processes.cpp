@@ -84,13 +84,14 @@ TEST_CASE("root water: a cell shared by two root balls is split by their request
     add_cells(c, {{1, 0}});
     CellMap map;
     map.hydro_nx = 2;
+    const RootCells roots = root_cells(c, map);
     std::vector<double> request(2, 0.0);
-    scatter_demand(c, {2.0, 3.0}, map, request); // m3
+    scatter_demand(roots, {2.0, 3.0}, request); // m3
     CHECK(request[0] == Approx(1.0));
     CHECK(request[1] == Approx(4.0)); // 1 from plant 0, 3 from plant 1
     // Cell 1 can supply only 2 m3 of its 4: both plants get half of what they asked there.
     std::vector<double> frac;
-    gather_supply(c, map, {1.0, 0.5}, frac);
+    gather_supply(roots, {1.0, 0.5}, frac);
     CHECK(frac[0] == Approx(0.75)); // (1 + 0.5) / 2 cells
     CHECK(frac[1] == Approx(0.5));
     // Water delivered = supply: 1 + 0.5 from plant 0's cells, 1.5 for plant 1 = 3 m3 = 1 + 2.
@@ -101,6 +102,22 @@ TEST_CASE("root water: a cell shared by two root balls is split by their request
     fine.hydro_nx = 1;
     CHECK(fine.hydro(1, 1) == 0);
     CHECK(fine.hydro(3, 1) == 1);
+    // The same two crowns on that grid: plant 0's two cells both lie in hydrology cell 0, and a
+    // third plant spans both hydrology cells (3 of its 4 cells in the second).
+    add_cells(c, {{1, 1}, {1, 2}, {0, 3}, {1, 3}});
+    const RootCells fine_roots = root_cells(c, fine);
+    REQUIRE(fine_roots.size() == 3);
+    CHECK(fine_roots.offset == std::vector<std::uint32_t>{0, 1, 2, 4});
+    CHECK(fine_roots.share[0] == 1.0);
+    CHECK(fine_roots.share[2] == Approx(0.25));
+    CHECK(fine_roots.cell[3] == 1);
+    CHECK(fine_roots.share[3] == Approx(0.75));
+    std::vector<double> fine_request(2, 0.0);
+    scatter_demand(fine_roots, {2.0, 3.0, 4.0}, fine_request);
+    CHECK(fine_request[0] == Approx(2.0 + 3.0 + 1.0));
+    CHECK(fine_request[1] == Approx(3.0));
+    gather_supply(fine_roots, {1.0, 0.5}, frac);
+    CHECK(frac[2] == Approx(0.25 * 1.0 + 0.75 * 0.5));
 }
 
 TEST_CASE("carbon: a plant in deep shade drains its reserve and starves on the day predicted",

@@ -79,6 +79,7 @@ private:
     std::vector<Plant> m_plants;
     std::int64_t m_next_id = 1;
     CrownSet m_crowns;
+    RootCells m_roots; ///< the crowns' root cells per hydrology cell
     terrain::RasterD m_ground_shade;
     // Daily scratch (kept to avoid allocations in the daily loop).
     std::vector<double> m_request, m_ratio, m_fraction, m_demand;

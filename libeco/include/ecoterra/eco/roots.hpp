@@ -23,12 +23,26 @@ struct CellMap {
     }
 };
 
-/// Adds each plant's demand (m3/day) to `request_m3` (per hydrology cell).
-void scatter_demand(const CrownSet& roots, const std::vector<double>& demand_m3, const CellMap& map,
+/// Each plant's root cells gathered per hydrology cell: the cells it draws on and the share of its
+/// root cells in each (the shares of a plant sum to 1). Built at each canopy refresh, used daily;
+/// with a plant grid k times finer than the hydrology grid a crown of n cells has about n / k^2
+/// entries, so the daily scatter and gather cost that much less.
+struct RootCells {
+    std::vector<std::uint32_t> offset{0}; ///< plant p's entries are [offset[p], offset[p + 1])
+    std::vector<std::int64_t> cell;       ///< hydrology cell index
+    std::vector<double> share;            ///< fraction of the plant's root cells in that cell
+    std::size_t size() const { return offset.size() - 1; }
+};
+
+RootCells root_cells(const CrownSet& roots, const CellMap& map);
+
+/// Adds each plant's demand (m3/day) to `request_m3` (per hydrology cell). Serial: the order of
+/// the sum per cell does not depend on the thread count.
+void scatter_demand(const RootCells& roots, const std::vector<double>& demand_m3,
                     std::vector<double>& request_m3);
 
 /// Fraction of demand met per plant: the mean of ratio[h] over each plant's root cells.
-void gather_supply(const CrownSet& roots, const CellMap& map, const std::vector<double>& ratio,
+void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
                    std::vector<double>& fraction);
 
 } // namespace ecoterra::eco

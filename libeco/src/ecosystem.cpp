@@ -29,7 +29,7 @@ double light_only_dbh_m(const Species& s, double age_yr) {
 }
 constexpr double kCarbonTolerance = 1e-9;
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
-constexpr std::uint32_t kCheckpointVersion = 2;
+constexpr std::uint32_t kCheckpointVersion = 3;
 } // namespace
 
 void Table::add_column(std::string name, std::string unit, std::string description) {
@@ -231,7 +231,13 @@ void Ecosystem::refresh_canopy() {
 }
 
 bool Ecosystem::step_day() {
-    m_weather = m_gen.next();
+    if (m_scene.hydro.observed) {
+        // Observed weather replays its whole calendar years in a cycle.
+        const auto& days = m_scene.hydro.observed->days;
+        m_weather = days[static_cast<std::size_t>(m_days_done) % days.size()];
+    } else {
+        m_weather = m_gen.next();
+    }
     const auto& w = m_weather;
     ++m_days_done;
     const auto& species = m_scene.ecosystem.species;
@@ -313,7 +319,9 @@ bool Ecosystem::step_day() {
     const double domain_m2 = hg.width_m() * hg.height_m();
     const auto row = hydro::daily_budget_row(m_days_done, w, f, domain_m2);
     m_daily.push_row(std::vector<double>(row.begin(), row.end()));
-    if (w.doy < kDaysPerYearInt) return false;
+    const int year_length =
+        m_scene.hydro.observed ? hydro::days_in_calendar_year(w.year) : kDaysPerYearInt;
+    if (w.doy < year_length) return false;
     if (coupled)
         year_end_coupled();
     else
@@ -579,6 +587,23 @@ StandMetrics Ecosystem::stand() const {
     return stand_metrics(d, m_pgrid.width_m() * m_pgrid.height_m());
 }
 
+std::uint64_t Ecosystem::observed_weather_hash() const {
+    if (!m_scene.hydro.observed) return 0;
+    // FNV-1a over the day values (not the padding of DayWeather).
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    auto mix = [&h](const void* v, std::size_t n) {
+        const auto* b = static_cast<const unsigned char*>(v);
+        for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 0x100000001b3ULL;
+    };
+    for (const auto& d : m_scene.hydro.observed->days) {
+        mix(&d.year, sizeof d.year);
+        mix(&d.doy, sizeof d.doy);
+        for (double v : {d.tmin_c, d.tmax_c, d.rain_mm, d.tdew_c, d.u2_m_per_s, d.rs_mj})
+            mix(&v, sizeof v);
+    }
+    return h | 1; // never 0, the generator's value
+}
+
 double Ecosystem::carbon_residual_relative() const {
     return std::abs(m_cum_carbon_residual) / std::max(m_cum_carbon_throughput, 1e-300);
 }
@@ -589,6 +614,7 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
     a.put(m_years_done);
     a.put(m_days_done);
     a.put(m_weather);
+    a.put(observed_weather_hash());
     const auto gs = m_gen.state();
     a.put(gs);
     a.put(m_rng_seed.state());
@@ -617,6 +643,11 @@ void Ecosystem::load_state(ArchiveReader& a) {
     m_years_done = a.get<int>();
     m_days_done = a.get<int>();
     m_weather = a.get<hydro::DayWeather>();
+    if (a.get<std::uint64_t>() != observed_weather_hash())
+        throw InputError(m_scene.hydro.observed
+                             ? "the observed weather series differs from the one the run was "
+                               "made with (was the weather CSV changed?)"
+                             : "the checkpoint was made with observed weather, the scene has none");
     m_gen.set_state(a.get<hydro::WeatherGenerator::State>());
     m_rng_seed.set_state(a.get<std::array<std::uint64_t, 4>>());
     m_rng_mort.set_state(a.get<std::array<std::uint64_t, 4>>());

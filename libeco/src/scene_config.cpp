@@ -33,10 +33,22 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     h["simulation"] = json::object();
     for (const char* k : {"years", "seed"})
         if (sim.contains(k)) h["simulation"][k] = sim[k];
-    if (h.contains("climate") && h["climate"].contains("csv"))
-        throw InputError("climate.csv: observed weather is not supported in ecosystem runs yet; "
-                         "use the weather generator (climate.preset and parameters)");
     e.hydro = hydro::load_hydro_scene(h, base);
+    if (e.hydro.observed) {
+        // Replayed year by year in a cycle, so the series must hold whole calendar years.
+        const auto& d = e.hydro.observed->days;
+        const auto& first = d.front();
+        const auto& last = d.back();
+        const std::string file = h["climate"]["csv"].get<std::string>();
+        if (first.doy != 1 || last.doy != hydro::days_in_calendar_year(last.year))
+            throw InputError("climate.csv " + file +
+                             ": an ecosystem run replays observed weather by calendar years and "
+                             "needs whole years (1 January to 31 December); the series runs from "
+                             "day " +
+                             std::to_string(first.doy) + " of " + std::to_string(first.year) +
+                             " to day " + std::to_string(last.doy) + " of " +
+                             std::to_string(last.year));
+    }
     e.years = e.hydro.years;
     e.seed = e.hydro.seed;
     e.resolved = e.hydro.resolved;

@@ -377,4 +377,8 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
     return ws;
 }
 
+int days_in_calendar_year(int year) {
+    return leap(year) ? 366 : 365;
+}
+
 } // namespace ecoterra::hydro

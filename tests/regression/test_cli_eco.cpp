@@ -2,11 +2,14 @@
 // the issue's invocations as written, and bad input.
 #include "support/run_cli.hpp"
 
+#include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/run_file.hpp"
 #include "ecoterra/terrain/io/atomic_file.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <omp.h>
 
@@ -145,6 +148,84 @@ TEST_CASE("run: resume continues bit for bit", "[eco][cli][resume]") {
     r = test::run(dir, "run --resume junk.h5 --years 1");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("junk.h5"));
+}
+
+namespace {
+/// Daily weather of calendar years [y0, y1] from the generator, as an observation CSV (first
+/// day `first_doy` of y0).
+void write_weather_csv(const fs::path& p, int y0, int y1, int first_doy = 1) {
+    hydro::WeatherGenerator gen(hydro::climate_preset("humid_subtropical"), 21);
+    std::ofstream out(p);
+    out << "date,tmin_c,tmax_c,rain_mm,tdew_c,u2_m_per_s,rs_mj_per_m2_day\n";
+    static constexpr int kMonthDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    for (int y = y0; y <= y1; ++y) {
+        int doy = 0;
+        for (int m = 0; m < 12; ++m) {
+            const int n = kMonthDays[m] + (m == 1 && hydro::days_in_calendar_year(y) == 366);
+            for (int d = 1; d <= n; ++d) {
+                if (++doy < first_doy && y == y0) continue;
+                const auto w = gen.next();
+                char line[160];
+                std::snprintf(line, sizeof line, "%04d-%02d-%02d,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f\n",
+                              y, m + 1, d, w.tmin_c, w.tmax_c, w.rain_mm, w.tdew_c, w.u2_m_per_s,
+                              w.rs_mj);
+                out << line;
+            }
+        }
+    }
+}
+} // namespace
+
+TEST_CASE("run: observed weather cycles by calendar year; with groundwater, resume is bit for bit",
+          "[eco][cli][resume]") {
+    test::TempDir dir;
+    write_weather_csv(dir / "weather.csv", 2003, 2004); // 365 + 366 days
+    json sc = small_scene(3);
+    sc["climate"] = {{"preset", "humid_subtropical"}, {"csv", (dir / "weather.csv").string()}};
+    sc["hydrology"] = {{"groundwater", true}};
+    {
+        eco::Ecosystem e(load(sc));
+        for (int y = 0; y < 3; ++y) e.run_year();
+        // Years follow the calendar (2004 is a leap year) and the record is replayed.
+        CHECK(e.days_done() == 365 + 366 + 365);
+        CHECK(e.last_weather().year == 2003);
+        CHECK(e.last_weather().doy == 365);
+        CHECK(std::abs(e.hydrology().cumulative_residual_m3()) <
+              1e-9 * e.hydrology().cumulative_throughput_m3());
+        CHECK(e.carbon_residual_relative() < 1e-9);
+    }
+    write(dir / "scene.json", sc.dump());
+    auto r = test::run(dir, "run scene.json -o full.h5 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    r = test::run(dir, "run scene.json -o part.h5 --years 1 --no-pictures");
+    REQUIRE(r.code == 0);
+    r = test::run(dir, "run --resume part.h5 --years 2 --no-pictures");
+    REQUIRE(r.code == 0);
+    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
+    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
+    CHECK(a.year == 3);
+    CHECK(b.year == 3);
+    CHECK(a.id == b.id);
+    CHECK(a.dbh_m == b.dbh_m);
+    CHECK(a.carbohydrate_kg == b.carbohydrate_kg);
+    // A changed weather file is refused on resume, and the run file is left as it was.
+    const auto before = fs::file_size(dir / "part.h5");
+    write_weather_csv(dir / "weather.csv", 2003, 2005);
+    r = test::run(dir, "run --resume part.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("weather CSV changed"));
+    CHECK(fs::file_size(dir / "part.h5") == before);
+    // A series that does not hold whole calendar years is refused with its dates.
+    write_weather_csv(dir / "part_year.csv", 2003, 2004, 60);
+    sc["climate"]["csv"] = (dir / "part_year.csv").string();
+    try {
+        load(sc);
+        FAIL("a part-year series was accepted");
+    } catch (const InputError& e) {
+        CHECK_THAT(e.what(), Catch::Contains("part_year.csv") && Catch::Contains("whole years") &&
+                                 Catch::Contains("day 60 of 2003"));
+    }
 }
 
 TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {

@@ -67,6 +67,8 @@ private:
     void year_end_light_only();
     void year_end_common();
     void remove_dead();
+    /// A hash of the observed weather series (0 with the generator), checked on resume.
+    std::uint64_t observed_weather_hash() const;
 
     EcoScene m_scene;
     terrain::GridSpec m_pgrid;

@@ -89,6 +89,9 @@ private:
     int m_year = 1, m_doy = 0;
 };
 
+/// 366 in Gregorian leap years, else 365.
+int days_in_calendar_year(int year);
+
 struct WeatherSeries {
     std::vector<DayWeather> days;
     std::map<std::string, int> filled; ///< what was filled how often ("rs: Hargreaves", ...)

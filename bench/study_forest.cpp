@@ -4,7 +4,9 @@
 //     grown to 11.5 m2/ha (50 ft2/acre), coupled against light-only competition. For each seed
 //     (terrain and simulation seeds both vary) it prints the years taken, stems/ha, the share of
 //     stems in small (< 10 cm), medium (10-25 cm) and large (>= 25 cm) classes and the
-//     negative-exponential fit; then the mean 5 cm histogram of each mode and its fit.
+//     negative-exponential fit; then the mean 5 cm histogram of each mode and its fit. Modes:
+//     coupled, light_only (MAVS's competitive radius) and light_crown (light-only with the crown
+//     radius as the overlap circle).
 //  B. Self-thinning (Reineke 1933): dense unmanaged stands, planted at --density stems/ha with
 //     diameters up to 5 cm, grown for --years years. Over the years after the stem count of trees
 //     >= 5 cm peaked and until Dq peaked (the even-aged phase), the least-squares slope of ln N
@@ -67,16 +69,18 @@ Share shares(const eco::StandMetrics& m) {
 void central_result(const json& base, const std::filesystem::path& dir, int seeds) {
     std::printf("A. Grown to %.1f m2/ha: coupled against light-only, %d seeds\n\n", kTargetBa,
                 seeds);
-    std::printf("%-10s %4s %5s %8s %7s %7s %7s %7s %6s\n", "mode", "seed", "years", "stems/ha",
+    std::printf("%-11s %4s %5s %8s %7s %7s %7s %7s %6s\n", "mode", "seed", "years", "stems/ha",
                 "small", "medium", "large", "q/5cm", "R2");
-    for (const char* mode : {"coupled", "light_only"}) {
+    for (const char* mode : {"coupled", "light_only", "light_crown"}) {
         std::vector<double> mean_hist;
         double mean_years = 0, mean_stems = 0;
         Share mean_share;
         int reverse_j = 0;
         for (int seed = 1; seed <= seeds; ++seed) {
             json q = base;
-            q["vegetation"]["competition"] = mode;
+            const std::string name = mode;
+            q["vegetation"]["competition"] = name == "coupled" ? "coupled" : "light_only";
+            q["vegetation"]["light_only_radius"] = name == "light_crown" ? "crown" : "mavs";
             q["simulation"]["seed"] = seed;
             q["terrain"]["generate"]["seed"] = 100 + seed;
             const auto sc = eco::load_eco_scene(q, dir);
@@ -84,7 +88,7 @@ void central_result(const json& base, const std::filesystem::path& dir, int seed
             while (e.years_done() < 300 && e.stand().basal_area_m2_per_ha < kTargetBa) e.run_year();
             const auto m = e.stand();
             const Share s = shares(m);
-            std::printf("%-10s %4d %5d %8.0f %6.0f%% %6.0f%% %6.0f%% %7.2f %6.2f\n", mode, seed,
+            std::printf("%-11s %4d %5d %8.0f %6.0f%% %6.0f%% %6.0f%% %7.2f %6.2f\n", mode, seed,
                         e.years_done(), m.stems_per_ha, 100 * s.small, 100 * s.medium,
                         100 * s.large, m.q_per_class, m.r2);
             if (mean_hist.size() < m.histogram.size()) mean_hist.resize(m.histogram.size(), 0.0);

@@ -484,14 +484,21 @@ void Ecosystem::year_end_light_only() {
             m_sum.births += 1;
         }
     }
-    // Overlap: from the largest crown down, a plant whose crown overlaps a kept larger one dies.
+    // Overlap: from the largest down, a plant whose circle overlaps a kept larger one dies (the
+    // circle of MAVS's competitive radius by default, or the crown).
     std::vector<std::size_t> order(m_plants.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return m_plants[a].crown_radius_m > m_plants[b].crown_radius_m;
-    });
+    std::vector<double> radius(m_plants.size());
+    for (std::size_t k = 0; k < m_plants.size(); ++k) {
+        const Plant& p = m_plants[k];
+        radius[k] = m_scene.light_only_radius == LightOnlyRadius::mavs
+                        ? 0.5 * species[p.species].height_to_diameter_ratio * p.height_m
+                        : p.crown_radius_m;
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return radius[a] > radius[b]; });
     double rmax = 0;
-    for (const auto& p : m_plants) rmax = std::max(rmax, p.crown_radius_m);
+    for (const double r : radius) rmax = std::max(rmax, r);
     const double bucket = std::max(2 * rmax, g.cell_size_m);
     const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
     const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
@@ -509,7 +516,7 @@ void Ecosystem::year_end_light_only() {
                 for (const std::size_t o : kept[static_cast<std::size_t>(y) * bx + x]) {
                     const Plant& q = m_plants[o];
                     const double dist = std::hypot(p.x_m - q.x_m, p.y_m - q.y_m);
-                    if (dist < p.crown_radius_m + q.crown_radius_m) {
+                    if (dist < radius[k] + radius[o]) {
                         overlaps = true;
                         break;
                     }

@@ -24,7 +24,7 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     const json sim = s.value("simulation", json::object());
     require_known_keys(veg,
                        {"ecosystem", "competition", "shading", "extinction_coefficient",
-                        "plant_cell_m", "canopy_interval_days", "initial"},
+                        "plant_cell_m", "canopy_interval_days", "initial", "light_only_radius"},
                        "vegetation");
     require_known_keys(sim,
                        {"years", "seed", "snapshot_interval_years", "target_basal_area_m2_per_ha"},
@@ -68,6 +68,9 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     const std::string sh = shadings[get_choice(veg, "shading", shadings, 0, w)];
     e.shading = sh == "blocking" ? ShadingMode::blocking : ShadingMode::beer_lambert;
     e.extinction = get_number(veg, "extinction_coefficient", e.extinction, w, 0.01, 5);
+    const std::vector<std::string> radii = {"mavs", "crown"};
+    const std::string radius = radii[get_choice(veg, "light_only_radius", radii, 0, w)];
+    e.light_only_radius = radius == "mavs" ? LightOnlyRadius::mavs : LightOnlyRadius::crown;
     const double terrain_cell = e.hydro.dem.grid().cell_size_m;
     e.plant_cell_m = get_number(veg, "plant_cell_m", std::min(1.0, terrain_cell), w, 0.05, 100);
     const double ratio = terrain_cell / e.plant_cell_m;
@@ -115,6 +118,7 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
                                 {"competition", comp},
                                 {"shading", sh},
                                 {"extinction_coefficient", e.extinction},
+                                {"light_only_radius", radius},
                                 {"plant_cell_m", e.plant_cell_m},
                                 {"canopy_interval_days", e.canopy_interval_days},
                                 {"initial", init_resolved}};

@@ -103,20 +103,35 @@ TEST_CASE("ecosystem: same seed, same plants on 1 and 2 threads", "[eco][engine]
     }
 }
 
-TEST_CASE("ecosystem: light-only kills the smaller of overlapping crowns", "[eco][engine]") {
-    const auto sc = load(small_scene(4, "light_only"));
-    eco::Ecosystem e(sc);
-    for (int y = 0; y < 4; ++y) e.run_year();
-    const auto& p = e.plants();
-    for (std::size_t i = 0; i < p.size(); ++i)
-        for (std::size_t j = i + 1; j < p.size(); ++j)
-            CHECK(std::hypot(p[i].x_m - p[j].x_m, p[i].y_m - p[j].y_m) >=
-                  p[i].crown_radius_m + p[j].crown_radius_m);
-    double overlap = 0;
-    for (std::size_t k = 0; k < e.yearly().names.size(); ++k)
-        if (e.yearly().names[k] == "deaths_overlap")
-            for (double v : e.yearly().columns[k]) overlap += v;
-    CHECK(overlap > 0);
+TEST_CASE("ecosystem: light-only kills the smaller of overlapping circles", "[eco][engine]") {
+    // MAVS's competitive radius 0.5 x ratio x H by default, or the crown radius.
+    for (const std::string mode : {"mavs", "crown"}) {
+        json j = small_scene(4, "light_only");
+        j["vegetation"]["light_only_radius"] = mode;
+        const auto sc = load(j);
+        eco::Ecosystem e(sc);
+        for (int y = 0; y < 4; ++y) e.run_year();
+        const auto& p = e.plants();
+        auto radius = [&](const eco::Plant& q) {
+            return mode == "crown"
+                       ? q.crown_radius_m
+                       : 0.5 * sc.ecosystem.species[q.species].height_to_diameter_ratio *
+                             q.height_m;
+        };
+        int violations = 0;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            for (std::size_t k = i + 1; k < p.size(); ++k)
+                violations += std::hypot(p[i].x_m - p[k].x_m, p[i].y_m - p[k].y_m) <
+                              radius(p[i]) + radius(p[k]);
+        INFO(mode);
+        CHECK(violations == 0);
+        CHECK(p.size() > 10);
+        double overlap = 0;
+        for (std::size_t k = 0; k < e.yearly().names.size(); ++k)
+            if (e.yearly().names[k] == "deaths_overlap")
+                for (double v : e.yearly().columns[k]) overlap += v;
+        CHECK(overlap > 0);
+    }
 }
 
 TEST_CASE("run: resume continues bit for bit", "[eco][cli][resume]") {

@@ -14,6 +14,9 @@
 namespace ecoterra::eco {
 
 enum class Competition { coupled, light_only };
+/// The radius of the light-only overlap test: MAVS's competitive radius 0.5 x "Height To
+/// Diameter Ratio" x H (MAVS plant.cpp; reference mavs.md s1.2), or the allometric crown radius.
+enum class LightOnlyRadius { mavs, crown };
 std::string competition_name(Competition c);
 
 struct InitialPlants {
@@ -28,7 +31,8 @@ struct EcoScene {
     EcosystemDef ecosystem;
     Competition competition = Competition::coupled;
     ShadingMode shading = ShadingMode::blocking;
-    double extinction = 0.5;      ///< Beer-Lambert k
+    double extinction = 0.5; ///< Beer-Lambert k
+    LightOnlyRadius light_only_radius = LightOnlyRadius::mavs;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
     int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
     InitialPlants initial;

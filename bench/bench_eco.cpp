@@ -1,7 +1,7 @@
 // Ecosystem benchmarks: plant-years/s and simulated years per wall second, coupled and light-only,
 // for the 1 ha quickstart scene (100 years) and a 1 km x 1 km scene (1 m plant grid, 8 m
 // hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year time it implies).
-// Usage: bench_eco [--years-1km N] [--skip-1km]
+// Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/terrain/io/atomic_file.hpp"
 
@@ -47,15 +47,18 @@ void report(const char* name, const char* mode, int years, const Result& r) {
 int main(int argc, char** argv) {
     int years_1km = 10;
     bool skip_1km = false;
+    std::string only; // --mode coupled | light_only: run that mode alone
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--years-1km") == 0 && i + 1 < argc)
             years_1km = std::atoi(argv[++i]);
         if (std::strcmp(argv[i], "--skip-1km") == 0) skip_1km = true;
+        if (std::strcmp(argv[i], "--mode") == 0 && i + 1 < argc) only = argv[++i];
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
     std::printf("ecoterra ecosystem benchmark (humid subtropical broadleaf, daily steps)\n\n");
     json q = json::parse(terrain::io::read_text(data / "scenes/quickstart.json"));
     for (const char* mode : {"coupled", "light_only"}) {
+        if (!only.empty() && only != mode) continue;
         q["vegetation"]["competition"] = mode;
         const auto sc = eco::load_eco_scene(q, data / "scenes");
         report("1 ha quickstart (50^2 x 2 m terrain)", mode, 100, grow(sc, 100));
@@ -69,6 +72,7 @@ int main(int argc, char** argv) {
                                 {"params", {{"D", 2.3}, {"rms_m", 6.0}}}};
     k["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 300}, {"max_dbh_m", 0.4}}}};
     for (const char* mode : {"coupled", "light_only"}) {
+        if (!only.empty() && only != mode) continue;
         k["vegetation"]["competition"] = mode;
         const auto sc = eco::load_eco_scene(k, data / "scenes");
         report("1 km2 (125^2 x 8 m terrain, 1 m plants)", mode, years_1km, grow(sc, years_1km));

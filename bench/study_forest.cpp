@@ -5,8 +5,8 @@
 //     (terrain and simulation seeds both vary) it prints the years taken, stems/ha, the share of
 //     stems in small (< 10 cm), medium (10-25 cm) and large (>= 25 cm) classes and the
 //     negative-exponential fit; then the mean 5 cm histogram of each mode and its fit. Modes:
-//     coupled, light_only (MAVS's competitive radius) and light_crown (light-only with the crown
-//     radius as the overlap circle).
+//     coupled, light_only (crown radius as the overlap circle) and light_mavs (light-only with
+//     MAVS's competitive radius).
 //  B. Self-thinning (Reineke 1933): dense unmanaged stands, planted at --density stems/ha with
 //     diameters up to 5 cm, grown for --years years. Over the years after the stem count of trees
 //     >= 5 cm peaked and until Dq peaked (the even-aged phase), the least-squares slope of ln N
@@ -71,7 +71,7 @@ void central_result(const json& base, const std::filesystem::path& dir, int seed
                 seeds);
     std::printf("%-11s %4s %5s %8s %7s %7s %7s %7s %6s\n", "mode", "seed", "years", "stems/ha",
                 "small", "medium", "large", "q/5cm", "R2");
-    for (const char* mode : {"coupled", "light_only", "light_crown"}) {
+    for (const char* mode : {"coupled", "light_only", "light_mavs"}) {
         std::vector<double> mean_hist;
         double mean_years = 0, mean_stems = 0;
         Share mean_share;
@@ -80,7 +80,7 @@ void central_result(const json& base, const std::filesystem::path& dir, int seed
             json q = base;
             const std::string name = mode;
             q["vegetation"]["competition"] = name == "coupled" ? "coupled" : "light_only";
-            q["vegetation"]["light_only_radius"] = name == "light_crown" ? "crown" : "mavs";
+            q["vegetation"]["light_only_radius"] = name == "light_mavs" ? "mavs" : "crown";
             q["simulation"]["seed"] = seed;
             q["terrain"]["generate"]["seed"] = 100 + seed;
             const auto sc = eco::load_eco_scene(q, dir);

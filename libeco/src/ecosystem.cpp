@@ -485,7 +485,7 @@ void Ecosystem::year_end_light_only() {
         }
     }
     // Overlap: from the largest down, a plant whose circle overlaps a kept larger one dies (the
-    // circle of MAVS's competitive radius by default, or the crown).
+    // crown by default, or the circle of MAVS's competitive radius).
     std::vector<std::size_t> order(m_plants.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::vector<double> radius(m_plants.size());

@@ -68,7 +68,7 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     const std::string sh = shadings[get_choice(veg, "shading", shadings, 0, w)];
     e.shading = sh == "blocking" ? ShadingMode::blocking : ShadingMode::beer_lambert;
     e.extinction = get_number(veg, "extinction_coefficient", e.extinction, w, 0.01, 5);
-    const std::vector<std::string> radii = {"mavs", "crown"};
+    const std::vector<std::string> radii = {"crown", "mavs"};
     const std::string radius = radii[get_choice(veg, "light_only_radius", radii, 0, w)];
     e.light_only_radius = radius == "mavs" ? LightOnlyRadius::mavs : LightOnlyRadius::crown;
     const double terrain_cell = e.hydro.dem.grid().cell_size_m;

@@ -32,7 +32,7 @@ struct EcoScene {
     Competition competition = Competition::coupled;
     ShadingMode shading = ShadingMode::blocking;
     double extinction = 0.5; ///< Beer-Lambert k
-    LightOnlyRadius light_only_radius = LightOnlyRadius::mavs;
+    LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
     int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
     InitialPlants initial;

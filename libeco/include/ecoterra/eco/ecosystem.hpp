@@ -2,10 +2,11 @@
 // The coupled engine (paper 002 s3-4): terrain, soil, weather, hydrology and plants stepped day by
 // day. Daily: weather, plant water demand -> hydrology -> supply -> carbohydrate balance,
 // starvation. Every canopy_interval_days: wood -> diameter -> height, crown, leaf area (allometry),
-// crowns and shading. Yearly (day 365): ageing, mortality (maximum age, background), seed
+// crowns and shading. Yearly (day 365, or 31 December with observed weather): ageing,
+// mortality (maximum age, background, growth suppression), seed
 // production, dispersal and establishment, background arrivals, canopy cover -> the hydrology's
 // vegetation density, the yearly series. The light-only mode replaces the plant processes by the
-// geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s6).
+// geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s7).
 #include "ecoterra/archive.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/plant.hpp"

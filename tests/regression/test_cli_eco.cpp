@@ -47,6 +47,29 @@ void write(const fs::path& p, const std::string& text) {
     std::ofstream(p) << text;
 }
 
+/// Runs dir/scene.json for `years` into full.h5, and for `first` years into part.h5 resumed for
+/// the rest; the last snapshots must hold the same plants, bit for bit.
+void check_resume_equals_full_run(const test::TempDir& dir, int years, int first) {
+    auto r = test::run(dir, "run scene.json -o full.h5 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    r = test::run(dir,
+                  "run scene.json -o part.h5 --years " + std::to_string(first) + " --no-pictures");
+    REQUIRE(r.code == 0);
+    r = test::run(dir, "run --resume part.h5 --years " + std::to_string(years - first) +
+                           " --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
+    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
+    CHECK(a.year == years);
+    CHECK(b.year == years);
+    CHECK(a.id == b.id);
+    CHECK(a.dbh_m == b.dbh_m);
+    CHECK(a.carbohydrate_kg == b.carbohydrate_kg);
+    CHECK(a.x_m == b.x_m);
+}
+
 } // namespace
 
 TEST_CASE("ecosystem: budgets close, plants live, die and recruit", "[eco][engine]") {
@@ -137,21 +160,8 @@ TEST_CASE("ecosystem: light-only kills the smaller of overlapping circles", "[ec
 TEST_CASE("run: resume continues bit for bit", "[eco][cli][resume]") {
     test::TempDir dir;
     write(dir / "scene.json", small_scene(4).dump());
-    auto r = test::run(dir, "run scene.json -o full.h5 --no-pictures");
-    REQUIRE(r.code == 0);
-    r = test::run(dir, "run scene.json -o part.h5 --years 2 --no-pictures");
-    REQUIRE(r.code == 0);
-    r = test::run(dir, "run --resume part.h5 --years 2 --no-pictures");
-    INFO(r.out);
-    REQUIRE(r.code == 0);
-    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
-    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
-    CHECK(a.year == 4);
-    CHECK(b.year == 4);
-    CHECK(a.id == b.id);
-    CHECK(a.dbh_m == b.dbh_m);
-    CHECK(a.carbohydrate_kg == b.carbohydrate_kg);
-    CHECK(a.x_m == b.x_m);
+    check_resume_equals_full_run(dir, 4, 2);
+    test::Run r;
     // The same scene with a different seed is refused, and the run file is left as it was.
     const auto before = fs::file_size(dir / "part.h5");
     r = test::run(dir, "run scene.json --resume part.h5 --seed 10 --years 1 --no-pictures");
@@ -210,20 +220,8 @@ TEST_CASE("run: observed weather cycles by calendar year; with groundwater, resu
         CHECK(e.carbon_residual_relative() < 1e-9);
     }
     write(dir / "scene.json", sc.dump());
-    auto r = test::run(dir, "run scene.json -o full.h5 --no-pictures");
-    INFO(r.out);
-    REQUIRE(r.code == 0);
-    r = test::run(dir, "run scene.json -o part.h5 --years 1 --no-pictures");
-    REQUIRE(r.code == 0);
-    r = test::run(dir, "run --resume part.h5 --years 2 --no-pictures");
-    REQUIRE(r.code == 0);
-    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
-    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
-    CHECK(a.year == 3);
-    CHECK(b.year == 3);
-    CHECK(a.id == b.id);
-    CHECK(a.dbh_m == b.dbh_m);
-    CHECK(a.carbohydrate_kg == b.carbohydrate_kg);
+    check_resume_equals_full_run(dir, 3, 1);
+    test::Run r;
     // A changed weather file is refused on resume, and the run file is left as it was.
     const auto before = fs::file_size(dir / "part.h5");
     write_weather_csv(dir / "weather.csv", 2003, 2005);

@@ -178,12 +178,10 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     //    one equilibrium pass then settles both.
     for (const auto& k : m_catch.catchments()) {
         const std::int32_t id = k.id;
-        std::int64_t wet = 0;
-        for (const auto c : k.cells) wet += k.level_m > m_dem.data()[c];
-        f.evaporation +=
-            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(wet));
-        for (const auto c : k.cells) {
-            if (!(k.level_m > m_dem.data()[c])) continue;
+        f.evaporation += m_catch.remove_water(
+            id, e0_mm / kMmPerM * m_area * static_cast<double>(k.wet_cells));
+        m_catch.for_each_wet_cell(k, [&](std::int64_t c) {
+            if (!(k.level_m > m_dem.data()[c])) return;
             double& th = m_theta.data()[c];
             const double fc = m_soil.field_capacity.data()[c];
             const double want = std::max(0.0, (fc - th) * depth * m_area);
@@ -195,7 +193,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
                                                                  kSecondsPerDay * m_area);
                 recharge[c] += perc;
             }
-        }
+        });
     }
 
     // 1-2. Rain: into lakes, or split into runoff and infiltration.

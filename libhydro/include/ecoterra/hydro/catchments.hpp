@@ -1,28 +1,26 @@
 #pragma once
 // Catchments: standing water bodies that form, grow, shrink, spill, merge and split (paper 002
-// s4.3), resolved to equilibrium.
+// s4.3), resolved to equilibrium on the depression hierarchy of the DEM (depressions.hpp).
 //
-// A catchment is a set of seed pits and a water volume V (m3). Its state follows from filling the
-// DEM from its seeds by priority flood (Barnes, Lehman & Mulla 2014): cells are taken in order of
-// elevation; the water level h over the n cells taken so far satisfies
-//   V = A sum_{cells} (h - z_c)      (A = cell area)
-// so the catchment grows (takes the next lowest neighbouring cell) once V exceeds the volume at
-// that cell's elevation, and shrinks (gives up its highest submerged cell) when V falls below the
-// volume at the highest submerged cell's elevation, exactly the two thresholds of the paper.
-// A neighbouring cell lower than the highest cell taken, whose D8 path leaves the catchment, is a
-// spill point: the level stays at that highest cell (the saddle) and the excess runs down the D8
-// path to the pit it reaches. There it joins the catchment holding that pit, or forms a new one.
-// Edge cells are outlets: water reaching one leaves the domain. Two catchments that spill into each
-// other are merged (one catchment with both seeds). When the level of a catchment with several
-// seeds falls, its submerged cells are checked for connection by breadth-first search
-// (Boost.Graph); separated bodies become catchments of their own, each keeping the water above its
-// own cells. Updates repeat until nothing
-// spills: the equilibrium. Catchments that spill out of the domain stay at their spill level and
-// are reported as not dynamic.
+// A catchment is a water volume V (m3) held by one node of the hierarchy: a leaf depression (one
+// pit) or a meta-depression (several pits under one surface). Its level h follows from
+//   V = A sum_{cells below h} (h - z_c)      (A = cell area)
+// over the node's cells, which is the priority-flood filling of Barnes, Lehman & Mulla (2014)
+// taken in closed form: the catchment grows once V passes the volume at the next lowest
+// unsubmerged cell and shrinks when V falls below the volume at its highest submerged cell, the
+// two thresholds of the paper. When V exceeds the node's capacity (full to its outlet, the pass),
+// the level stays at the pass and the excess runs over it to the leaf on the far side, joining
+// the catchment there or forming a new one. A catchment full to a pass whose far side is full too
+// merges with it into the parent node (a lake over the saddle). When a merged catchment falls
+// below its children's saddle, it splits: the bodies under the saddle separate, each keeping the
+// water above its own cells at the common level. Water over a pass to the domain edge (or NODATA)
+// is lost; such a catchment stays at its pass and is reported as not dynamic. Updates repeat
+// until nothing spills: the equilibrium.
 //
 // With water first routed to the pits along D8, the equilibrium is that of the Fill-Spill-Merge
 // algorithm of Barnes, Callaghan & Wickert (2021, ESurf 9:105) with the domain edge as ocean.
 #include "ecoterra/archive.hpp"
+#include "ecoterra/hydro/depressions.hpp"
 #include "ecoterra/hydro/routing.hpp"
 #include "ecoterra/terrain/raster.hpp"
 
@@ -32,21 +30,16 @@
 namespace ecoterra::hydro {
 
 struct Catchment {
-    std::int32_t id = 0;             ///< stable id, >= 1
-    std::vector<std::int64_t> seeds; ///< pit cells
+    std::int32_t id = 0;             ///< 1 + the hierarchy node it fills
+    std::int32_t node = -1;          ///< that node
+    std::vector<std::int64_t> seeds; ///< pit cells under it (set by equilibrate())
     double volume_m3 = 0.0;
     // Derived by equilibrate():
-    double level_m = 0.0;            ///< water surface elevation
-    std::vector<std::int64_t> cells; ///< cells with water depth >= 0 (the region)
-    double previous_level_m = 1e300; ///< level at the previous pass (a fall triggers a split check)
-    bool dynamic = true;             ///< false once it spills out of the domain
-    bool dirty = true;               ///< volume changed since its region was last computed
-    double filled_volume_m3 = -1.0;  ///< volume at the last fill (-1 = none; warm-start check)
-    double fill_max_z = 0.0;         ///< highest elevation taken by the last fill
-    std::size_t filled_seeds = 0;    ///< seed count at the last fill
-    std::int64_t last_spill_cell = -1; ///< where the last fill spilled (-1: it did not)
-    double last_spill_level = 0.0;     ///< and at which level
-    std::int32_t spills_into = 0;      ///< id it spilled into when last computed (0 = none)
+    double level_m = 0.0;         ///< water surface elevation
+    std::int64_t wet_cells = 0;   ///< cells with level above the ground
+    std::int64_t own_wet = 0;     ///< of which in the node's own band (its lowest cells)
+    bool dynamic = true;          ///< false while it spills over the domain edge
+    bool dirty = true;            ///< volume changed since its level was last computed
 };
 
 class Catchments {
@@ -54,71 +47,76 @@ public:
     explicit Catchments(const terrain::RasterD& dem);
 
     const FlowDirections& flow() const { return m_fd; }
+    const DepressionHierarchy& hierarchy() const { return m_dh; }
     double cell_area_m2() const { return m_area; }
 
     /// Water arriving on the surface at a cell: joins the catchment covering it, or runs along D8
     /// to a pit (joining or creating that pit's catchment) or an outlet (lost).
     void add_water(std::int64_t cell, double volume_m3);
-    /// Adds water directly to a pit (e.g. from route_to_pits); creates its catchment if needed.
+    /// Adds water at a pit (e.g. from route_to_pits); creates its catchment if needed. A cell
+    /// that is not a pit passes the water on to the pit its D8 path ends in.
     void add_to_pit(std::int64_t pit, double volume_m3);
     /// Adds water already routed to the pits, counting what reached an outlet as lost.
     void add_routed(const RoutedWater& r);
     /// Removes up to `volume_m3` from a catchment; returns what was removed.
     double remove_water(std::int32_t id, double volume_m3);
 
-    /// Resolves spills, merges and splits until nothing changes. Returns the iterations used.
+    /// Resolves spills, merges and splits until nothing changes. Returns the updates used.
     int equilibrate();
 
     const std::vector<Catchment>& catchments() const { return m_list; }
+    /// Calls f(cell) for every cell of a catchment under water or at its level (valid after
+    /// equilibrate()): its descendants' cells and the lowest own_wet cells of its own band.
+    template <class F> void for_each_wet_cell(const Catchment& k, F&& f) const {
+        const auto own = m_dh.band(k.node);
+        for (std::int64_t i = 0; i < k.own_wet; ++i) f(own[static_cast<std::size_t>(i)]);
+        if (m_dh.is_leaf(k.node)) return;
+        for (int side = 0; side < 2; ++side)
+            m_dh.for_each_in_subtree(m_dh.child(k.node, side), [&](std::int32_t n) {
+                for (const auto c : m_dh.band(n)) f(c);
+            });
+    }
     /// Catchment id per cell (0 = dry) and water depth per cell, m.
     terrain::Raster<std::int32_t> id_map() const;
     terrain::RasterD depth_map() const;
-    /// Id of the catchment covering a cell, 0 if none (valid after equilibrate()).
-    std::int32_t owner(std::int64_t cell) const { return m_owner[cell]; }
+    /// Id of the catchment whose water covers a cell, 0 if none (valid after equilibrate()).
+    std::int32_t owner(std::int64_t cell) const {
+        const std::int32_t n = m_dh.node_of(cell);
+        if (n < 0 || m_cover[n] == 0) return 0;
+        const Catchment& k = m_list[static_cast<std::size_t>(m_pos[m_cover[n] - 1])];
+        return m_fd.elevation(cell) < k.level_m ? k.id : 0;
+    }
     double total_volume_m3() const;
     /// Volume that left the domain through outlets since construction.
     double lost_m3() const { return m_lost_m3; }
-    /// Work counters (for benchmarks): catchment fills and cells taken by them, since construction.
-    std::int64_t fills() const { return m_fills; }
-    std::int64_t cells_filled() const { return m_cells_filled; }
+    /// Work counter (for benchmarks): catchment updates since construction.
+    std::int64_t updates() const { return m_updates; }
 
-    /// Checkpoint: every catchment and the owner maps, bit-exact.
+    /// Checkpoint: every catchment, bit-exact (the hierarchy is rebuilt from the DEM).
     void save_state(ArchiveWriter& a) const;
     void load_state(ArchiveReader& a);
 
 private:
-    struct Fill {
-        double level = 0, excess = 0;
-        std::int64_t spill_cell = -1; ///< where the excess goes (an outlet or a cell outside)
-        bool separated = false;       ///< the level fell below a saddle inside the region
-        double max_z = 0;             ///< highest elevation taken
-        std::vector<std::int64_t> cells;
-    };
-    Fill fill(const Catchment& k);
-    /// The common water level of a catchment's volume over all its seeds, taking cells in order
-    /// of elevation only (used when its bodies have separated below a saddle).
-    Fill fill_common_level(const Catchment& k);
-    bool drains_into_region(std::int64_t c) const;
-    Catchment* find(std::int32_t id);
-    std::int32_t catchment_of_pit(std::int64_t pit) const;
-    void deliver(std::int64_t cell, double volume_m3, std::int32_t from);
-    void split_if_separated(std::size_t index);
-    void release_cells(const Catchment& k);
+    Catchment& create(std::int32_t node, double volume_m3);
+    void remove(std::int32_t node);
+    Catchment& at(std::int32_t node) { return m_list[static_cast<std::size_t>(m_pos[node])]; }
+    void add_to_leaf(std::int32_t leaf, double volume_m3);
+    void set_full(Catchment& k);
+    /// Splits the catchment at a node whose volume fell below its children's saddle; pushes the
+    /// new catchments' nodes onto `work`.
+    void split(std::int32_t node, std::vector<std::int32_t>& work);
+    /// After an equilibrium: list order, positions, cover map, seeds and wet counts.
+    void finish();
 
     terrain::RasterD m_dem;
     FlowDirections m_fd;
+    DepressionHierarchy m_dh;
     double m_area;
     std::vector<Catchment> m_list;
-    std::vector<std::int32_t> m_owner;      ///< catchment id per cell after equilibrate()
-    std::vector<std::int32_t> m_seed_owner; ///< catchment id whose seeds include the cell
-    std::vector<std::int32_t> m_index;      ///< position in m_list by id (-1 = none)
-    void reindex();
-    std::int32_t m_next_id = 1;
+    std::vector<std::int32_t> m_pos;   ///< position in m_list of the catchment at a node, or -1
+    std::vector<std::int32_t> m_cover; ///< id of the catchment covering a node (0 = none)
     double m_lost_m3 = 0.0;
-    std::int64_t m_fills = 0, m_cells_filled = 0;
-    // Scratch for fill(): stamps avoid clearing per call.
-    std::vector<std::uint32_t> m_stamp_queued, m_stamp_region;
-    std::uint32_t m_stamp = 0;
+    std::int64_t m_updates = 0;
 };
 
 /// Spreads a uniform depth (m) over every valid cell, routes it to the pits (D8 or MFD), and

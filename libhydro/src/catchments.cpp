@@ -94,6 +94,13 @@ Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing) {
     return c;
 }
 
+void Catchments::add_water_to(std::int32_t id, double v) {
+    if (id <= 0 || id > m_dh.node_count() || m_pos[id - 1] < 0 || !(v > 0)) return;
+    Catchment& k = at(id - 1);
+    k.volume_m3 += v;
+    k.dirty = true;
+}
+
 double Catchments::remove_water(std::int32_t id, double v) {
     if (id <= 0 || id > m_dh.node_count() || m_pos[id - 1] < 0 || !(v > 0)) return 0.0;
     Catchment& k = at(id - 1);

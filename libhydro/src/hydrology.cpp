@@ -1,6 +1,7 @@
 #include "ecoterra/hydro/hydrology.hpp"
 
 #include "ecoterra/hydro/groundwater.hpp"
+#include "ecoterra/parallel.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 
 #include <algorithm>
@@ -13,6 +14,42 @@ namespace ecoterra::hydro {
 namespace {
 constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerDay = 86400.0;
+
+/// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
+/// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close
+/// in memory.
+std::vector<std::int64_t> upstream_first_order(const terrain::RasterD& dem) {
+    const auto& g = dem.grid();
+    const double* z = dem.data();
+    constexpr std::uint8_t kDone = 255;
+    std::vector<std::uint8_t> higher(static_cast<std::size_t>(g.size()), 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            dem.for_moore(i, j, [&](int a, int b) {
+                higher[cell_index(g, i, j)] += z[cell_index(g, a, b)] > z[cell_index(g, i, j)];
+            });
+    std::vector<std::int64_t> order, stack;
+    order.reserve(static_cast<std::size_t>(g.size()));
+    for (std::int64_t c = 0; c < g.size(); ++c) {
+        if (higher[c] != 0) continue;
+        higher[c] = kDone;
+        stack.push_back(c);
+        while (!stack.empty()) {
+            const std::int64_t x = stack.back();
+            stack.pop_back();
+            order.push_back(x);
+            const int i = static_cast<int>(x % g.nx), j = static_cast<int>(x / g.nx);
+            dem.for_moore(i, j, [&](int a, int b) {
+                const std::int64_t y = cell_index(g, a, b);
+                if (z[y] < z[x] && --higher[y] == 0) {
+                    higher[y] = kDone;
+                    stack.push_back(y);
+                }
+            });
+        }
+    }
+    return order;
+}
 } // namespace
 
 const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns() {
@@ -103,10 +140,9 @@ HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
         m_theta.data()[k] = wp + opt.initial_saturation * (fc - wp);
     }
     set_vegetation_density(veg);
-    m_order.resize(static_cast<std::size_t>(dem.size()));
-    std::iota(m_order.begin(), m_order.end(), 0);
-    std::stable_sort(m_order.begin(), m_order.end(),
-                     [&](std::int64_t a, std::int64_t b) { return dem.data()[a] > dem.data()[b]; });
+    m_order = upstream_first_order(dem);
+    m_runoff.assign(static_cast<std::size_t>(dem.size()), 0.0);
+    m_recharge.assign(static_cast<std::size_t>(dem.size()), 0.0);
     if (opt.groundwater)
         m_gw =
             std::make_unique<Groundwater>(dem, soil.ksat_m_per_s, opt.specific_yield,
@@ -138,10 +174,9 @@ void HydrologyModel::update_runoff_coefficients() {
 }
 
 double HydrologyModel::soil_storage_m3() const {
-    double s = 0;
-    for (std::int64_t k = 0; k < m_theta.size(); ++k)
-        s += m_theta.data()[k] * m_opt.root_zone_depth_m * m_area;
-    return s;
+    const double* th = m_theta.data();
+    return blocked_sums<1>(m_theta.size(), [&](std::int64_t k, auto& s) { s[0] += th[k]; })[0] *
+           m_opt.root_zone_depth_m * m_area;
 }
 
 double HydrologyModel::groundwater_storage_m3() const {
@@ -171,7 +206,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     const double grass_mm = et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm;
     const double rain_m = w.rain_mm / kMmPerM;
     f.rain = rain_m * m_area * static_cast<double>(g.size());
-    std::vector<double> recharge(static_cast<std::size_t>(g.size()), 0.0); // m3
+    std::vector<double>& recharge = m_recharge; // m3 per cell
+    if (m_gw) std::fill(recharge.begin(), recharge.end(), 0.0);
 
     // 0. Standing water (as left by yesterday's equilibrium) evaporates at the open-water rate and
     //    infiltrates into the soil under it (and percolates). The day's inflows come after, and
@@ -196,78 +232,84 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
         });
     }
 
-    // 1-2. Rain: into lakes, or split into runoff and infiltration.
-    std::vector<double> runoff(static_cast<std::size_t>(g.size()), 0.0); // m3
     const FlowDirections& fd = m_catch.flow();
-    for (std::int64_t k = 0; k < g.size(); ++k) {
-        if (rain_m <= 0) break;
-        if (m_catch.owner(k) != 0) {
-            m_catch.add_water(k, rain_m * m_area);
-            continue;
-        }
-        double r = 0;
-        if (m_opt.runoff == RunoffMethod::coefficients) {
-            r = m_coef.data()[k] * rain_m;
-        } else if (m_slope.data()[k] >= m_opt.flat_slope) {
-            r = scs_runoff_mm(
-                    w.rain_mm,
-                    curve_number(m_veg.data()[k], static_cast<Texture>(m_soil.texture.data()[k]))) /
-                kMmPerM;
-        }
-        const double inf = rain_m - r;
-        f.infiltration += inf * m_area;
-        double& th = m_theta.data()[k];
-        th += inf / depth;
-        const double fc = m_soil.field_capacity.data()[k];
-        double excess = std::max(0.0, (th - fc) * depth); // m
-        th = std::min(th, fc);
-        if (m_gw && excess > 0) {
-            const double perc = std::min(excess, m_soil.ksat_m_per_s.data()[k] * kSecondsPerDay);
-            recharge[k] += perc * m_area;
-            excess -= perc;
-        }
-        runoff[k] = (r + excess) * m_area;
-    }
+    if (rain_m > 0) {
+        // 1. Rain on standing water joins it (its wet cells are those owner() reports).
+        for (const auto& k : m_catch.catchments())
+            m_catch.add_water_to(k.id, rain_m * m_area * static_cast<double>(k.wet_cells));
+        // 2. Rain elsewhere splits into runoff and infiltration, cell by cell in parallel.
+        std::vector<double>& runoff = m_runoff; // m3 per cell
+        const auto sums = blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) {
+            if (m_catch.owner(k) != 0) {
+                runoff[k] = 0.0;
+                return;
+            }
+            double r = 0;
+            if (m_opt.runoff == RunoffMethod::coefficients) {
+                r = m_coef.data()[k] * rain_m;
+            } else if (m_slope.data()[k] >= m_opt.flat_slope) {
+                r = scs_runoff_mm(w.rain_mm,
+                                  curve_number(m_veg.data()[k],
+                                               static_cast<Texture>(m_soil.texture.data()[k]))) /
+                    kMmPerM;
+            }
+            const double inf = rain_m - r;
+            sum[0] += inf * m_area;
+            double& th = m_theta.data()[k];
+            th += inf / depth;
+            const double fc = m_soil.field_capacity.data()[k];
+            double excess = std::max(0.0, (th - fc) * depth); // m
+            th = std::min(th, fc);
+            if (m_gw && excess > 0) {
+                const double perc =
+                    std::min(excess, m_soil.ksat_m_per_s.data()[k] * kSecondsPerDay);
+                recharge[k] += perc * m_area;
+                excess -= perc;
+            }
+            runoff[k] = (r + excess) * m_area;
+        });
+        f.infiltration += sums[0];
 
-    // 3. Run-on, highest cells first.
-    for (const std::int64_t k : m_order) {
-        double q = runoff[k];
-        if (q <= 0) continue;
-        if (fd.is_outlet(k)) {
-            m_catch.add_water(k, q); // counted as lost by the catchments
-            continue;
+        // 3. Run-on, every cell after the cells above it.
+        for (const std::int64_t k : m_order) {
+            double q = runoff[k];
+            if (q <= 0) continue;
+            if (fd.is_outlet(k)) {
+                m_catch.add_water(k, q); // counted as lost by the catchments
+                continue;
+            }
+            if (m_catch.owner(k) != 0) {
+                m_catch.add_water(k, q);
+                continue;
+            }
+            double& th = m_theta.data()[k];
+            const double fc = m_soil.field_capacity.data()[k];
+            const double absorb = std::min(q, std::max(0.0, (fc - th) * depth * m_area));
+            if (absorb > 0) {
+                th += absorb / (depth * m_area);
+                f.infiltration += absorb;
+                q -= absorb;
+            }
+            if (q <= 0) continue;
+            if (fd.is_pit(k)) {
+                m_catch.add_to_pit(k, q);
+                continue;
+            }
+            if (m_opt.routing == Routing::d8) {
+                runoff[fd.receiver(k)] += q;
+                continue;
+            }
+            std::array<std::pair<std::int64_t, double>, 8> shares;
+            const int n = mfd_shares(fd, k, shares);
+            for (int r = 0; r < n; ++r) runoff[shares[r].first] += q * shares[r].second;
         }
-        if (m_catch.owner(k) != 0) {
-            m_catch.add_water(k, q);
-            continue;
-        }
-        double& th = m_theta.data()[k];
-        const double fc = m_soil.field_capacity.data()[k];
-        const double absorb = std::min(q, std::max(0.0, (fc - th) * depth * m_area));
-        if (absorb > 0) {
-            th += absorb / (depth * m_area);
-            f.infiltration += absorb;
-            q -= absorb;
-        }
-        if (q <= 0) continue;
-        if (fd.is_pit(k)) {
-            m_catch.add_to_pit(k, q);
-            continue;
-        }
-        if (m_opt.routing == Routing::d8) {
-            runoff[fd.receiver(k)] += q;
-            continue;
-        }
-        std::array<std::pair<std::int64_t, double>, 8> shares;
-        const int n = mfd_shares(fd, k, shares);
-        for (int r = 0; r < n; ++r) runoff[shares[r].first] += q * shares[r].second;
     }
 
     // 4. Equilibrium of the standing water with the day's inflows.
     m_catch.equilibrate();
 
-    // 5. Evapotranspiration from the soil.
-    for (std::int64_t k = 0; k < g.size(); ++k) {
+    // 5. Evapotranspiration from the soil, cell by cell in parallel.
+    const auto et_sums = blocked_sums<2>(g.size(), [&](std::int64_t k, auto& sum) {
         const double req = transp_mm ? std::max(0.0, transp_mm->data()[k]) / kMmPerM : 0.0; // m
         const bool lake = m_catch.owner(k) != 0;
         const double surface =
@@ -281,13 +323,17 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
         th -= actual / depth;
         const double tr = std::min(actual, req);
         m_transp_supplied.data()[k] = tr * kMmPerM;
-        f.transpiration += tr * m_area;
-        f.evaporation += (actual - tr) * m_area;
-    }
+        sum[0] += tr * m_area;
+        sum[1] += (actual - tr) * m_area;
+    });
+    f.transpiration += et_sums[0];
+    f.evaporation += et_sums[1];
 
     // 6. Groundwater.
     if (m_gw) {
-        for (double r : recharge) f.recharge += r;
+        f.recharge = blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) {
+            sum[0] += recharge[k];
+        })[0];
         GroundwaterResult res;
         try {
             res = m_gw->step(kSecondsPerDay, recharge);

@@ -58,6 +58,8 @@ public:
     void add_to_pit(std::int64_t pit, double volume_m3);
     /// Adds water already routed to the pits, counting what reached an outlet as lost.
     void add_routed(const RoutedWater& r);
+    /// Adds water to a catchment by id (e.g. rain on its wet cells).
+    void add_water_to(std::int32_t id, double volume_m3);
     /// Removes up to `volume_m3` from a catchment; returns what was removed.
     double remove_water(std::int32_t id, double volume_m3);
 

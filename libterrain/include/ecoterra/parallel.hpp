@@ -1,0 +1,34 @@
+#pragma once
+// Deterministic parallel sums over cells: the cells are cut into fixed blocks (whatever the thread
+// count), each block sums on its own, and the block sums are added in block order. The same
+// inputs give the same bits on 1 thread or many.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace ecoterra {
+
+inline constexpr std::int64_t kSumBlockCells = 16384;
+inline constexpr std::int64_t kMinParallelBlocks = 8;
+
+/// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
+/// std::array<double, K>; returns the K totals.
+template <std::size_t K, class F> std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
+    const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
+    std::vector<std::array<double, K>> part(static_cast<std::size_t>(blocks));
+    // Small grids stay on one thread: a parallel region costs more than it saves there.
+#pragma omp parallel for schedule(static) if (blocks >= kMinParallelBlocks)
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        std::array<double, K> s{};
+        const std::int64_t end = std::min(n, (b + 1) * kSumBlockCells);
+        for (std::int64_t k = b * kSumBlockCells; k < end; ++k) f(k, s);
+        part[static_cast<std::size_t>(b)] = s;
+    }
+    std::array<double, K> total{};
+    for (const auto& s : part)
+        for (std::size_t i = 0; i < K; ++i) total[i] += s[i];
+    return total;
+}
+
+} // namespace ecoterra

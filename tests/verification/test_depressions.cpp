@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <map>
+#include <queue>
 #include <set>
 
 using namespace ecoterra;
@@ -172,4 +173,119 @@ TEST_CASE("The daily update gives the same bits on one and two threads", "[hydro
     for (std::int64_t k = 0; k < dem.size(); ++k)
         differ += a.second.data()[k] != b.second.data()[k];
     CHECK(differ == 0);
+}
+
+namespace {
+
+/// Priority-flood depression filling (Barnes, Lehman & Mulla 2014) from the domain edge: every
+/// interior cell raised to the lowest level at which water on it can leave.
+RasterD priority_flood_fill(const RasterD& z) {
+    RasterD w = z;
+    const auto& g = z.grid();
+    using Entry = std::pair<double, std::int64_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+    std::vector<char> closed(static_cast<std::size_t>(z.size()), 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            if (i == 0 || j == 0 || i == g.nx - 1 || j == g.ny - 1) {
+                open.emplace(z(i, j), cell_index(g, i, j));
+                closed[cell_index(g, i, j)] = 1;
+            }
+    while (!open.empty()) {
+        const auto [h, c] = open.top();
+        open.pop();
+        z.for_moore(static_cast<int>(c % g.nx), static_cast<int>(c / g.nx), [&](int a, int b) {
+            const std::int64_t n = cell_index(g, a, b);
+            if (closed[n]) return;
+            closed[n] = 1;
+            w.data()[n] = std::max(z.data()[n], h);
+            open.emplace(w.data()[n], n);
+        });
+    }
+    return w;
+}
+
+RasterD integer_dem(std::uint64_t seed) {
+    RasterD z = random_dem(seed);
+    for (std::int64_t k = 0; k < z.size(); ++k) z.data()[k] = std::floor(10.0 * z.data()[k]);
+    return z;
+}
+
+} // namespace
+
+TEST_CASE("Fill-Spill-Merge's own test DEM: depression volumes and the water reaching each pit",
+          "[catchments][depressions][verification]") {
+    // The 10 x 10 DEM of the "MoveWaterIntoPits 1" case in Barnes, Callaghan & Wickert's
+    // Fill-Spill-Merge unit tests (edges -9, the ocean). With 1 m of water on every cell, FSM
+    // reports 64 m3 reaching the ocean, 30 and 6 m3 reaching its two depressions, depression
+    // volumes of 73 and 2 m3, and 111 m3 for the meta-depression holding both.
+    const double t[10][10] = {
+        {-9, -9, -9, -9, -9, -9, -9, -9, -9, -9}, {-9, 9, 9, 9, 9, 9, 9, 9, 9, -9},
+        {-9, 9, 8, 8, 8, 8, 7, 6, 9, -9},         {-9, 9, 8, 7, 8, 7, 6, 5, 9, -9},
+        {-9, 9, 8, 7, 8, 6, 5, 4, 9, -9},         {-9, 9, 8, 8, 8, 5, 4, 3, 9, -9},
+        {-9, 9, 7, 6, 5, 4, 3, 2, 9, -9},         {-9, 9, 7, 6, 5, 4, 3, 1, 9, -9},
+        {-9, 9, 9, 9, 9, 9, 9, 9, 9, -9},         {-9, -9, -9, -9, -9, -9, -9, -9, -9, -9}};
+    RasterD z(GridSpec{10, 10, 1.0, 0, 0});
+    for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 10; ++i) z(i, j) = t[j][i];
+    const FlowDirections fd(z);
+    const DepressionHierarchy dh(fd);
+    REQUIRE(dh.leaf_count() == 2);
+    REQUIRE(dh.node_count() == 3);
+    const std::int32_t big = dh.leaf_of(cell_index(z.grid(), 7, 7)),
+                       small = dh.leaf_of(cell_index(z.grid(), 3, 4));
+    REQUIRE(big != small);
+    CHECK(dh.capacity(big) == Approx(73.0));
+    CHECK(dh.capacity(small) == Approx(2.0));
+    CHECK(dh.parent(big) == 2);
+    CHECK(dh.parent(small) == 2);
+    CHECK(dh.capacity(2) == Approx(111.0));
+    CHECK(dh.parent(2) == -1);
+    std::vector<double> one(static_cast<std::size_t>(z.size()), 1.0);
+    const RoutedWater r = route_to_pits(fd, one, Routing::d8);
+    CHECK(r.lost_m3 == Approx(64.0));
+    double at_big = 0, at_small = 0;
+    for (std::int64_t c = 0; c < z.size(); ++c) {
+        if (r.at_pit_m3[c] <= 0) continue;
+        (dh.leaf_of(c) == big ? at_big : at_small) += r.at_pit_m3[c];
+    }
+    CHECK(at_big == Approx(30.0));
+    CHECK(at_small == Approx(6.0));
+}
+
+TEST_CASE("Heavy flooding fills every depression to the priority-flood surface",
+          "[catchments][depressions][verification]") {
+    // Fill-Spill-Merge's own check: with far more water than the depressions hold, the water
+    // surface is the depression-filled DEM.
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+        const RasterD z = seed % 2 ? random_dem(seed + 300) : integer_dem(seed + 300);
+        const Catchments c = pond(z, 50.0, Routing::d8);
+        const RasterD filled = priority_flood_fill(z), d = c.depth_map();
+        double worst = 0;
+        for (std::int64_t k = 0; k < z.size(); ++k)
+            worst = std::max(worst, std::abs(z.data()[k] + d.data()[k] - filled.data()[k]));
+        CAPTURE(seed);
+        CHECK(worst < 1e-9);
+    }
+}
+
+TEST_CASE("Ponding the ponded water again changes nothing, flats included",
+          "[catchments][depressions][verification]") {
+    // Fill-Spill-Merge's repeated-run check, on integer-valued DEMs full of flats.
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+        const RasterD z = integer_dem(seed + 500);
+        const Catchments first = pond(z, 0.4, Routing::d8);
+        const RasterD d1 = first.depth_map();
+        Catchments again(z);
+        for (std::int64_t k = 0; k < z.size(); ++k)
+            again.add_water(k, d1.data()[k] * again.cell_area_m2());
+        again.equilibrate();
+        const RasterD d2 = again.depth_map();
+        double worst = 0;
+        for (std::int64_t k = 0; k < z.size(); ++k)
+            worst = std::max(worst, std::abs(d1.data()[k] - d2.data()[k]));
+        CAPTURE(seed);
+        CHECK(worst < 1e-9);
+        CHECK(again.total_volume_m3() == Approx(first.total_volume_m3()).epsilon(1e-12));
+    }
 }

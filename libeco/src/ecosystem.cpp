@@ -29,7 +29,7 @@ double light_only_dbh_m(const Species& s, double age_yr) {
 }
 constexpr double kCarbonTolerance = 1e-9;
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
-constexpr std::uint32_t kCheckpointVersion = 4; // 4: catchments on the depression hierarchy
+constexpr std::uint32_t kCheckpointVersion = 4;        // 4: catchments on the depression hierarchy
 } // namespace
 
 void Table::add_column(std::string name, std::string unit, std::string description) {

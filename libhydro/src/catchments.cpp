@@ -176,8 +176,7 @@ int Catchments::equilibrate() {
         work.pop_back();
         if (m_pos[n] < 0) continue;
         if (++updates > limit)
-            throw Error("catchments: no equilibrium after " + std::to_string(limit) +
-                        " updates");
+            throw Error("catchments: no equilibrium after " + std::to_string(limit) + " updates");
         Catchment& k = at(n);
         k.dirty = false;
         if (!(k.volume_m3 > 0)) {
@@ -280,9 +279,8 @@ terrain::Raster<std::int32_t> Catchments::id_map() const {
 terrain::RasterD Catchments::depth_map() const {
     terrain::RasterD d(m_dem.grid(), 0.0);
     for (const auto& k : m_list)
-        for_each_wet_cell(k, [&](std::int64_t c) {
-            d.data()[c] = std::max(0.0, k.level_m - m_fd.elevation(c));
-        });
+        for_each_wet_cell(
+            k, [&](std::int64_t c) { d.data()[c] = std::max(0.0, k.level_m - m_fd.elevation(c)); });
     return d;
 }
 

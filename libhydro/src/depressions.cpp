@@ -156,7 +156,8 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
 
     // 5. Each cell's band: the lowest ancestor of its leaf whose outlet is above it (outlets never
     //    fall going up, so binary lifting finds it).
-    const int levels = std::max(1, static_cast<int>(std::bit_width(static_cast<unsigned>(n_nodes))));
+    const int levels =
+        std::max(1, static_cast<int>(std::bit_width(static_cast<unsigned>(n_nodes))));
     std::vector<std::vector<std::int32_t>> up(static_cast<std::size_t>(levels));
     up[0] = m_parent;
     for (int k = 1; k < levels; ++k) {

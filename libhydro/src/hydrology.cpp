@@ -214,8 +214,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     //    one equilibrium pass then settles both.
     for (const auto& k : m_catch.catchments()) {
         const std::int32_t id = k.id;
-        f.evaporation += m_catch.remove_water(
-            id, e0_mm / kMmPerM * m_area * static_cast<double>(k.wet_cells));
+        f.evaporation +=
+            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(k.wet_cells));
         m_catch.for_each_wet_cell(k, [&](std::int64_t c) {
             if (!(k.level_m > m_dem.data()[c])) return;
             double& th = m_theta.data()[c];
@@ -331,9 +331,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
 
     // 6. Groundwater.
     if (m_gw) {
-        f.recharge = blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) {
-            sum[0] += recharge[k];
-        })[0];
+        f.recharge =
+            blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) { sum[0] += recharge[k]; })[0];
         GroundwaterResult res;
         try {
             res = m_gw->step(kSecondsPerDay, recharge);

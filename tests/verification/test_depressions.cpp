@@ -134,16 +134,16 @@ TEST_CASE("Drained catchments are the connected components of the wet cells (Boo
         // Each catchment's volume is the water above its own cells.
         for (const auto& k : c.catchments()) {
             double v = 0;
-            c.for_each_wet_cell(k, [&](std::int64_t cell) {
-                v += std::max(0.0, k.level_m - z.data()[cell]);
-            });
+            c.for_each_wet_cell(
+                k, [&](std::int64_t cell) { v += std::max(0.0, k.level_m - z.data()[cell]); });
             CHECK(v * c.cell_area_m2() == Approx(k.volume_m3).epsilon(1e-9).margin(1e-12));
         }
     }
     CHECK(splits > 3);
 }
 
-TEST_CASE("The daily update gives the same bits on one and two threads", "[hydrology][determinism]") {
+TEST_CASE("The daily update gives the same bits on one and two threads",
+          "[hydrology][determinism]") {
     // 384^2 cells: enough blocks for the parallel loops to run on both threads.
     const GridSpec g{384, 384, 1.0, 0, 0};
     terrain::MultifractalParams p = terrain::majhor2023_params(2.45);

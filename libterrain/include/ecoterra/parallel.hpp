@@ -14,7 +14,8 @@ inline constexpr std::int64_t kMinParallelBlocks = 8;
 
 /// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
 /// std::array<double, K>; returns the K totals.
-template <std::size_t K, class F> std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
+template <std::size_t K, class F>
+std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
     const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
     std::vector<std::array<double, K>> part(static_cast<std::size_t>(blocks));
     // Small grids stay on one thread: a parallel region costs more than it saves there.

@@ -35,11 +35,11 @@ struct Catchment {
     std::vector<std::int64_t> seeds; ///< pit cells under it (set by equilibrate())
     double volume_m3 = 0.0;
     // Derived by equilibrate():
-    double level_m = 0.0;         ///< water surface elevation
-    std::int64_t wet_cells = 0;   ///< cells with level above the ground
-    std::int64_t own_wet = 0;     ///< of which in the node's own band (its lowest cells)
-    bool dynamic = true;          ///< false while it spills over the domain edge
-    bool dirty = true;            ///< volume changed since its level was last computed
+    double level_m = 0.0;       ///< water surface elevation
+    std::int64_t wet_cells = 0; ///< cells with level above the ground
+    std::int64_t own_wet = 0;   ///< of which in the node's own band (its lowest cells)
+    bool dynamic = true;        ///< false while it spills over the domain edge
+    bool dirty = true;          ///< volume changed since its level was last computed
 };
 
 class Catchments {
@@ -69,7 +69,8 @@ public:
     const std::vector<Catchment>& catchments() const { return m_list; }
     /// Calls f(cell) for every cell of a catchment under water or at its level (valid after
     /// equilibrate()): its descendants' cells and the lowest own_wet cells of its own band.
-    template <class F> void for_each_wet_cell(const Catchment& k, F&& f) const {
+    template <class F>
+    void for_each_wet_cell(const Catchment& k, F&& f) const {
         const auto own = m_dh.band(k.node);
         for (std::int64_t i = 0; i < k.own_wet; ++i) f(own[static_cast<std::size_t>(i)]);
         if (m_dh.is_leaf(k.node)) return;

@@ -65,8 +65,8 @@ public:
     std::span<const std::int64_t> band(std::int32_t n) const;
 
     struct Level {
-        double level_m = 0;        ///< water surface elevation
-        std::int64_t own_wet = 0;  ///< cells of the node's own band under water (its lowest ones)
+        double level_m = 0;       ///< water surface elevation
+        std::int64_t own_wet = 0; ///< cells of the node's own band under water (its lowest ones)
     };
     /// Water level of the node holding `volume` (m x cells), base_capacity <= volume <= capacity.
     /// Sorts the node's band on first use; afterwards band(n) is in rising elevation.
@@ -75,7 +75,8 @@ public:
     double volume_below(std::int32_t n, double h);
 
     /// Calls f(node) for n and every node under it.
-    template <class F> void for_each_in_subtree(std::int32_t n, F&& f) const {
+    template <class F>
+    void for_each_in_subtree(std::int32_t n, F&& f) const {
         std::vector<std::int32_t> stack{n};
         while (!stack.empty()) {
             const std::int32_t x = stack.back();

@@ -122,7 +122,7 @@ private:
     Catchments m_catch;
     RunoffTable m_table;
     terrain::RasterD m_theta, m_slope, m_coef, m_transp_supplied;
-    std::vector<std::int64_t> m_order; ///< every cell after its higher neighbours
+    std::vector<std::int64_t> m_order;        ///< every cell after its higher neighbours
     std::vector<double> m_runoff, m_recharge; ///< per-cell scratch of a step, m3
     std::unique_ptr<Groundwater> m_gw;
     double m_area;

@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libsundials-dev libboost-graph-dev
+  libeigen3-dev libsundials-dev libsuitesparse-dev libboost-graph-dev
   libhdf5-dev nlohmann-json3-dev catch2
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
 )

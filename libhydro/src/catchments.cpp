@@ -94,20 +94,25 @@ Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing) {
     return c;
 }
 
+Catchment* Catchments::find(std::int32_t id) {
+    if (id <= 0 || id > m_dh.node_count() || m_pos[id - 1] < 0) return nullptr;
+    return &at(id - 1);
+}
+
 void Catchments::add_water_to(std::int32_t id, double v) {
-    if (id <= 0 || id > m_dh.node_count() || m_pos[id - 1] < 0 || !(v > 0)) return;
-    Catchment& k = at(id - 1);
-    k.volume_m3 += v;
-    k.dirty = true;
+    Catchment* k = find(id);
+    if (!k || !(v > 0)) return;
+    k->volume_m3 += v;
+    k->dirty = true;
 }
 
 double Catchments::remove_water(std::int32_t id, double v) {
-    if (id <= 0 || id > m_dh.node_count() || m_pos[id - 1] < 0 || !(v > 0)) return 0.0;
-    Catchment& k = at(id - 1);
-    const double taken = std::min(v, k.volume_m3);
+    Catchment* k = find(id);
+    if (!k || !(v > 0)) return 0.0;
+    const double taken = std::min(v, k->volume_m3);
     if (taken <= 0) return 0.0;
-    k.volume_m3 -= taken;
-    k.dirty = true;
+    k->volume_m3 -= taken;
+    k->dirty = true;
     return taken;
 }
 
@@ -200,11 +205,16 @@ int Catchments::equilibrate() {
             if (s_full) { // both sides full to the saddle: one lake over it
                 double v = k.volume_m3;
                 remove(n);
-                m_dh.for_each_in_subtree(s, [&](std::int32_t x) {
-                    if (m_pos[x] < 0) return;
-                    v += at(x).volume_m3;
-                    remove(x);
-                });
+                if (m_pos[s] >= 0) { // the usual case: one catchment fills the sibling
+                    v += at(s).volume_m3;
+                    remove(s);
+                } else { // a sibling of no capacity: gather whatever lies under it
+                    m_dh.for_each_in_subtree(s, [&](std::int32_t x) {
+                        if (m_pos[x] < 0) return;
+                        v += at(x).volume_m3;
+                        remove(x);
+                    });
+                }
                 create(parent, v);
                 work.push_back(parent);
                 continue;
@@ -255,16 +265,19 @@ void Catchments::finish() {
         const std::int32_t p = m_dh.parent(n);
         m_cover[n] = m_pos[n] >= 0 ? n + 1 : (p >= 0 ? m_cover[p] : 0);
     }
-    for (auto& k : m_list) {
-        k.seeds.clear();
+    for (auto& k : m_list)
         k.wet_cells = m_dh.cells_below_outlet(k.node) -
                       static_cast<std::int64_t>(m_dh.band(k.node).size()) + k.own_wet;
-        m_dh.for_each_in_subtree(k.node, [&](std::int32_t x) {
-            if (m_dh.is_leaf(x))
-                for (const auto p : m_dh.pits(x)) k.seeds.push_back(p);
-        });
-        std::sort(k.seeds.begin(), k.seeds.end());
-    }
+}
+
+std::vector<std::int64_t> Catchments::seeds(const Catchment& k) const {
+    std::vector<std::int64_t> out;
+    m_dh.for_each_in_subtree(k.node, [&](std::int32_t x) {
+        if (m_dh.is_leaf(x))
+            for (const auto p : m_dh.pits(x)) out.push_back(p);
+    });
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 terrain::Raster<std::int32_t> Catchments::id_map() const {

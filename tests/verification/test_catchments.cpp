@@ -86,8 +86,9 @@ TEST_CASE("Two basins: the first spills into the second, then they merge", "[cat
     REQUIRE(c.catchments().size() == 2);
     const auto ids = c.id_map();
     CHECK(ids(3, 3) != ids(9, 3));
-    auto holds = [](const Catchment& k, std::int64_t pit) {
-        return std::find(k.seeds.begin(), k.seeds.end(), pit) != k.seeds.end();
+    auto holds = [&c](const Catchment& k, std::int64_t pit) {
+        const auto seeds = c.seeds(k);
+        return std::find(seeds.begin(), seeds.end(), pit) != seeds.end();
     };
     REQUIRE(holds(c.catchments()[0], a) != holds(c.catchments()[1], a));
     const auto& ka = holds(c.catchments()[0], a) ? c.catchments()[0] : c.catchments()[1];
@@ -163,7 +164,7 @@ TEST_CASE("Ponding equals the brute-force reference on random DEMs", "[catchment
         ++compared;
         // Count DEMs where some lake spilled into another (a lake with more than one seed, or a
         // lake that received water by spilling).
-        for (const auto& k : c.catchments()) with_spills += k.seeds.size() > 1;
+        for (const auto& k : c.catchments()) with_spills += c.seeds(k).size() > 1;
     }
     CHECK(compared == 60);
     CHECK(with_spills > 10);

@@ -30,9 +30,8 @@
 namespace ecoterra::hydro {
 
 struct Catchment {
-    std::int32_t id = 0;             ///< 1 + the hierarchy node it fills
-    std::int32_t node = -1;          ///< that node
-    std::vector<std::int64_t> seeds; ///< pit cells under it (set by equilibrate())
+    std::int32_t id = 0;    ///< 1 + the hierarchy node it fills
+    std::int32_t node = -1; ///< that node
     double volume_m3 = 0.0;
     // Derived by equilibrate():
     double level_m = 0.0;       ///< water surface elevation
@@ -67,6 +66,8 @@ public:
     int equilibrate();
 
     const std::vector<Catchment>& catchments() const { return m_list; }
+    /// The pit cells under a catchment, in rising cell index.
+    std::vector<std::int64_t> seeds(const Catchment& k) const;
     /// Calls f(cell) for every cell of a catchment under water or at its level (valid after
     /// equilibrate()): its descendants' cells and the lowest own_wet cells of its own band.
     template <class F>
@@ -103,12 +104,14 @@ private:
     Catchment& create(std::int32_t node, double volume_m3);
     void remove(std::int32_t node);
     Catchment& at(std::int32_t node) { return m_list[static_cast<std::size_t>(m_pos[node])]; }
+    /// The catchment with this id, or nullptr.
+    Catchment* find(std::int32_t id);
     void add_to_leaf(std::int32_t leaf, double volume_m3);
     void set_full(Catchment& k);
     /// Splits the catchment at a node whose volume fell below its children's saddle; pushes the
     /// new catchments' nodes onto `work`.
     void split(std::int32_t node, std::vector<std::int32_t>& work);
-    /// After an equilibrium: list order, positions, cover map, seeds and wet counts.
+    /// After an equilibrium: list order, positions, cover map and wet counts.
     void finish();
 
     terrain::RasterD m_dem;

@@ -169,6 +169,22 @@ void Catchments::split(std::int32_t node, std::vector<std::int32_t>& work) {
     }
 }
 
+void Catchments::pour_into(std::int32_t leaf, std::int32_t stop, double v,
+                           std::vector<std::int32_t>& work) {
+    // The catchment on the far side: the one at or above the leaf, up to `stop` (the spilling
+    // node's sibling) or the top of the leaf's tree (stop = -1). Catchments never nest, so the
+    // first one met is the only one.
+    std::int32_t x = leaf;
+    while (x != stop && m_pos[x] < 0 && m_dh.parent(x) >= 0) x = m_dh.parent(x);
+    if (m_pos[x] >= 0) {
+        at(x).volume_m3 += v;
+        work.push_back(x);
+    } else {
+        create(leaf, v);
+        work.push_back(leaf);
+    }
+}
+
 int Catchments::equilibrate() {
     std::vector<std::int32_t> work;
     for (const auto& k : m_list)
@@ -191,14 +207,19 @@ int Catchments::equilibrate() {
         const double cap = m_dh.capacity(n) * m_area;
         const std::int32_t parent = m_dh.parent(n);
         if (k.volume_m3 - cap > tolerance_m3(cap)) {
-            if (parent < 0) { // over the pass to the domain edge
-                m_lost_m3 += k.volume_m3 - cap;
+            const std::int32_t t = m_dh.overflow_leaf(n);
+            if (parent < 0) { // no saddle to merge over: spill past the pass
+                const double excess = k.volume_m3 - cap;
                 k.volume_m3 = cap;
                 set_full(k);
-                k.dynamic = false;
+                k.dynamic = t >= 0;
+                if (t < 0)
+                    m_lost_m3 += excess; // straight off the domain
+                else
+                    pour_into(t, -1, excess, work); // into a depression that drains to the edge
                 continue;
             }
-            const std::int32_t s = m_dh.sibling(n), t = m_dh.overflow_leaf(n);
+            const std::int32_t s = m_dh.sibling(n);
             const double cap_s = m_dh.capacity(s) * m_area;
             const bool s_full = cap_s <= tolerance_m3(0.0) ||
                                 (m_pos[s] >= 0 && at(s).volume_m3 >= cap_s - tolerance_m3(cap_s));
@@ -223,16 +244,7 @@ int Catchments::equilibrate() {
             k.volume_m3 = cap;
             set_full(k);
             k.dynamic = true;
-            // The catchment on the far side: the one at or above the overflow leaf, below s.
-            std::int32_t x = t;
-            while (x != s && m_pos[x] < 0) x = m_dh.parent(x);
-            if (m_pos[x] >= 0) {
-                at(x).volume_m3 += excess;
-                work.push_back(x);
-            } else {
-                create(t, excess);
-                work.push_back(t);
-            }
+            pour_into(t, s, excess, work);
             continue;
         }
         const double base = m_dh.base_capacity(n) * m_area;
@@ -242,7 +254,7 @@ int Catchments::equilibrate() {
         }
         if (k.volume_m3 >= cap - tolerance_m3(cap)) {
             set_full(k);
-            k.dynamic = parent >= 0;
+            k.dynamic = parent >= 0 || m_dh.overflow_leaf(n) >= 0;
             continue;
         }
         const auto lv = m_dh.level_for(n, k.volume_m3 / m_area);

@@ -132,8 +132,13 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
         if (ra == rb) continue;
         const std::int32_t ro = uf.find(ocean);
         if (ra == ro || rb == ro) {
+            // The depression meets the set that drains to the edge: no parent. Its overflow runs
+            // over the pass into the leaf on the far side (which fills and spills on towards the
+            // edge over lower passes), or off the domain when that side is the edge itself.
             const std::int32_t land = ra == ro ? rb : ra;
-            m_outlet[top[land]] = p.z; // overflows to the edge: no parent, no overflow leaf
+            const std::int32_t far = ra == ro ? p.a : p.b;
+            m_outlet[top[land]] = p.z;
+            m_odep[top[land]] = far == ocean ? -1 : far;
             uf.up[land] = ro;
             continue;
         }

@@ -201,8 +201,9 @@ void write_weather_csv(const fs::path& p, int y0, int y1, int first_doy = 1) {
 }
 } // namespace
 
-TEST_CASE("run: observed weather cycles by calendar year; with groundwater, resume is bit for bit",
-          "[eco][cli][resume]") {
+TEST_CASE(
+    "run: observed weather cycles by calendar year, and with groundwater, resume is bit for bit",
+    "[eco][cli][resume]") {
     test::TempDir dir;
     write_weather_csv(dir / "weather.csv", 2003, 2004); // 365 + 366 days
     json sc = small_scene(3);

@@ -2,13 +2,14 @@
 // A brute-force reference for ponding (test use only): the same physical rules as the catchment
 // model (D8 to pits, fill from the pits, spill at the lowest leaking saddle, merge when two lakes
 // spill into each other; edges are outlets), computed with different machinery. Minimax path
-// elevations come from plain relaxation to a fixed point, and lake levels from bisection.
-// O(n^2) per lake and pass: for small DEMs only.
+// elevations come from a bottleneck Dijkstra search per lake, and lake levels from bisection.
+// O(n log n) per lake and pass: for small DEMs only.
 #include "ecoterra/hydro/routing.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 #include <vector>
 
 namespace ecoterra::test {
@@ -57,22 +58,27 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
         for (const auto& o : terrain::kMooreOffsets)
             if (g.contains(i + o[0], j + o[1])) f(cell_index(g, i + o[0], j + o[1]));
     };
-    // minimax[c]: lowest possible highest elevation on a path from the seeds to c.
+    // minimax[c]: lowest possible highest elevation on a path from the seeds to c (a bottleneck
+    // Dijkstra; paths do not pass through outlets).
     auto minimax_from = [&](const std::vector<std::int64_t>& seeds) {
         std::vector<double> mm(n, std::numeric_limits<double>::infinity());
-        for (auto s : seeds) mm[s] = fd.elevation(s);
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (std::int64_t c = 0; c < n; ++c) {
-                if (!std::isfinite(mm[c]) || fd.is_outlet(c)) continue; // no path through outlets
-                neighbours(c, [&](std::int64_t q) {
-                    const double v = std::max(mm[c], fd.elevation(q));
-                    if (v < mm[q]) {
-                        mm[q] = v;
-                        changed = true;
-                    }
-                });
-            }
+        using Item = std::pair<double, std::int64_t>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> pq;
+        for (auto s : seeds) {
+            mm[s] = fd.elevation(s);
+            pq.emplace(mm[s], s);
+        }
+        while (!pq.empty()) {
+            const auto [v, c] = pq.top();
+            pq.pop();
+            if (v > mm[c] || fd.is_outlet(c)) continue;
+            neighbours(c, [&](std::int64_t q) {
+                const double w = std::max(mm[c], fd.elevation(q));
+                if (w < mm[q]) {
+                    mm[q] = w;
+                    pq.emplace(w, q);
+                }
+            });
         }
         return mm;
     };
@@ -89,7 +95,8 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
     };
     for (int pass = 0; pass < 100000; ++pass) {
         bool changed = false;
-        for (std::size_t k = 0; k < lakes.size() && !changed; ++k) {
+        bool merged = false;
+        for (std::size_t k = 0; k < lakes.size() && !merged; ++k) {
             Lake& L = lakes[k];
             if (L.v <= 1e-12) continue;
             const auto mm = minimax_from(L.seeds);
@@ -109,14 +116,8 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
             }
             const double cap = capacity(mm, s);
             if (L.v <= cap + 1e-12) {
-                double lo = fd.elevation(L.seeds[0]), hi = s;
-                for (auto sd : L.seeds) lo = std::min(lo, fd.elevation(sd));
-                for (int it = 0; it < 200; ++it) {
-                    const double mid = 0.5 * (lo + hi);
-                    (capacity(mm, mid) < L.v ? lo : hi) = mid;
-                }
-                L.level = 0.5 * (lo + hi);
-                L.target = -2;
+                L.target = -2; // holds its water: the level is found once all spills are done
+                L.level = s;
                 continue;
             }
             const double excess = L.v - cap;
@@ -145,15 +146,23 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
                 L2.v += lakes[m].v;
                 L2.target = -2;
                 lakes.erase(lakes.begin() + m);
+                merged = true; // indices moved: start the sweep again
             }
         }
         if (!changed) break;
     }
     out.depth_m.assign(n, 0.0);
-    for (const auto& L : lakes) {
+    for (auto& L : lakes) {
         if (L.v <= 1e-12) continue;
         out.stored_m3 += L.v;
         const auto mm = minimax_from(L.seeds);
+        double lo = fd.elevation(L.seeds[0]), hi = L.level;
+        for (auto sd : L.seeds) lo = std::min(lo, fd.elevation(sd));
+        for (int it = 0; it < 200; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (capacity(mm, mid) < L.v ? lo : hi) = mid;
+        }
+        L.level = 0.5 * (lo + hi);
         for (std::int64_t c = 0; c < n; ++c)
             if (mm[c] < L.level && !fd.is_outlet(c))
                 out.depth_m[c] = std::max(out.depth_m[c], L.level - fd.elevation(c));

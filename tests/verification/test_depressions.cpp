@@ -56,8 +56,14 @@ TEST_CASE("Depression hierarchy: outlets rise, capacities add, bands hold every 
                 CHECK((dh.child(p, 0) == n || dh.child(p, 1) == n));
                 // The overflow leaf lies on the sibling's side.
                 CHECK(is_ancestor_or_self(dh, dh.sibling(n), dh.overflow_leaf(n)));
-            } else {
-                CHECK(dh.overflow_leaf(n) == -1);
+            } else if (dh.overflow_leaf(n) >= 0) {
+                // A top-level depression spills into another tree that drains to the edge over a
+                // pass no higher than its own.
+                std::int32_t t = dh.overflow_leaf(n);
+                CHECK(dh.is_leaf(t));
+                CHECK_FALSE(is_ancestor_or_self(dh, n, t));
+                while (dh.parent(t) >= 0) t = dh.parent(t);
+                CHECK(dh.outlet_z(t) <= dh.outlet_z(n));
             }
         }
         // Capacity by brute force: the water above every cell of the subtree below the outlet.

@@ -279,7 +279,7 @@ TEST_CASE("stand metrics: basal area, Reineke SDI and an exact exponential", "[e
     CHECK(m.histogram == std::vector<std::int64_t>{64, 32, 16, 8, 4});
 }
 
-TEST_CASE("species files: MAVS entries load with reported defaults; bad values are named",
+TEST_CASE("species files: MAVS entries load with reported defaults, bad values are named",
           "[eco][species]") {
     using nlohmann::json;
     const json mavs = {{"Texture Inputs", "x.json"},

@@ -87,7 +87,7 @@ TEST_CASE("The gaussian surface has the requested RMS and isotropic exponential 
     CHECK(corr(16, 0) == Approx(std::exp(-4.0 / 2.0)).margin(0.05));
 }
 
-TEST_CASE("Variable roughness follows Van Deussen's Omega^-2; mavs_compat gives Omega^-3",
+TEST_CASE("Variable roughness follows Van Deussen's Omega^-2, mavs_compat gives Omega^-3",
           "[noise][verification]") {
     const GridSpec g{512, 512, 0.25, 0, 0};
     VariableSurfaceParams p;

@@ -82,7 +82,7 @@ TEST_CASE("Crops keep their georeference", "[raster]") {
     CHECK_THROWS_AS(r.crop(8, 0, 5, 2), InputError);
 }
 
-TEST_CASE("Statistics ignore NODATA; an all-NODATA raster is refused", "[raster]") {
+TEST_CASE("Statistics ignore NODATA, an all-NODATA raster is refused", "[raster]") {
     RasterD r(GridSpec{2, 2, 1.0, 0, 0}, std::nan(""));
     CHECK_THROWS_WITH(require_valid_cells(r, "x.asc"),
                       Catch::Contains("x.asc") && Catch::Contains("NODATA"));

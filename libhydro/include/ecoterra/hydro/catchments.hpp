@@ -13,9 +13,11 @@
 // the catchment there or forming a new one. A catchment full to a pass whose far side is full too
 // merges with it into the parent node (a lake over the saddle). When a merged catchment falls
 // below its children's saddle, it splits: the bodies under the saddle separate, each keeping the
-// water above its own cells at the common level. Water over a pass to the domain edge (or NODATA)
-// is lost; such a catchment stays at its pass and is reported as not dynamic. Updates repeat
-// until nothing spills: the equilibrium.
+// water above its own cells at the common level. A top-level depression (one that meets the set
+// draining to the edge before it meets another depression) spills over its pass into the
+// depression on the far side, which fills and spills on towards the edge in turn; only water over
+// a pass straight onto the domain edge (or NODATA) is lost, and such a catchment stays at its
+// pass and is reported as not dynamic. Updates repeat until nothing spills: the equilibrium.
 //
 // With water first routed to the pits along D8, the equilibrium is that of the Fill-Spill-Merge
 // algorithm of Barnes, Callaghan & Wickert (2021, ESurf 9:105) with the domain edge as ocean.
@@ -108,6 +110,9 @@ private:
     Catchment* find(std::int32_t id);
     void add_to_leaf(std::int32_t leaf, double volume_m3);
     void set_full(Catchment& k);
+    /// Pours spilled water into the catchment at or above `leaf` (below `stop`), creating one at
+    /// the leaf if there is none; queues it for an update.
+    void pour_into(std::int32_t leaf, std::int32_t stop, double v, std::vector<std::int32_t>& work);
     /// Splits the catchment at a node whose volume fell below its children's saddle; pushes the
     /// new catchments' nodes onto `work`.
     void split(std::int32_t node, std::vector<std::int32_t>& work);

@@ -8,9 +8,12 @@
 // NODATA) when that path leaves the domain. Two neighbouring depressions meet at a pass: the
 // lowest max(z_a, z_b) over neighbouring cells a, b on either side (NODATA counts as -infinity).
 // Taking passes in rising order (Kruskal), two depressions that meet form a meta-depression whose
-// children both have the pass as their outlet; a depression that meets the ocean has its outlet
-// there and no parent. Water overflowing a depression runs over its pass into the leaf on the far
-// side (its overflow leaf).
+// children both have the pass as their outlet; a depression that meets the set already joined to
+// the ocean has its outlet there and no parent. Water overflowing a depression runs over its pass
+// into the leaf on the far side (its overflow leaf). For a depression without a parent that leaf
+// drains to the edge over lower passes, so the water fills it and spills on from there; only a
+// pass whose far side is the edge (or NODATA) itself has no overflow leaf (as Fill-Spill-Merge's
+// odep, Barnes et al. 2020 s2.3).
 //
 // Each cell with z below the outlet of its leaf's top ancestor lies in the elevation band
 // [base, outlet) of exactly one node on its leaf's ancestor chain (base = the children's outlet,
@@ -46,7 +49,7 @@ public:
         const std::int32_t p = m_parent[n];
         return m_child[2 * p] == n ? m_child[2 * p + 1] : m_child[2 * p];
     }
-    /// Leaf over whose pass this node overflows (-1: the domain edge).
+    /// Leaf over whose pass this node overflows (-1: the pass leads straight onto the domain edge).
     std::int32_t overflow_leaf(std::int32_t n) const { return m_odep[n]; }
     /// Outlet (pass) elevation, m; +infinity if the depression never overflows.
     double outlet_z(std::int32_t n) const { return m_outlet[n]; }

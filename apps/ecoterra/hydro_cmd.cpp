@@ -261,8 +261,10 @@ void add_hydro_command(CLI::App& app) {
     CLI::App* pond = hydro->add_subcommand("pond", "where does a uniform depth of water pond?");
     pond->add_option("dem", p->dem, "elevation raster (any supported format)")->required();
     pond->add_option("--depth-m", p->depth_m, "water depth spread over every cell, m")->required();
-    pond->add_option("--routing", p->routing,
-                     "d8 (steepest descent; equals Fill-Spill-Merge) | mfd (multiple directions)")
+    pond->add_option(
+            "--routing", p->routing,
+            "d8 (steepest descent) | d8-lowest (to the lowest neighbour, as Fill-Spill-Merge) | "
+            "mfd (multiple directions)")
         ->capture_default_str();
     pond->add_option("-o,--output", p->output, "HDF5 output file")->required();
     pond->callback([p] { run_pond(*p); });

@@ -16,8 +16,8 @@ double tolerance_m3(double reference_m3) {
 }
 } // namespace
 
-Catchments::Catchments(const terrain::RasterD& dem)
-    : m_dem(dem), m_fd(dem), m_dh(m_fd), m_area(dem.cell_size() * dem.cell_size()),
+Catchments::Catchments(const terrain::RasterD& dem, D8Rule rule)
+    : m_dem(dem), m_fd(dem, rule), m_dh(m_fd), m_area(dem.cell_size() * dem.cell_size()),
       m_pos(static_cast<std::size_t>(m_dh.node_count()), -1),
       m_cover(static_cast<std::size_t>(m_dh.node_count()), 0) {}
 
@@ -84,7 +84,7 @@ void Catchments::add_routed(const RoutedWater& r) {
 Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing) {
     if (!(depth_m >= 0) || !std::isfinite(depth_m))
         throw InputError("--depth-m must be >= 0 m, got " + std::to_string(depth_m));
-    Catchments c(dem);
+    Catchments c(dem, d8_rule(routing));
     const double area = dem.cell_size() * dem.cell_size();
     std::vector<double> v(static_cast<std::size_t>(dem.size()));
     for (std::int64_t k = 0; k < dem.size(); ++k)

@@ -118,8 +118,9 @@ void HydrologyOptions::validate() const {
 HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
                                const terrain::RasterD& veg, const HydrologyOptions& opt,
                                const Climate& climate)
-    : m_dem(dem), m_soil(soil), m_veg(veg), m_opt(opt), m_climate(climate), m_catch(dem),
-      m_table(RunoffTable::standard()), m_area(dem.cell_size() * dem.cell_size()) {
+    : m_dem(dem), m_soil(soil), m_veg(veg), m_opt(opt), m_climate(climate),
+      m_catch(dem, d8_rule(opt.routing)), m_table(RunoffTable::standard()),
+      m_area(dem.cell_size() * dem.cell_size()) {
     opt.validate();
     climate.validate();
     if (!(soil.grid() == dem.grid()))
@@ -295,7 +296,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
                 m_catch.add_to_pit(k, q);
                 continue;
             }
-            if (m_opt.routing == Routing::d8) {
+            if (m_opt.routing != Routing::mfd) {
                 runoff[fd.receiver(k)] += q;
                 continue;
             }

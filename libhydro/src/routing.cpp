@@ -17,15 +17,24 @@ constexpr double kContourDiagonal = 0.354;
 Routing parse_routing(const std::string& s) {
     if (s == "d8") return Routing::d8;
     if (s == "mfd") return Routing::mfd;
-    throw InputError("--routing must be d8 or mfd, got '" + s + "'");
+    if (s == "d8-lowest") return Routing::d8_lowest;
+    throw InputError("--routing must be d8, d8-lowest or mfd, got '" + s + "'");
 }
 
 std::string routing_name(Routing r) {
-    return r == Routing::d8 ? "d8" : "mfd";
+    switch (r) {
+    case Routing::d8:
+        return "d8";
+    case Routing::mfd:
+        return "mfd";
+    case Routing::d8_lowest:
+        return "d8-lowest";
+    }
+    return "?";
 }
 
-FlowDirections::FlowDirections(const terrain::RasterD& dem)
-    : m_grid(dem.grid()), m_z(dem.data(), dem.data() + dem.size()),
+FlowDirections::FlowDirections(const terrain::RasterD& dem, D8Rule rule)
+    : m_grid(dem.grid()), m_rule(rule), m_z(dem.data(), dem.data() + dem.size()),
       m_receiver(static_cast<std::size_t>(dem.size()), kNoReceiver),
       m_outlet(static_cast<std::size_t>(dem.size()), 0) {
     const int nx = m_grid.nx, ny = m_grid.ny;
@@ -42,7 +51,9 @@ FlowDirections::FlowDirections(const terrain::RasterD& dem)
                 const std::int64_t n = cell_index(m_grid, i + o[0], j + o[1]);
                 const double zn =
                     std::isnan(m_z[n]) ? -std::numeric_limits<double>::infinity() : m_z[n];
-                const double d = (o[0] != 0 && o[1] != 0) ? h * std::numbers::sqrt2 : h;
+                const double d = rule == D8Rule::lowest     ? 1.0
+                                 : (o[0] != 0 && o[1] != 0) ? h * std::numbers::sqrt2
+                                                            : h;
                 const double s = (m_z[c] - zn) / d;
                 if (s > best) {
                     best = s;
@@ -86,7 +97,7 @@ RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& v
     const auto& g = fd.grid();
     RoutedWater out;
     out.at_pit_m3.assign(static_cast<std::size_t>(g.size()), 0.0);
-    if (routing == Routing::d8) {
+    if (routing != Routing::mfd) {
         for (std::int64_t c = 0; c < g.size(); ++c) {
             const double v = volume[c];
             if (!(v > 0)) continue;

@@ -20,9 +20,10 @@ struct BruteForcePond {
     double stored_m3 = 0;
 };
 
-inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth_m) {
+inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth_m,
+                                       hydro::D8Rule rule = hydro::D8Rule::steepest) {
     using hydro::cell_index;
-    const hydro::FlowDirections fd(dem);
+    const hydro::FlowDirections fd(dem, rule);
     const auto& g = dem.grid();
     const std::int64_t n = g.size();
     const double area = g.cell_size_m * g.cell_size_m;

@@ -145,6 +145,11 @@ TEST_CASE("Ponding equals the brute-force reference on fractal DEMs, padded and 
             }
             CHECK(max_depth_difference(daily.depth_map(), ref.depth_m) < 1e-9);
             CHECK(daily.total_volume_m3() == Approx(ref.stored_m3).epsilon(1e-11).margin(1e-9));
+            // The lowest-neighbour rule (Fill-Spill-Merge's) against the reference on that rule.
+            const auto ref_low = test::brute_force_pond(z, depth, D8Rule::lowest);
+            const Catchments low = pond(z, depth, Routing::d8_lowest);
+            CHECK(max_depth_difference(low.depth_map(), ref_low.depth_m) < 1e-9);
+            CHECK(low.lost_m3() == Approx(ref_low.lost_m3).epsilon(1e-12).margin(1e-9));
             ++compared;
             // Count the DEMs where a top-level depression poured into another before the edge.
             for (const auto& k : c.catchments())

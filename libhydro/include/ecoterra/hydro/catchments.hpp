@@ -45,7 +45,7 @@ struct Catchment {
 
 class Catchments {
 public:
-    explicit Catchments(const terrain::RasterD& dem);
+    explicit Catchments(const terrain::RasterD& dem, D8Rule rule = D8Rule::steepest);
 
     const FlowDirections& flow() const { return m_fd; }
     const DepressionHierarchy& hierarchy() const { return m_dh; }
@@ -130,7 +130,8 @@ private:
     std::int64_t m_updates = 0;
 };
 
-/// Spreads a uniform depth (m) over every valid cell, routes it to the pits (D8 or MFD), and
+/// Spreads a uniform depth (m) over every valid cell, routes it to the pits (D8, D8 to the lowest
+/// neighbour, or MFD; the hierarchy's pits follow the same D8 rule), and
 /// resolves the catchments to equilibrium, with no infiltration or evaporation.
 Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing);
 

@@ -4,6 +4,10 @@
 // D8 (O'Callaghan & Mark 1984): each cell drains to the Moore neighbour with the steepest downward
 // slope (z_c - z_n) / distance; ties go to the first neighbour in the fixed order of
 // terrain::kMooreOffsets. A cell with no lower neighbour is a pit.
+// D8, lowest neighbour (`d8-lowest`): each cell drains to its lowest Moore neighbour, whatever the
+// distance, as the flow directions of Barnes et al.'s depression hierarchy and Fill-Spill-Merge
+// (a priority flood from the pits reaches a cell first from its lowest neighbour). The two rules
+// differ only where a diagonal neighbour is lowest but an edge neighbour is steeper.
 // MFD (Freeman 1991, Quinn et al. 1991): each cell drains to all lower neighbours in proportion to
 // (slope^p * L), p = 1.1, L = 0.5 for edge neighbours and 0.354 for diagonals (Quinn's contour
 // lengths in cells).
@@ -18,7 +22,13 @@
 
 namespace ecoterra::hydro {
 
-enum class Routing { d8, mfd };
+enum class Routing { d8, mfd, d8_lowest };
+/// Which neighbour a D8 cell drains to.
+enum class D8Rule { steepest, lowest };
+/// The D8 rule of the flow directions a routing builds on (MFD's pits are D8's).
+inline D8Rule d8_rule(Routing r) {
+    return r == Routing::d8_lowest ? D8Rule::lowest : D8Rule::steepest;
+}
 Routing parse_routing(const std::string& s);
 std::string routing_name(Routing r);
 
@@ -31,7 +41,8 @@ inline std::int64_t cell_index(const terrain::GridSpec& g, int i, int j) {
 
 class FlowDirections {
 public:
-    explicit FlowDirections(const terrain::RasterD& dem);
+    explicit FlowDirections(const terrain::RasterD& dem, D8Rule rule = D8Rule::steepest);
+    D8Rule rule() const { return m_rule; }
     const terrain::GridSpec& grid() const { return m_grid; }
     /// True for edge and NODATA cells: water there leaves the domain.
     bool is_outlet(std::int64_t c) const { return m_outlet[c] != 0; }
@@ -45,6 +56,7 @@ public:
 
 private:
     terrain::GridSpec m_grid;
+    D8Rule m_rule;
     std::vector<double> m_z;
     std::vector<std::int32_t> m_receiver;
     std::vector<std::uint8_t> m_outlet;
@@ -61,7 +73,7 @@ struct RoutedWater {
     double lost_m3 = 0.0;          ///< volume that reached an outlet
 };
 
-/// Moves a volume on every cell (m3, NaN = none) down to the pits along D8 or MFD.
+/// Moves a volume on every cell (m3, NaN = none) down to the pits along D8 (fd's rule) or MFD.
 RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& volume_m3,
                           Routing routing);
 

@@ -4,6 +4,7 @@
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,7 +30,9 @@ double light_only_dbh_m(const Species& s, double age_yr) {
 }
 constexpr double kCarbonTolerance = 1e-9;
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
-constexpr std::uint32_t kCheckpointVersion = 4;        // 4: catchments on the depression hierarchy
+// 4: catchments on the depression hierarchy; 5: no padding in plants and the weather state,
+// bands sorted once (the order wet cells are walked in)
+constexpr std::uint32_t kCheckpointVersion = 5;
 } // namespace
 
 void Table::add_column(std::string name, std::string unit, std::string description) {
@@ -210,7 +213,7 @@ void Ecosystem::refresh_canopy() {
     const auto& sp = m_scene.ecosystem.species;
     const auto n = static_cast<std::int64_t>(m_plants.size());
     if (m_scene.competition == Competition::coupled) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
         for (std::int64_t k = 0; k < n; ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
             const Species& s = sp[p.species];
@@ -285,7 +288,7 @@ bool Ecosystem::step_day() {
             gather_supply(m_roots, m_ratio, m_fraction);
         std::vector<CarbonDay>& cd = m_carbon;
         cd.assign(n, CarbonDay{});
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
         for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
             if (!p.alive) continue;

@@ -354,9 +354,6 @@ void Catchments::load_state(ArchiveReader& a) {
     for (const auto& k : list) {
         if (k.node < 0 || k.node >= nodes || m_pos[k.node] >= 0)
             throw Error("catchment checkpoint: bad depression " + std::to_string(k.node));
-        // The wet cells of a partly filled band are its lowest: sort it as the run had.
-        if (k.own_wet > 0 && k.own_wet < static_cast<std::int64_t>(m_dh.band(k.node).size()))
-            m_dh.sort_band(k.node);
         m_pos[k.node] = 0;
     }
     m_list = std::move(list);

@@ -198,10 +198,12 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
             if (m_node[c] >= 0) m_band_cells[fill[m_node[c]]++] = c;
     }
     m_band_z.resize(m_band_cells.size());
-    for (std::size_t k = 0; k < m_band_cells.size(); ++k)
-        m_band_z[k] = fd.elevation(m_band_cells[k]); // unsorted until sort_band()
     m_band_prefix.resize(m_band_cells.size());
-    m_sorted.assign(static_cast<std::size_t>(n_nodes), 0);
+    // Every band in rising elevation, ties by cell index, with running sums: one canonical order,
+    // whatever the history of the run (the daily update walks wet cells in this order, so a
+    // resumed run must see the same order as an unbroken one).
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::int32_t n = 0; n < n_nodes; ++n) sort_band(n, fd);
 
     // 6. Totals over each subtree (children come before their parent) and capacities.
     m_cum_n = m_own_n;
@@ -237,13 +239,12 @@ std::span<const std::int64_t> DepressionHierarchy::band(std::int32_t n) const {
             static_cast<std::size_t>(m_band_begin[n + 1] - m_band_begin[n])};
 }
 
-void DepressionHierarchy::sort_band(std::int32_t n) {
-    if (m_sorted[n]) return;
-    m_sorted[n] = 1;
+void DepressionHierarchy::sort_band(std::int32_t n, const FlowDirections& fd) {
     const std::int64_t b = m_band_begin[n], e = m_band_begin[n + 1];
     std::vector<std::pair<double, std::int64_t>> v;
     v.reserve(static_cast<std::size_t>(e - b));
-    for (std::int64_t k = b; k < e; ++k) v.emplace_back(m_band_z[k], m_band_cells[k]);
+    for (std::int64_t k = b; k < e; ++k)
+        v.emplace_back(fd.elevation(m_band_cells[k]), m_band_cells[k]);
     std::sort(v.begin(), v.end());
     double sum = 0;
     for (std::int64_t k = b; k < e; ++k) {
@@ -254,8 +255,7 @@ void DepressionHierarchy::sort_band(std::int32_t n) {
     }
 }
 
-DepressionHierarchy::Level DepressionHierarchy::level_for(std::int32_t n, double volume) {
-    sort_band(n);
+DepressionHierarchy::Level DepressionHierarchy::level_for(std::int32_t n, double volume) const {
     const std::int64_t b = m_band_begin[n], m = m_own_n[n];
     const double nd = static_cast<double>(m_cum_n[n] - m), zd = m_cum_z[n] - m_own_z[n];
     auto prefix = [&](std::int64_t k) { return k == 0 ? 0.0 : m_band_prefix[b + k - 1]; };
@@ -276,11 +276,10 @@ DepressionHierarchy::Level DepressionHierarchy::level_for(std::int32_t n, double
     return out;
 }
 
-double DepressionHierarchy::volume_below(std::int32_t n, double h) {
+double DepressionHierarchy::volume_below(std::int32_t n, double h) const {
     if (!(h > m_minz[n])) return 0.0;
     if (!is_leaf(n) && h < base_z(n))
         return volume_below(m_child[2 * n], h) + volume_below(m_child[2 * n + 1], h);
-    sort_band(n);
     const std::int64_t b = m_band_begin[n], m = m_own_n[n];
     const auto k = static_cast<std::int64_t>(
         std::lower_bound(m_band_z.begin() + b, m_band_z.begin() + b + m, h) -

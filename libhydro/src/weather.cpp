@@ -195,12 +195,12 @@ DayWeather WeatherGenerator::next() {
 }
 
 WeatherGenerator::State WeatherGenerator::state() const {
-    return State{m_rng.state(), m_wet, m_tmax_anom, m_tmin_anom, m_year, m_doy};
+    return State{m_rng.state(), m_wet ? 1u : 0u, m_tmax_anom, m_tmin_anom, m_year, m_doy};
 }
 
 void WeatherGenerator::set_state(const State& s) {
     m_rng.set_state(s.rng);
-    m_wet = s.wet;
+    m_wet = s.wet != 0;
     m_tmax_anom = s.tmax_anomaly;
     m_tmin_anom = s.tmin_anomaly;
     m_year = s.year;
@@ -297,6 +297,8 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
             } catch (const std::exception&) {
                 throw InputError(at + ": " + name + " is not a number: '" + s + "'");
             }
+            if (!std::isfinite(*r.v[name]))
+                throw InputError(at + ": " + name + " is not a finite number: '" + s + "'");
         }
         rows.push_back(std::move(r));
     }

@@ -13,6 +13,15 @@
 
 namespace ecoterra {
 
+/// FNV-1a 64-bit hash of bytes: checksums of checkpoints and fingerprints of inputs (not
+/// cryptographic). Pass a previous result as `h` to continue a hash over several pieces.
+inline std::uint64_t fnv1a64(const void* data, std::size_t n,
+                             std::uint64_t h = 0xcbf29ce484222325ULL) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 0x100000001b3ULL;
+    return h;
+}
+
 class ArchiveWriter {
 public:
     template <class T>

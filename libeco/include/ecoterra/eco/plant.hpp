@@ -12,6 +12,7 @@
 // with D the trunk diameter at breast height (1.3 m) in m, D_cm = 100 D.
 #include "ecoterra/eco/species.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -26,7 +27,6 @@ inline constexpr double kMinCrownRadiusM = 0.1;
 
 struct Plant {
     std::int64_t id = 0;
-    std::uint16_t species = 0;
     double x_m = 0, y_m = 0, z_m = 0;
     double dbh_m = 0, height_m = 0, crown_radius_m = 0;
     double age_yr = 0;
@@ -43,8 +43,12 @@ struct Plant {
     /// Running mean of the yearly growth efficiency (net wood + reserve increment per m2 leaf),
     /// kg m-2 yr-1; NaN until the plant's first year end.
     double growth_efficiency = std::numeric_limits<double>::quiet_NaN();
+    std::uint16_t species = 0;
     bool alive = true; ///< false from a starvation death until the next canopy refresh removes it
+    std::uint8_t reserved_[5]{}; ///< explicit, zeroed: checkpoints copy plants byte for byte
 };
+static_assert(sizeof(Plant) % 8 == 0 && offsetof(Plant, reserved_) + 5 == sizeof(Plant),
+              "Plant must have no padding: checkpoints would hold uninitialised bytes");
 
 namespace allometry {
 double height_m(const Species& s, double dbh_m);

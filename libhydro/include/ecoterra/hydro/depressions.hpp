@@ -22,7 +22,7 @@
 //   V(h) = h (N_d + k) - (Z_d + P_k)
 // (N_d, Z_d: count and elevation sum of the descendants' cells; P_k: sum of the k lowest own-band
 // elevations below h) is monotone in h, so the level for a volume is a binary search over the
-// node's sorted band. Bands are sorted lazily, the first time a level inside them is asked for.
+// node's band, sorted once when the hierarchy is built (rising elevation, ties by cell index).
 #include "ecoterra/hydro/routing.hpp"
 
 #include <cstdint>
@@ -64,7 +64,7 @@ public:
     std::int64_t cells_below_outlet(std::int32_t n) const { return m_cum_n[n]; }
     /// Pit cells of a leaf.
     std::span<const std::int64_t> pits(std::int32_t leaf) const;
-    /// The cells of a node's own band (in no particular order unless sorted).
+    /// The cells of a node's own band, in rising elevation (ties by cell index).
     std::span<const std::int64_t> band(std::int32_t n) const;
 
     struct Level {
@@ -72,10 +72,9 @@ public:
         std::int64_t own_wet = 0; ///< cells of the node's own band under water (its lowest ones)
     };
     /// Water level of the node holding `volume` (m x cells), base_capacity <= volume <= capacity.
-    /// Sorts the node's band on first use; afterwards band(n) is in rising elevation.
-    Level level_for(std::int32_t n, double volume);
+    Level level_for(std::int32_t n, double volume) const;
     /// Volume (m x cells) below level h over the node and its descendants (any h).
-    double volume_below(std::int32_t n, double h);
+    double volume_below(std::int32_t n, double h) const;
 
     /// Calls f(node) for n and every node under it.
     template <class F>
@@ -92,10 +91,10 @@ public:
         }
     }
 
-    /// Puts a node's band in rising elevation (ties by cell index) with running sums; once.
-    void sort_band(std::int32_t n);
-
 private:
+    /// Puts a node's band in rising elevation (ties by cell index) with running sums.
+    void sort_band(std::int32_t n, const FlowDirections& fd);
+
     std::int32_t m_leaves = 0;
     std::vector<std::int32_t> m_leaf, m_node;
     std::vector<std::int32_t> m_parent, m_child, m_odep;
@@ -105,8 +104,7 @@ private:
     std::vector<std::int64_t> m_pit_begin, m_pits;
     // Bands: node n's cells are m_band_cells[m_band_begin[n] .. m_band_begin[n + 1]).
     std::vector<std::int64_t> m_band_begin, m_band_cells;
-    std::vector<double> m_band_z, m_band_prefix; ///< elevations and running sums once sorted
-    std::vector<std::uint8_t> m_sorted;
+    std::vector<double> m_band_z, m_band_prefix; ///< sorted elevations and their running sums
 };
 
 } // namespace ecoterra::hydro

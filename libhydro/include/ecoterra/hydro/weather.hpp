@@ -70,12 +70,14 @@ public:
     /// The next day (advances the state).
     DayWeather next();
     /// Generator state, for checkpoints.
+    /// Written to checkpoints byte for byte, so it has no padding (no uninitialised bytes).
     struct State {
         std::array<std::uint64_t, 4> rng{};
-        bool wet = false;
+        std::uint64_t wet = 0; ///< 1 if the last day was wet
         double tmax_anomaly = 0, tmin_anomaly = 0;
-        int year = 1, doy = 0;
+        std::int32_t year = 1, doy = 0;
     };
+    static_assert(sizeof(State) == 4 * 8 + 8 + 2 * 8 + 2 * 4, "State must have no padding");
     State state() const;
     void set_state(const State& s);
     const Climate& climate() const { return m_c; }

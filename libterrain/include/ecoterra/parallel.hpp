@@ -11,6 +11,10 @@ namespace ecoterra {
 
 inline constexpr std::int64_t kSumBlockCells = 16384;
 inline constexpr std::int64_t kMinParallelBlocks = 8;
+/// Loops over fewer independent items than this (plants, cells of a daily pass) run on one thread:
+/// waking threads that sleep while they wait (OMP_WAIT_POLICY=passive, ecoterra's default) costs
+/// tens of microseconds a region, more than a small loop saves. Results do not depend on it.
+inline constexpr std::int64_t kMinParallelItems = 16384;
 
 /// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
 /// std::array<double, K>; returns the K totals.

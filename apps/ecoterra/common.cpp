@@ -1,6 +1,9 @@
 #include "common.hpp"
 
+#include "ecoterra/error.hpp"
+
 #include <cstdio>
+#include <filesystem>
 
 namespace ecoterra::app {
 
@@ -33,6 +36,22 @@ nlohmann::json provenance(const nlohmann::json& extra) {
         {"software", "ecoterra"}, {"version", version()}, {"command_line", command_line()}};
     for (auto& [k, v] : extra.items()) p[k] = v;
     return p;
+}
+
+void refuse_output_over_input(const std::string& option, const std::string& output,
+                              const std::vector<std::string>& inputs) {
+    namespace fs = std::filesystem;
+    if (output.empty()) return;
+    for (const auto& in : inputs) {
+        if (in.empty()) continue;
+        std::error_code ec;
+        const bool same = fs::exists(output, ec) && fs::exists(in, ec)
+                              ? fs::equivalent(output, in, ec)
+                              : fs::weakly_canonical(output, ec) == fs::weakly_canonical(in, ec);
+        if (same)
+            throw InputError(option + " " + output + ": the output is the input " + in +
+                             "; writing it would destroy the input (choose another path)");
+    }
 }
 
 void print_warnings(const std::vector<std::string>& warnings) {

@@ -15,6 +15,10 @@ void set_command_line(int argc, char** argv);
 const std::string& command_line();
 /// {software, version, command_line} plus `extra` merged in.
 nlohmann::json provenance(const nlohmann::json& extra = nlohmann::json::object());
+/// Refuses an output that names an input (writing it would destroy the input): InputError naming
+/// the option, the output and the input. Empty paths are ignored.
+void refuse_output_over_input(const std::string& option, const std::string& output,
+                              const std::vector<std::string>& inputs);
 /// Prints each warning to stderr as "warning: ...".
 void print_warnings(const std::vector<std::string>& warnings);
 

@@ -31,6 +31,10 @@ struct RunArgs {
 void run_run(const RunArgs& a) {
     if (a.scene.empty() && a.resume.empty())
         throw InputError("run: give a scene file, or --resume RUN.h5");
+    if (a.resume.empty()) refuse_output_over_input("-o", a.output, {a.scene});
+    if (!a.resume.empty() && a.output != "run.h5")
+        throw InputError("-o " + a.output + ": --resume " + a.resume +
+                         " continues that run file in place; -o is not used with --resume");
     std::optional<eco::EcoScene> scene;
     std::vector<std::string> sets = a.sets;
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
@@ -105,6 +109,7 @@ struct StandArgs {
 };
 
 void run_stand(const StandArgs& a) {
+    refuse_output_over_input("--json", a.json_out, {a.run});
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
     const std::vector<double>& dbh = s.dbh_m; // 0 below breast height
@@ -156,6 +161,7 @@ struct ExportArgs {
 };
 
 void run_export_vegetation(const ExportArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.run});
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
     std::ostringstream f;

@@ -126,6 +126,7 @@ struct PondArgs {
 };
 
 void run_pond(const PondArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.dem});
     const hydro::Routing routing = hydro::parse_routing(a.routing);
     { terrain::io::AtomicOutput probe(a.output); }
     std::vector<std::string> warnings;
@@ -178,6 +179,7 @@ struct RunArgs {
 };
 
 void run_hydro_run(const RunArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.scene});
     json scene = parse_json(terrain::io::read_text(a.scene), a.scene);
     std::vector<std::string> sets = a.sets;
     if (a.years) sets.push_back("simulation.years=" + std::to_string(*a.years));

@@ -121,6 +121,7 @@ json build_spec(const GenerateArgs& a) {
 }
 
 void run_generate(const GenerateArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.config});
     Stopwatch sw;
     const json spec = build_spec(a);
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
@@ -163,6 +164,7 @@ void add_analysis_options(CLI::App* c, AnalysisOptions& o) {
 }
 
 void run_analyze(AnalyzeArgs& a) {
+    refuse_output_over_input("--json", a.json_out, {a.input});
     if (a.estimator == "variogram")
         a.opt.fd.estimator = DimensionEstimator::variogram;
     else if (a.estimator == "madogram")
@@ -206,6 +208,8 @@ struct MissionArgs {
 };
 
 void run_missions(MissionArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.input});
+    refuse_output_over_input("--json", a.json_out, {a.input});
     a.opt.validate();
     a.m.border_m = a.opt.border_m;
     a.m.validate();
@@ -250,6 +254,7 @@ struct ConvertArgs {
 };
 
 void run_convert(const ConvertArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.input});
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
                                          : terrain::io::format_from_name(a.format);
     std::vector<std::string> warnings;

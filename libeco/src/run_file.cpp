@@ -4,8 +4,12 @@
 
 #include <H5Cpp.h>
 
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <unistd.h>
 
 namespace ecoterra::eco {
 
@@ -25,13 +29,7 @@ std::string snapshot_file_name(int index) {
 }
 
 std::uint64_t raster_hash(const terrain::RasterD& r) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    const auto* p = reinterpret_cast<const unsigned char*>(r.data());
-    for (std::size_t k = 0; k < static_cast<std::size_t>(r.size()) * sizeof(double); ++k) {
-        h ^= p[k];
-        h *= 0x100000001b3ULL;
-    }
-    return h;
+    return fnv1a64(r.data(), static_cast<std::size_t>(r.size()) * sizeof(double));
 }
 
 void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t) {
@@ -108,6 +106,8 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
               "full model state at the last snapshot (binary, ecoterra checkpoint format)");
     h5.attribute("/checkpoint", "year", static_cast<double>(eco.years_done()));
     h5.attribute("/checkpoint", "terrain_hash", std::to_string(raster_hash(sc.hydro.dem)));
+    h5.attribute("/checkpoint", "checksum_fnv1a64",
+                 std::to_string(fnv1a64(a.bytes().data(), a.bytes().size())));
     const std::string dir = snapshot_dir_name(path);
     for (int k = 0; k < snapshots; ++k) {
         char link[32];
@@ -216,6 +216,52 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     return s;
 }
 
+namespace {
+/// Process id in a leftover name "...<marker><pid>[-.]..." or -1.
+long leftover_pid(const std::string& name, const std::string& marker) {
+    const auto at = name.find(marker);
+    if (at == std::string::npos) return -1;
+    const std::size_t start = at + marker.size();
+    std::size_t end = start;
+    while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+    return end > start ? std::stol(name.substr(start, end - start)) : -1;
+}
+
+/// Removes what killed runs into `out` left behind: staging files and folders of a replacing run
+/// and the temporary files of interrupted writes, in the run's folder and its snapshot folder,
+/// when the process that made them is gone. A live process's files are left alone.
+void remove_leftovers(const fs::path& parent, const fs::path& out) {
+    const std::string stem = out.stem().string();
+    auto dead = [](long pid) {
+        return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+    };
+    std::error_code ec;
+    auto sweep = [&](const fs::path& dir, const std::vector<std::string>& prefixes) {
+        for (const auto& e : fs::directory_iterator(dir, ec)) {
+            const std::string name = e.path().filename().string();
+            for (const auto& prefix : prefixes) {
+                if (name.rfind(prefix, 0) != 0) continue;
+                const long pid =
+                    leftover_pid(name, name.find(".tmp-") != std::string::npos   ? ".tmp-"
+                                       : name.find(".old-") != std::string::npos ? ".old-"
+                                                                                 : ".replacing-");
+                if (dead(pid)) fs::remove_all(e.path(), ec);
+            }
+        }
+    };
+    // (Built by append: GCC 12 warns falsely (-Wrestrict) on "." + std::string.)
+    auto dotted = [](const std::string& head, const std::string& tail) {
+        std::string n(".");
+        return n.append(head).append(tail);
+    };
+    sweep(parent,
+          {dotted(stem, ".replacing-"), dotted(dotted(stem, ".replacing-"), ""),
+           dotted(out.filename().string(), ".tmp-"), dotted(snapshot_dir_name(out), ".old-")});
+    const fs::path snaps = parent / snapshot_dir_name(out);
+    if (fs::is_directory(snaps, ec)) sweep(snaps, {"."});
+}
+} // namespace
+
 RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
                          const std::function<void(const RunProgress&)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -249,14 +295,19 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         eco = std::make_unique<Ecosystem>(sc);
         H5::H5File f = open_run(out);
         std::vector<std::uint8_t> bytes;
-        std::string hash;
+        std::string hash, checksum;
         try {
             bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
                                               H5::PredType::NATIVE_UINT8);
             hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
+            checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
         } catch (const H5::Exception& e) {
             throw InputError(out.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
         }
+        if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
+            throw InputError(out.string() +
+                             ": /checkpoint/state is damaged (its checksum_fnv1a64 " + checksum +
+                             " does not match its " + std::to_string(bytes.size()) + " bytes)");
         if (hash != std::to_string(raster_hash(sc.hydro.dem)))
             throw InputError(out.string() + ": the terrain rebuilt from the stored scene differs "
                                             "from the run's (was the terrain file changed?)");
@@ -280,8 +331,22 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         throw InputError(out.string() + ": the run already has " +
                          std::to_string(eco->years_done()) + " of its " +
                          std::to_string(years_total) + " years; give --years N to continue");
-    const fs::path snap_dir = parent / snapshot_dir_name(out);
+    // A new run into the path of an earlier one works under a staging name and replaces the
+    // earlier run only when it is complete: killed or failed, it leaves the earlier run as it was.
+    // A new run into a free path (and a resumed run) writes in place, so that a killed run can be
+    // resumed from its last snapshot.
     std::error_code ec;
+    remove_leftovers(parent, out);
+    const bool staged = !opt.resume && fs::exists(out, ec);
+    // (Names built by append: GCC 12 warns falsely (-Wrestrict) on "." + std::string.)
+    std::string staging(".");
+    staging.append(out.stem().string())
+        .append(".replacing-")
+        .append(std::to_string(::getpid()))
+        .append(out.extension().string());
+    const fs::path work = staged ? parent / staging : out;
+    const fs::path snap_dir = parent / snapshot_dir_name(work);
+    if (staged) fs::remove_all(snap_dir, ec); // left by a killed process of the same id
     fs::create_directories(snap_dir, ec);
     if (ec)
         throw IoError(snap_dir.string() + ": cannot create the snapshot folder: " + ec.message());
@@ -299,7 +364,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
             write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots));
             ++snapshots;
-            write_main(*eco, out, prov, snapshots);
+            write_main(*eco, work, prov, snapshots);
         }
         if (progress) {
             RunProgress p;
@@ -317,7 +382,33 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
             break;
         }
     }
-    if (!opt.resume) {
+    // Pictures before the swap: a picture folder that cannot be written leaves an earlier run in
+    // place.
+    if (opt.pictures) {
+        sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
+                                                  : opt.picture_dir;
+        draw_run_pictures(*eco, sum.picture_dir);
+    }
+    if (staged) {
+        // The new run is complete: its snapshots take the earlier run's place, then its run file
+        // (written again to link the final folder) replaces the earlier one atomically.
+        const fs::path final_dir = parent / snapshot_dir_name(out);
+        std::string aside(".");
+        aside.append(snapshot_dir_name(out)).append(".old-").append(std::to_string(::getpid()));
+        const fs::path old_dir = parent / aside;
+        fs::remove_all(old_dir, ec);
+        if (fs::exists(final_dir, ec)) fs::rename(final_dir, old_dir, ec);
+        if (ec)
+            throw IoError(final_dir.string() + ": cannot move the earlier run's snapshots aside: " +
+                          ec.message() + " (the new run is complete in " + work.string() + ")");
+        fs::rename(snap_dir, final_dir, ec);
+        if (ec)
+            throw IoError(final_dir.string() +
+                          ": cannot move the new snapshots into place: " + ec.message());
+        write_main(*eco, out, prov, snapshots);
+        fs::remove(work, ec);
+        fs::remove_all(old_dir, ec);
+    } else if (!opt.resume) {
         // Snapshot files of an earlier run into the same path that the new run did not replace.
         for (int k = snapshots;; ++k) {
             const fs::path stale = snap_dir / snapshot_file_name(k);
@@ -333,11 +424,6 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     sum.water_residual_relative = std::abs(eco->hydrology().cumulative_residual_m3()) /
                                   std::max(eco->hydrology().cumulative_throughput_m3(), 1e-300);
     sum.carbon_residual_relative = eco->carbon_residual_relative();
-    if (opt.pictures) {
-        sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
-                                                  : opt.picture_dir;
-        draw_run_pictures(*eco, sum.picture_dir);
-    }
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return sum;
 }

@@ -363,7 +363,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
     m_cum_residual += f.residual;
     m_cum_throughput +=
         f.rain + f.evaporation + f.transpiration + f.runoff_out + std::abs(f.groundwater_out);
-    if (std::abs(m_cum_residual) > m_opt.budget_tolerance * std::max(m_cum_throughput, 1.0)) {
+    // Written so that NaN (from a non-finite input that got this far) fails the check too.
+    if (!(std::abs(m_cum_residual) <= m_opt.budget_tolerance * std::max(m_cum_throughput, 1.0))) {
         std::ostringstream s;
         s << "water budget broke on day " << m_day << " (year " << w.year << ", day " << w.doy
           << "): cumulative residual " << m_cum_residual << " m3 against a throughput of "

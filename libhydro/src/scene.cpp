@@ -220,6 +220,9 @@ void apply_overrides(json& scene, const std::vector<std::string>& overrides) {
         json v;
         try {
             v = json::parse(value);
+        } catch (const json::out_of_range&) {
+            throw InputError("--set " + key + ": the value " + value +
+                             " is out of range for a number");
         } catch (const json::parse_error&) {
             v = value;
         }

@@ -107,7 +107,7 @@ std::size_t get_choice(const nlohmann::json& obj, const std::string& key,
 nlohmann::json parse_json(const std::string& text, const std::string& source) {
     try {
         return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) { // syntax, and numbers out of range (1e400)
         throw InputError(source + ": not valid JSON: " + e.what());
     }
 }

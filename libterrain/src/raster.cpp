@@ -69,9 +69,19 @@ RasterStats stats(const RasterD& r) {
 }
 
 void require_valid_cells(const RasterD& r, const std::string& what) {
-    for (std::int64_t k = 0; k < r.size(); ++k)
-        if (!std::isnan(r.data()[k])) return;
-    throw InputError(what + ": the raster holds no valid cell (all NODATA)");
+    bool any = false;
+    for (std::int64_t k = 0; k < r.size(); ++k) {
+        const double v = r.data()[k];
+        if (std::isinf(v)) {
+            const auto& g = r.grid();
+            throw InputError(
+                what + ": cell (" + std::to_string(k % g.nx) + ", " + std::to_string(k / g.nx) +
+                ") holds " + (v > 0 ? "+inf" : "-inf") +
+                "; elevations must be finite (NODATA is NaN or the file's nodata value)");
+        }
+        any = any || !std::isnan(v);
+    }
+    if (!any) throw InputError(what + ": the raster holds no valid cell (all NODATA)");
 }
 
 } // namespace ecoterra::terrain

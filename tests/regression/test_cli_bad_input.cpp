@@ -1,0 +1,163 @@
+// Bad input and interrupted writes, as a user meets them: exit 2 for bad input with the file, key
+// and value named, and nothing earlier lost (issue 10 s4).
+#include "support/run_cli.hpp"
+
+#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/terrain/io/atomic_file.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace ecoterra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+void write(const fs::path& p, const std::string& text) {
+    std::ofstream(p) << text;
+}
+
+std::string read(const fs::path& p) {
+    return terrain::io::read_text(p);
+}
+
+/// A 40 m x 40 m scene growing from a random initial stand, a snapshot every year.
+json tiny_scene(int years, int seed) {
+    return {{"terrain",
+             {{"generate",
+               {{"method", "fbm"},
+                {"size", 20},
+                {"cell_size_m", 2.0},
+                {"seed", 5},
+                {"params", {{"D", 2.3}, {"rms_m", 0.8}}}}}}},
+            {"soil",
+             {{"uniform", {{"sand_pct", 15}, {"silt_pct", 70}, {"clay_pct", 15}, {"ph", 6.2}}}}},
+            {"climate", {{"preset", "humid_subtropical"}}},
+            {"vegetation",
+             {{"ecosystem",
+               (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string()},
+              {"initial", {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}}}}},
+            {"simulation", {{"years", years}, {"seed", seed}, {"snapshot_interval_years", 1}}}};
+}
+
+} // namespace
+
+TEST_CASE("usage errors exit 2", "[cli][bad-input]") {
+    test::TempDir dir;
+    auto r = test::run(dir, "");
+    CHECK(r.code == 2);
+    r = test::run(dir, "run --seed abc");
+    CHECK(r.code == 2);
+    r = test::run(dir, "terrain generate --size 99999999999 -o x.h5");
+    CHECK(r.code == 2);
+    r = test::run(dir, "--version");
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("numbers out of range name the file or the key and exit 2", "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "big.json", R"({"terrain": {"generate": {"size": 1e400}}})");
+    auto r = test::run(dir, "run big.json -o out.h5");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("big.json"));
+    CHECK_THAT(r.out, Catch::Contains("1e400"));
+    write(dir / "scene.json", tiny_scene(1, 1).dump());
+    r = test::run(dir, "run scene.json -o out.h5 --set simulation.years=1e400");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("simulation.years"));
+    CHECK_FALSE(fs::exists(dir / "out.h5"));
+}
+
+TEST_CASE("an output that is the input is refused and the input kept", "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(1, 1).dump());
+    const std::string scene = read(dir / "s.json");
+    auto r = test::run(dir, "run s.json -o s.json --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("destroy the input"));
+    CHECK(read(dir / "s.json") == scene);
+    r = test::run(dir, "terrain generate --method fbm --D 2.3 --size 32 --cell 1 --seed 1 -o d.h5");
+    REQUIRE(r.code == 0);
+    const std::string dem = read(dir / "d.h5");
+    for (const std::string cmd :
+         {"terrain analyze d.h5 --json d.h5", "terrain missions d.h5 --count 2 --length 5 -o d.h5",
+          "terrain convert d.h5 ./d.h5", "hydro pond d.h5 --depth-m 0.1 -o d.h5"}) {
+        CAPTURE(cmd);
+        r = test::run(dir, cmd);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("d.h5"));
+        CHECK(read(dir / "d.h5") == dem);
+    }
+}
+
+TEST_CASE("non-finite numbers in a DEM or a weather file are refused", "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "inf.asc", "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n"
+                           "NODATA_value -9999\n1 2 3\n4 inf 6\n7 8 9\n");
+    auto r = test::run(dir, "terrain convert inf.asc out.tif");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("inf.asc"));
+    CHECK_THAT(r.out, Catch::Contains("+inf"));
+    CHECK_FALSE(fs::exists(dir / "out.tif"));
+    write(dir / "w.csv", "date,tmin_c,tmax_c,rain_mm\n2003-01-01,1,10,0\n2003-01-02,1,10,inf\n");
+    json sc = tiny_scene(1, 1);
+    sc["climate"] = {{"preset", "humid_subtropical"}, {"csv", (dir / "w.csv").string()}};
+    write(dir / "s.json", sc.dump());
+    r = test::run(dir, "run s.json -o run.h5 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("rain_mm"));
+    CHECK_THAT(r.out, Catch::Contains("inf"));
+}
+
+TEST_CASE("resume refuses -o", "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(1, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o a.h5 --no-pictures").code == 0);
+    const auto r = test::run(dir, "run --resume a.h5 -o b.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("-o is not used with --resume"));
+    CHECK_FALSE(fs::exists(dir / "b.h5"));
+}
+
+TEST_CASE("a finished run survives a new run to its path that is killed, at any moment",
+          "[cli][bad-input][kill]") {
+    test::TempDir dir;
+    write(dir / "a.json", tiny_scene(3, 1).dump());
+    write(dir / "b.json", tiny_scene(40, 2).dump());
+    REQUIRE(test::run(dir, "run a.json -o run.h5 --no-pictures").code == 0);
+    const auto before = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const auto info_before = eco::read_run_info(dir / "run.h5");
+    for (const char* moment : {"0.05", "0.2", "0.4", "0.8", "1.2"}) {
+        CAPTURE(moment);
+        // The new run in the background, killed with SIGKILL after `moment` seconds.
+        const std::string cmd = "cd '" + dir.path().string() +
+                                "' && ('" ECOTERRA_BIN
+                                "' run b.json -o run.h5 --no-pictures > /dev/null 2>&1 & p=$!; "
+                                "sleep " +
+                                std::string(moment) + "; kill -9 $p; wait $p) 2>/dev/null; true";
+        REQUIRE(std::system(cmd.c_str()) == 0);
+        const auto after = eco::read_snapshot_plants(dir / "run.h5", -1);
+        CHECK(after.year == before.year);
+        CHECK(after.id == before.id);
+        CHECK(after.dbh_m == before.dbh_m);
+        CHECK(eco::read_run_info(dir / "run.h5").provenance == info_before.provenance);
+    }
+    // The killed runs' staging files are swept by the next run into the path (their processes
+    // are gone); the run still resumes as before.
+    CHECK(test::run(dir, "run --resume run.h5 --years 1 --no-pictures").code == 0);
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        CHECK(e.path().filename().string().find(".replacing-") == std::string::npos);
+    // And it resumes as before.
+    CHECK(test::run(dir, "run --resume run.h5 --years 1 --no-pictures").code == 0);
+    // A new run that completes replaces it, with snapshots of its own.
+    write(dir / "c.json", tiny_scene(2, 3).dump());
+    REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures").code == 0);
+    const auto replaced = eco::read_snapshot_plants(dir / "run.h5", -1);
+    CHECK(replaced.year == 2);
+    CHECK(eco::read_run_info(dir / "run.h5").snapshots == 2);
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        CHECK(e.path().filename().string().find(".old-") == std::string::npos);
+}

@@ -1,6 +1,7 @@
 // Bad input and interrupted writes, as a user meets them: exit 2 for bad input with the file, key
 // and value named, and nothing earlier lost (issue 10 s4).
 #include "support/run_cli.hpp"
+#include "support/scenes.hpp"
 
 #include "ecoterra/eco/run_file.hpp"
 #include "ecoterra/terrain/io/atomic_file.hpp"
@@ -24,23 +25,9 @@ std::string read(const fs::path& p) {
     return terrain::io::read_text(p);
 }
 
-/// A 40 m x 40 m scene growing from a random initial stand, a snapshot every year.
+/// The shared small scene with a snapshot every year.
 json tiny_scene(int years, int seed) {
-    return {{"terrain",
-             {{"generate",
-               {{"method", "fbm"},
-                {"size", 20},
-                {"cell_size_m", 2.0},
-                {"seed", 5},
-                {"params", {{"D", 2.3}, {"rms_m", 0.8}}}}}}},
-            {"soil",
-             {{"uniform", {{"sand_pct", 15}, {"silt_pct", 70}, {"clay_pct", 15}, {"ph", 6.2}}}}},
-            {"climate", {{"preset", "humid_subtropical"}}},
-            {"vegetation",
-             {{"ecosystem",
-               (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string()},
-              {"initial", {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}}}}},
-            {"simulation", {{"years", years}, {"seed", seed}, {"snapshot_interval_years", 1}}}};
+    return test::small_scene(years, "coupled", seed, 1);
 }
 
 } // namespace

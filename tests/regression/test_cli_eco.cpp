@@ -1,6 +1,7 @@
 // The coupled engine end to end: budgets, determinism across thread counts, bit-exact resume,
 // the invocations as written, and bad input.
 #include "support/run_cli.hpp"
+#include "support/scenes.hpp"
 
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/run_file.hpp"
@@ -19,25 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A 40 m x 40 m scene on the shipped broadleaf ecosystem, with an initial stand.
-json small_scene(int years, const std::string& competition = "coupled") {
-    return {{"terrain",
-             {{"generate",
-               {{"method", "fbm"},
-                {"size", 20},
-                {"cell_size_m", 2.0},
-                {"seed", 5},
-                {"params", {{"D", 2.3}, {"rms_m", 0.8}}}}}}},
-            {"soil",
-             {{"uniform", {{"sand_pct", 15}, {"silt_pct", 70}, {"clay_pct", 15}, {"ph", 6.2}}}}},
-            {"climate", {{"preset", "humid_subtropical"}}},
-            {"vegetation",
-             {{"ecosystem",
-               (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string()},
-              {"competition", competition},
-              {"initial", {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}}}}},
-            {"simulation", {{"years", years}, {"seed", 9}, {"snapshot_interval_years", 2}}}};
-}
+using test::small_scene;
 
 eco::EcoScene load(const json& j) {
     return eco::load_eco_scene(j, test::data_dir());

@@ -599,17 +599,13 @@ StandMetrics Ecosystem::stand() const {
 
 std::uint64_t Ecosystem::observed_weather_hash() const {
     if (!m_scene.hydro.observed) return 0;
-    // FNV-1a over the day values (not the padding of DayWeather).
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    auto mix = [&h](const void* v, std::size_t n) {
-        const auto* b = static_cast<const unsigned char*>(v);
-        for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 0x100000001b3ULL;
-    };
+    // FNV-1a over the day values (field by field, whatever the layout of DayWeather).
+    std::uint64_t h = fnv1a64(nullptr, 0);
     for (const auto& d : m_scene.hydro.observed->days) {
-        mix(&d.year, sizeof d.year);
-        mix(&d.doy, sizeof d.doy);
+        h = fnv1a64(&d.year, sizeof d.year, h);
+        h = fnv1a64(&d.doy, sizeof d.doy, h);
         for (double v : {d.tmin_c, d.tmax_c, d.rain_mm, d.tdew_c, d.u2_m_per_s, d.rs_mj})
-            mix(&v, sizeof v);
+            h = fnv1a64(&v, sizeof v, h);
     }
     return h | 1; // never 0, the generator's value
 }

@@ -236,29 +236,31 @@ void remove_leftovers(const fs::path& parent, const fs::path& out) {
         return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
     };
     std::error_code ec;
-    auto sweep = [&](const fs::path& dir, const std::vector<std::string>& prefixes) {
+    // A leftover is a name that starts with "." + head and holds marker + the pid that wrote it.
+    struct Kind {
+        std::string head, marker;
+    };
+    std::vector<fs::path> gone;
+    auto sweep = [&](const fs::path& dir, const std::vector<Kind>& kinds) {
         for (const auto& e : fs::directory_iterator(dir, ec)) {
             const std::string name = e.path().filename().string();
-            for (const auto& prefix : prefixes) {
-                if (name.rfind(prefix, 0) != 0) continue;
-                const long pid =
-                    leftover_pid(name, name.find(".tmp-") != std::string::npos   ? ".tmp-"
-                                       : name.find(".old-") != std::string::npos ? ".old-"
-                                                                                 : ".replacing-");
-                if (dead(pid)) fs::remove_all(e.path(), ec);
-            }
+            for (const auto& k : kinds)
+                if (name.size() > k.head.size() && name[0] == '.' &&
+                    name.compare(1, k.head.size(), k.head) == 0 &&
+                    dead(leftover_pid(name, k.marker))) {
+                    gone.push_back(e.path());
+                    break;
+                }
         }
     };
-    // (Built by append: GCC 12 warns falsely (-Wrestrict) on "." + std::string.)
-    auto dotted = [](const std::string& head, const std::string& tail) {
-        std::string n(".");
-        return n.append(head).append(tail);
-    };
-    sweep(parent,
-          {dotted(stem, ".replacing-"), dotted(dotted(stem, ".replacing-"), ""),
-           dotted(out.filename().string(), ".tmp-"), dotted(snapshot_dir_name(out), ".old-")});
+    const std::string staging = stem + ".replacing-";
+    sweep(parent, {{staging, ".replacing-"},            // a replacing run's file and folder
+                   {"." + staging, ".tmp-"},            // its file half-written
+                   {out.filename().string(), ".tmp-"},  // the run file half-written
+                   {snapshot_dir_name(out), ".old-"}}); // an earlier run's snapshots set aside
     const fs::path snaps = parent / snapshot_dir_name(out);
-    if (fs::is_directory(snaps, ec)) sweep(snaps, {"."});
+    if (fs::is_directory(snaps, ec)) sweep(snaps, {{"", ".tmp-"}}); // snapshots half-written
+    for (const auto& p : gone) fs::remove_all(p, ec);
 }
 } // namespace
 

@@ -34,7 +34,7 @@ std::string routing_name(Routing r) {
 }
 
 FlowDirections::FlowDirections(const terrain::RasterD& dem, D8Rule rule)
-    : m_grid(dem.grid()), m_rule(rule), m_z(dem.data(), dem.data() + dem.size()),
+    : m_grid(dem.grid()), m_z(dem.data(), dem.data() + dem.size()),
       m_receiver(static_cast<std::size_t>(dem.size()), kNoReceiver),
       m_outlet(static_cast<std::size_t>(dem.size()), 0) {
     const int nx = m_grid.nx, ny = m_grid.ny;

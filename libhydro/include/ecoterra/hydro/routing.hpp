@@ -42,7 +42,6 @@ inline std::int64_t cell_index(const terrain::GridSpec& g, int i, int j) {
 class FlowDirections {
 public:
     explicit FlowDirections(const terrain::RasterD& dem, D8Rule rule = D8Rule::steepest);
-    D8Rule rule() const { return m_rule; }
     const terrain::GridSpec& grid() const { return m_grid; }
     /// True for edge and NODATA cells: water there leaves the domain.
     bool is_outlet(std::int64_t c) const { return m_outlet[c] != 0; }
@@ -56,7 +55,6 @@ public:
 
 private:
     terrain::GridSpec m_grid;
-    D8Rule m_rule;
     std::vector<double> m_z;
     std::vector<std::int32_t> m_receiver;
     std::vector<std::uint8_t> m_outlet;

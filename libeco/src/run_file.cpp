@@ -262,6 +262,46 @@ void remove_leftovers(const fs::path& parent, const fs::path& out) {
     if (fs::is_directory(snaps, ec)) sweep(snaps, {{"", ".tmp-"}}); // snapshots half-written
     for (const auto& p : gone) fs::remove_all(p, ec);
 }
+
+/// Puts a complete new run (run file `work`, snapshots in `snap_dir`) in the place of the earlier
+/// run at `out`: the earlier snapshots are set aside, the new ones moved into place, and the run
+/// file (written again to link the final folder) replaces the earlier one atomically. A failure
+/// at any step puts the earlier run back as it was.
+void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work,
+                 const fs::path& snap_dir, const json& prov, int snapshots) {
+    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    const fs::path final_dir = parent / snapshot_dir_name(out);
+    std::string aside(".");
+    aside.append(snapshot_dir_name(out)).append(".old-").append(std::to_string(::getpid()));
+    const fs::path old_dir = parent / aside;
+    std::error_code ec;
+    fs::remove_all(old_dir, ec);
+    const bool had_snapshots = fs::exists(final_dir, ec);
+    if (had_snapshots) fs::rename(final_dir, old_dir, ec);
+    if (ec)
+        throw IoError(final_dir.string() +
+                      ": cannot move the earlier run's snapshots aside: " + ec.message());
+    auto restore = [&] {
+        std::error_code e2;
+        if (had_snapshots) fs::rename(old_dir, final_dir, e2);
+    };
+    fs::rename(snap_dir, final_dir, ec);
+    if (ec) {
+        restore();
+        throw IoError(final_dir.string() +
+                      ": cannot move the new snapshots into place: " + ec.message());
+    }
+    try {
+        write_main(eco, out, prov, snapshots);
+    } catch (...) {
+        std::error_code e2;
+        fs::rename(final_dir, snap_dir, e2);
+        restore();
+        throw;
+    }
+    fs::remove(work, ec);
+    fs::remove_all(old_dir, ec);
+}
 } // namespace
 
 RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
@@ -356,61 +396,67 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     RunSummary sum;
     double plant_years = 0;
     const int first_year = eco->years_done();
-    for (int y = 1; y <= to_run; ++y) {
-        eco->run_year();
-        plant_years += static_cast<double>(eco->plants().size());
-        const StandMetrics st = eco->stand();
-        const bool reached = sc.target_basal_area_m2_per_ha && !opt.years &&
-                             st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
-        const bool last = y == to_run || reached;
-        if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
-            write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots));
-            ++snapshots;
-            write_main(*eco, work, prov, snapshots);
+    auto grow = [&] {
+        for (int y = 1; y <= to_run; ++y) {
+            eco->run_year();
+            plant_years += static_cast<double>(eco->plants().size());
+            const StandMetrics st = eco->stand();
+            const bool reached = sc.target_basal_area_m2_per_ha && !opt.years &&
+                                 st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
+            const bool last = y == to_run || reached;
+            if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
+                write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots));
+                ++snapshots;
+                write_main(*eco, work, prov, snapshots);
+            }
+            if (progress) {
+                RunProgress p;
+                p.year = eco->years_done();
+                p.years = first_year + to_run;
+                p.plants = eco->plants().size();
+                p.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
+                p.seconds =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                p.plant_years = plant_years;
+                progress(p);
+            }
+            if (reached) {
+                sum.reached_target = true;
+                break;
+            }
         }
-        if (progress) {
-            RunProgress p;
-            p.year = eco->years_done();
-            p.years = first_year + to_run;
-            p.plants = eco->plants().size();
-            p.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
-            p.seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            p.plant_years = plant_years;
-            progress(p);
+        // Pictures before the swap: a picture folder that cannot be written leaves an earlier run
+        // in place.
+        if (opt.pictures) {
+            sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
+                                                      : opt.picture_dir;
+            draw_run_pictures(*eco, sum.picture_dir);
         }
-        if (reached) {
-            sum.reached_target = true;
-            break;
+    };
+    if (!staged) {
+        grow();
+    } else {
+        // A failed replacement removes its staging file and folder and names the user's path.
+        auto discard = [&] {
+            fs::remove(work, ec);
+            fs::remove_all(snap_dir, ec);
+        };
+        const std::string kept = ": the new run failed and the earlier run is kept: ";
+        try {
+            grow();
+            replace_run(*eco, out, work, snap_dir, prov, snapshots);
+        } catch (const IoError& e) {
+            discard();
+            throw IoError(out.string() + kept + e.what());
+        } catch (const InputError& e) {
+            discard();
+            throw InputError(out.string() + kept + e.what());
+        } catch (...) {
+            discard();
+            throw;
         }
     }
-    // Pictures before the swap: a picture folder that cannot be written leaves an earlier run in
-    // place.
-    if (opt.pictures) {
-        sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
-                                                  : opt.picture_dir;
-        draw_run_pictures(*eco, sum.picture_dir);
-    }
-    if (staged) {
-        // The new run is complete: its snapshots take the earlier run's place, then its run file
-        // (written again to link the final folder) replaces the earlier one atomically.
-        const fs::path final_dir = parent / snapshot_dir_name(out);
-        std::string aside(".");
-        aside.append(snapshot_dir_name(out)).append(".old-").append(std::to_string(::getpid()));
-        const fs::path old_dir = parent / aside;
-        fs::remove_all(old_dir, ec);
-        if (fs::exists(final_dir, ec)) fs::rename(final_dir, old_dir, ec);
-        if (ec)
-            throw IoError(final_dir.string() + ": cannot move the earlier run's snapshots aside: " +
-                          ec.message() + " (the new run is complete in " + work.string() + ")");
-        fs::rename(snap_dir, final_dir, ec);
-        if (ec)
-            throw IoError(final_dir.string() +
-                          ": cannot move the new snapshots into place: " + ec.message());
-        write_main(*eco, out, prov, snapshots);
-        fs::remove(work, ec);
-        fs::remove_all(old_dir, ec);
-    } else if (!opt.resume) {
+    if (!staged && !opt.resume) {
         // Snapshot files of an earlier run into the same path that the new run did not replace.
         for (int k = snapshots;; ++k) {
             const fs::path stale = snap_dir / snapshot_file_name(k);

@@ -148,3 +148,73 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
     for (const auto& e : fs::directory_iterator(dir.path()))
         CHECK(e.path().filename().string().find(".old-") == std::string::npos);
 }
+
+namespace {
+/// The names in `dir` that a writer leaves while it works (temporary and staging files).
+std::vector<std::string> work_files(const fs::path& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        const std::string name = e.path().filename().string();
+        if (name.find(".tmp-") != std::string::npos ||
+            name.find(".replacing-") != std::string::npos)
+            out.push_back(name);
+    }
+    return out;
+}
+
+/// Runs `args` in `dir` with files limited to `blocks` of 512 bytes (`ulimit -f`), which fails
+/// writes the way a full disk does (EFBIG instead of ENOSPC). Returns the run.
+test::Run run_limited(const test::TempDir& dir, const std::string& args, std::uintmax_t blocks) {
+    return test::run(dir, args, "ulimit -f " + std::to_string(blocks) + ";");
+}
+} // namespace
+
+TEST_CASE("a write that fails for want of space is reported, at any size, and loses nothing",
+          "[cli][bad-input][disk]") {
+    // Writers used to crash when HDF5's final close failed (the close was retried by a destructor)
+    // or exit 0 with a dataset silently missing. Every limit from one block to past the file size
+    // must either succeed or exit 1 naming the file, with the earlier file intact and no leftovers.
+    test::TempDir dir;
+    const std::string gen = "terrain generate --method fbm --D 2.3 --size 200 --cell 1 --seed ";
+    REQUIRE(test::run(dir, gen + "1 -o d.h5").code == 0);
+    REQUIRE(test::run(dir, "hydro pond d.h5 --depth-m 0.05 -o p.h5").code == 0);
+    write(dir / "s.json", tiny_scene(3, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
+    const auto plants_before = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const std::string dem = read(dir / "d.h5"), pond = read(dir / "p.h5");
+    const std::uintmax_t largest = fs::file_size(dir / "d.h5") / 512 + 2;
+    int failures = 0, successes = 0;
+    for (std::uintmax_t blocks = 1; blocks < 2 * largest; blocks = blocks * 3 / 2 + 1) {
+        CAPTURE(blocks);
+        for (const std::string what : {"dem", "pond", "run"}) {
+            CAPTURE(what);
+            const std::string target = what == "dem" ? "d.h5" : what == "pond" ? "p.h5" : "run.h5";
+            const auto r =
+                what == "dem" ? run_limited(dir, gen + "2 -o d.h5", blocks)
+                : what == "pond"
+                    ? run_limited(dir, "hydro pond d.h5 --depth-m 0.07 -o p.h5", blocks)
+                    : run_limited(dir, "run s.json -o run.h5 --no-pictures --set simulation.seed=2",
+                                  blocks);
+            CHECK(work_files(dir.path()).empty());
+            if (r.code == 0) {
+                ++successes;
+                continue;
+            }
+            ++failures;
+            CHECK(r.code == 1);
+            CHECK_THAT(r.out, Catch::Contains(target));
+            CHECK_THAT(r.out, Catch::Contains("File too large"));
+            if (what == "dem") CHECK(read(dir / "d.h5") == dem);
+            if (what == "pond") CHECK(read(dir / "p.h5") == pond);
+            if (what == "run") {
+                const auto after = eco::read_snapshot_plants(dir / "run.h5", -1);
+                CHECK(after.id == plants_before.id);
+                CHECK(after.dbh_m == plants_before.dbh_m);
+            }
+        }
+    }
+    CHECK(failures > 10);
+    CHECK(successes > 0);
+    // The surviving run still resumes.
+    CHECK(test::run(dir, "run --resume run.h5 --years 1 --no-pictures").code == 0);
+}

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
@@ -37,13 +38,32 @@ AtomicOutput::~AtomicOutput() {
     }
 }
 
+namespace {
+/// Flushes `path` (a file or a folder) to the disk; returns the errno of a failure, 0 on success.
+int sync_path(const fs::path& path, int flags) {
+    const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+    if (fd < 0) return errno;
+    const int rc = ::fsync(fd) == 0 ? 0 : errno;
+    ::close(fd);
+    return rc;
+}
+} // namespace
+
 void AtomicOutput::commit() {
+    // The data reach the disk before the rename makes them visible, so a crash of the machine
+    // leaves either the old file or the complete new one, never an empty file under the name.
+    if (const int err = sync_path(m_temp, O_RDONLY))
+        throw IoError(m_target.string() +
+                      ": cannot flush the finished file to disk: " + std::strerror(err));
     std::error_code ec;
     fs::rename(m_temp, m_target, ec);
     if (ec)
         throw IoError(m_target.string() +
                       ": cannot move the finished file into place: " + ec.message());
     m_committed = true;
+    fs::path dir = m_target.parent_path();
+    if (dir.empty()) dir = ".";
+    sync_path(dir, O_RDONLY | O_DIRECTORY); // the rename itself; some file systems refuse, harmless
 }
 
 void write_text_atomic(const fs::path& target, const std::string& text) {

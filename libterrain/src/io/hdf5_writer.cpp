@@ -1,112 +1,270 @@
 #include "ecoterra/terrain/io/hdf5_writer.hpp"
 
-#include <H5Cpp.h>
+#include <hdf5.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
+#include <utility>
+#include <vector>
+
+// The file is built in memory (HDF5's core driver, no backing store) and written to the disk by
+// commit() with plain checked writes. HDF5 1.10 cannot survive a failed close: a dataset or file
+// whose flush fails on a full disk is left half closed, and the library's own clean-up at exit
+// closes it again and crashes. In memory nothing HDF5 does can fail for want of disk, so every
+// disk error is ours to report. Written on the C API so that each handle is closed exactly once
+// and nothing prints from a destructor.
 namespace ecoterra::terrain::io {
 
 namespace {
 constexpr hsize_t kChunk = 256;
-constexpr int kDeflate = 4;
+constexpr unsigned kDeflate = 4;
 
-void string_attr(H5::H5Object& obj, const std::string& name, const std::string& v) {
-    const std::string value = v.empty() ? std::string(" ") : v;
-    H5::StrType t(H5::PredType::C_S1, value.size());
-    if (obj.attrExists(name)) obj.removeAttr(name);
-    obj.createAttribute(name, t, H5::DataSpace()).write(t, value);
+/// The innermost message on HDF5's error stack (e.g. the operating system's "No space left on
+/// device"), or `fallback`.
+std::string hdf5_reason(const std::string& fallback) {
+    std::string reason;
+    auto walk = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+        auto& out = *static_cast<std::string*>(data);
+        if (out.empty() && e->desc && *e->desc) out = e->desc;
+        return 0;
+    };
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk, &reason);
+    H5Eclear2(H5E_DEFAULT);
+    // A failed system call is described at length; keep its message ("No space left on device").
+    const std::string key = "error message = '";
+    if (const auto at = reason.find(key); at != std::string::npos) {
+        const auto from = at + key.size();
+        reason = reason.substr(from, reason.find('\'', from) - from);
+    }
+    return reason.empty() ? fallback : fallback + " (" + reason + ")";
 }
-void double_attr(H5::H5Object& obj, const std::string& name, double v) {
-    if (obj.attrExists(name)) obj.removeAttr(name);
-    obj.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace())
-        .write(H5::PredType::NATIVE_DOUBLE, &v);
+
+struct Failure {
+    std::string what;
+};
+
+hid_t check(hid_t id, const char* call) {
+    if (id < 0) throw Failure{hdf5_reason(std::string(call) + " failed")};
+    return id;
+}
+void check(herr_t status, const char* call) {
+    if (status < 0) throw Failure{hdf5_reason(std::string(call) + " failed")};
+}
+bool check_tri(htri_t answer, const char* call) {
+    if (answer < 0) throw Failure{hdf5_reason(std::string(call) + " failed")};
+    return answer > 0;
+}
+
+/// An HDF5 identifier closed once, by `close()` (which reports failure) or by the destructor
+/// (which cannot). After a failed close the identifier is forgotten, never closed again.
+class Handle {
+public:
+    using Closer = herr_t (*)(hid_t);
+    Handle() = default;
+    Handle(hid_t id, Closer c) : m_id(id), m_close(c) {}
+    Handle(const Handle&) = delete;
+    Handle& operator=(const Handle&) = delete;
+    Handle(Handle&& o) noexcept
+        : m_id(std::exchange(o.m_id, H5I_INVALID_HID)), m_close(o.m_close) {}
+    Handle& operator=(Handle&& o) noexcept {
+        if (this != &o) {
+            release();
+            m_id = std::exchange(o.m_id, H5I_INVALID_HID);
+            m_close = o.m_close;
+        }
+        return *this;
+    }
+    ~Handle() { release(); }
+    hid_t id() const { return m_id; }
+    void close(const char* call) {
+        const hid_t id = std::exchange(m_id, H5I_INVALID_HID);
+        if (id >= 0) check(m_close(id), call);
+    }
+
+private:
+    void release() {
+        const hid_t id = std::exchange(m_id, H5I_INVALID_HID);
+        if (id >= 0) m_close(id);
+    }
+    hid_t m_id = H5I_INVALID_HID;
+    Closer m_close = nullptr;
+};
+
+Handle dataspace(int rank, const hsize_t* dims) {
+    return {check(rank == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(rank, dims, nullptr),
+                  "H5Screate"),
+            H5Sclose};
+}
+
+void put_attr(hid_t obj, const std::string& name, hid_t type, const void* value) {
+    if (check_tri(H5Aexists(obj, name.c_str()), "H5Aexists"))
+        check(H5Adelete(obj, name.c_str()), "H5Adelete");
+    Handle space = dataspace(0, nullptr);
+    Handle a{check(H5Acreate2(obj, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT),
+                   "H5Acreate"),
+             H5Aclose};
+    check(H5Awrite(a.id(), type, value), "H5Awrite");
+    a.close("H5Aclose");
+}
+void string_attr(hid_t obj, const std::string& name, const std::string& v) {
+    const std::string value = v.empty() ? std::string(" ") : v;
+    Handle t{check(H5Tcopy(H5T_C_S1), "H5Tcopy"), H5Tclose};
+    check(H5Tset_size(t.id(), value.size()), "H5Tset_size");
+    put_attr(obj, name, t.id(), value.data());
+}
+void double_attr(hid_t obj, const std::string& name, double v) {
+    put_attr(obj, name, H5T_NATIVE_DOUBLE, &v);
+}
+
+template <class T>
+hid_t native_type() {
+    if constexpr (std::is_same_v<T, float>)
+        return H5T_NATIVE_FLOAT;
+    else if constexpr (std::is_same_v<T, double>)
+        return H5T_NATIVE_DOUBLE;
+    else if constexpr (std::is_same_v<T, std::int32_t>)
+        return H5T_NATIVE_INT32;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+        return H5T_NATIVE_INT64;
+    else
+        return H5T_NATIVE_UINT8;
 }
 } // namespace
 
 struct Hdf5Writer::Impl {
-    H5::H5File file;
+    Handle file;
     std::string where;
+    int fd = -1; ///< the temporary file, opened at once so that an unwritable folder fails early
+
+    ~Impl() {
+        if (fd >= 0) ::close(fd);
+    }
+
+    /// Writes the whole file image to `fd` and closes it.
+    void write_image(const std::vector<char>& image) {
+        std::size_t done = 0;
+        while (done < image.size()) {
+            const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) throw IoError(where + ": write failed: " + std::strerror(errno));
+            done += static_cast<std::size_t>(n);
+        }
+        const int rc = ::close(std::exchange(fd, -1));
+        if (rc != 0) throw IoError(where + ": write failed: " + std::strerror(errno));
+    }
+
+    bool exists(const std::string& path) const {
+        return check_tri(H5Lexists(file.id(), path.c_str(), H5P_DEFAULT), "H5Lexists");
+    }
 
     /// Creates the groups above `path`.
     void ensure_parents(const std::string& path) {
         std::size_t pos = 1;
         while ((pos = path.find('/', pos)) != std::string::npos) {
             const std::string g = path.substr(0, pos);
-            if (!file.nameExists(g)) file.createGroup(g);
+            if (!exists(g)) {
+                Handle h{
+                    check(H5Gcreate2(file.id(), g.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                          "H5Gcreate"),
+                    H5Gclose};
+                h.close("H5Gclose");
+            }
             ++pos;
         }
+    }
+
+    /// Creates, writes and closes a chunked, compressed dataset; `attrs` adds its attributes.
+    template <class T, class Attrs>
+    void dataset(const std::string& path, int rank, const hsize_t* dims, const hsize_t* chunk,
+                 bool shuffle, const T* data, Attrs&& attrs) {
+        ensure_parents(path);
+        Handle space = dataspace(rank, dims);
+        Handle plist{check(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate"), H5Pclose};
+        if (chunk) {
+            check(H5Pset_chunk(plist.id(), rank, chunk), "H5Pset_chunk");
+            if (shuffle) check(H5Pset_shuffle(plist.id()), "H5Pset_shuffle");
+            check(H5Pset_deflate(plist.id(), kDeflate), "H5Pset_deflate");
+        }
+        const hid_t type = native_type<T>();
+        Handle ds{check(H5Dcreate2(file.id(), path.c_str(), type, space.id(), H5P_DEFAULT,
+                                   plist.id(), H5P_DEFAULT),
+                        "H5Dcreate"),
+                  H5Dclose};
+        if (data) check(H5Dwrite(ds.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
+        attrs(ds.id());
+        ds.close("H5Dclose");
+    }
+
+    template <class T>
+    void raster(const std::string& path, const Raster<T>& r, const std::string& units,
+                const std::string& desc) {
+        const hsize_t dims[2] = {static_cast<hsize_t>(r.ny()), static_cast<hsize_t>(r.nx())};
+        const hsize_t chunk[2] = {std::min(kChunk, dims[0]), std::min(kChunk, dims[1])};
+        dataset(path, 2, dims, chunk, true, r.data(), [&](hid_t ds) {
+            string_attr(ds, "units", units);
+            string_attr(ds, "description", desc);
+            string_attr(ds, "row_order", "south_to_north");
+            double_attr(ds, "cell_size_m", r.cell_size());
+            double_attr(ds, "origin_x_m", r.grid().origin_x_m);
+            double_attr(ds, "origin_y_m", r.grid().origin_y_m);
+        });
+    }
+
+    template <class T>
+    void series(const std::string& path, const std::vector<T>& v, const std::string& units,
+                const std::string& desc) {
+        const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+        const hsize_t chunk[1] = {std::min<hsize_t>(4096, dims[0])};
+        dataset(path, 1, dims, v.empty() ? nullptr : chunk, false, v.empty() ? nullptr : v.data(),
+                [&](hid_t ds) {
+                    string_attr(ds, "units", units);
+                    string_attr(ds, "description", desc);
+                });
     }
 
     /// Calls f on the dataset or group at `object`, creating the group if it does not exist.
     template <class F>
     void on_object(const std::string& object, F&& f) {
-        if (object != "/" && !file.nameExists(object)) ensure_parents(object + "/");
-        if (object != "/" && file.childObjType(object) == H5O_TYPE_DATASET) {
-            H5::DataSet ds = file.openDataSet(object);
-            f(ds);
-        } else {
-            H5::Group g = file.openGroup(object);
-            f(g);
-        }
+        if (object != "/" && !exists(object)) ensure_parents(object + "/");
+        Handle o{check(H5Oopen(file.id(), object.c_str(), H5P_DEFAULT), "H5Oopen"), H5Oclose};
+        f(o.id());
+        o.close("H5Oclose");
     }
 
-    template <class T>
-    void raster(const std::string& path, const Raster<T>& r, const H5::PredType& mem,
-                const H5::PredType& disk, const std::string& units, const std::string& desc) {
-        ensure_parents(path);
-        hsize_t dims[2] = {static_cast<hsize_t>(r.ny()), static_cast<hsize_t>(r.nx())};
-        H5::DataSpace space(2, dims);
-        H5::DSetCreatPropList plist;
-        hsize_t chunk[2] = {std::min(kChunk, dims[0]), std::min(kChunk, dims[1])};
-        plist.setChunk(2, chunk);
-        plist.setShuffle();
-        plist.setDeflate(kDeflate);
-        H5::DataSet ds = file.createDataSet(path, disk, space, plist);
-        ds.write(r.data(), mem);
-        string_attr(ds, "units", units);
-        string_attr(ds, "description", desc);
-        string_attr(ds, "row_order", "south_to_north");
-        double_attr(ds, "cell_size_m", r.cell_size());
-        double_attr(ds, "origin_x_m", r.grid().origin_x_m);
-        double_attr(ds, "origin_y_m", r.grid().origin_y_m);
-    }
-
-    template <class T>
-    void series(const std::string& path, const std::vector<T>& v, const H5::PredType& type,
-                const std::string& units, const std::string& desc) {
-        ensure_parents(path);
-        hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
-        H5::DataSpace space(1, dims);
-        H5::DSetCreatPropList plist;
-        if (!v.empty()) {
-            hsize_t chunk[1] = {std::min<hsize_t>(4096, dims[0])};
-            plist.setChunk(1, chunk);
-            plist.setDeflate(kDeflate);
+    /// Runs `f`, turning an HDF5 failure into an IoError that names the file and `path`.
+    template <class F>
+    void guarded(const std::string& path, F&& f) {
+        try {
+            f();
+        } catch (const Failure& e) {
+            throw IoError(where + ": HDF5 write of " + path + " failed: " + e.what);
         }
-        H5::DataSet ds = file.createDataSet(path, type, space, plist);
-        if (!v.empty()) ds.write(v.data(), type);
-        string_attr(ds, "units", units);
-        string_attr(ds, "description", desc);
     }
 };
 
 Hdf5Writer::Hdf5Writer(const std::filesystem::path& target) : m_out(target) {
-    H5::Exception::dontPrint();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     m_impl = std::make_unique<Impl>();
     m_impl->where = target.string();
-    try {
-        m_impl->file = H5::H5File(m_out.temp_path().string(), H5F_ACC_TRUNC);
-    } catch (const H5::Exception& e) {
-        throw IoError(m_impl->where + ": cannot create HDF5 file: " + e.getDetailMsg());
-    }
+    m_impl->fd = ::open(m_out.temp_path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (m_impl->fd < 0)
+        throw IoError(m_impl->where + ": cannot create the file: " + std::strerror(errno));
+    constexpr std::size_t kGrowBytes = 1 << 20;
+    Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+    const hid_t id =
+        fapl.id() >= 0 && H5Pset_fapl_core(fapl.id(), kGrowBytes, false) >= 0
+            ? H5Fcreate(m_out.temp_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id())
+            : H5I_INVALID_HID;
+    if (id < 0)
+        throw IoError(m_impl->where +
+                      ": cannot create HDF5 file: " + hdf5_reason("H5Fcreate failed"));
+    m_impl->file = Handle(id, H5Fclose);
 }
 
 Hdf5Writer::~Hdf5Writer() = default;
-
-#define ECOTERRA_H5_GUARD(expr)                                                                    \
-    try {                                                                                          \
-        expr;                                                                                      \
-    } catch (const H5::Exception& e) {                                                             \
-        throw IoError(m_impl->where + ": HDF5 write of " + path + " failed: " + e.getDetailMsg()); \
-    }
 
 void Hdf5Writer::raster(const std::string& path, const RasterD& r, const std::string& units,
                         const std::string& d) {
@@ -116,65 +274,69 @@ void Hdf5Writer::raster(const std::string& path, const RasterD& r, const std::st
 }
 void Hdf5Writer::raster(const std::string& path, const Raster<float>& r, const std::string& units,
                         const std::string& d) {
-    ECOTERRA_H5_GUARD(
-        m_impl->raster(path, r, H5::PredType::NATIVE_FLOAT, H5::PredType::NATIVE_FLOAT, units, d))
+    m_impl->guarded(path, [&] { m_impl->raster(path, r, units, d); });
 }
 void Hdf5Writer::raster(const std::string& path, const Raster<std::int32_t>& r,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(
-        m_impl->raster(path, r, H5::PredType::NATIVE_INT32, H5::PredType::NATIVE_INT32, units, d))
+    m_impl->guarded(path, [&] { m_impl->raster(path, r, units, d); });
 }
 void Hdf5Writer::raster(const std::string& path, const Raster<std::uint8_t>& r,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(
-        m_impl->raster(path, r, H5::PredType::NATIVE_UINT8, H5::PredType::NATIVE_UINT8, units, d))
+    m_impl->guarded(path, [&] { m_impl->raster(path, r, units, d); });
 }
 void Hdf5Writer::series(const std::string& path, const std::vector<double>& v,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_DOUBLE, units, d))
+    m_impl->guarded(path, [&] { m_impl->series(path, v, units, d); });
 }
 void Hdf5Writer::series(const std::string& path, const std::vector<std::int32_t>& v,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_INT32, units, d))
+    m_impl->guarded(path, [&] { m_impl->series(path, v, units, d); });
 }
-
 void Hdf5Writer::series(const std::string& path, const std::vector<std::int64_t>& v,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_INT64, units, d))
+    m_impl->guarded(path, [&] { m_impl->series(path, v, units, d); });
 }
 void Hdf5Writer::series(const std::string& path, const std::vector<std::uint8_t>& v,
                         const std::string& units, const std::string& d) {
-    ECOTERRA_H5_GUARD(m_impl->series(path, v, H5::PredType::NATIVE_UINT8, units, d))
+    m_impl->guarded(path, [&] { m_impl->series(path, v, units, d); });
 }
 
 void Hdf5Writer::external_link(const std::string& path, const std::string& file,
                                const std::string& object) {
-    ECOTERRA_H5_GUARD(m_impl->ensure_parents(path));
-    if (H5Lcreate_external(file.c_str(), object.c_str(), m_impl->file.getId(), path.c_str(),
-                           H5P_DEFAULT, H5P_DEFAULT) < 0)
-        throw IoError(m_impl->where + ": cannot create the external link " + path + " -> " + file +
-                      ":" + object);
+    m_impl->guarded(path, [&] {
+        m_impl->ensure_parents(path);
+        check(H5Lcreate_external(file.c_str(), object.c_str(), m_impl->file.id(), path.c_str(),
+                                 H5P_DEFAULT, H5P_DEFAULT),
+              "H5Lcreate_external");
+    });
 }
 
 void Hdf5Writer::attribute(const std::string& object, const std::string& name,
                            const std::string& value) {
-    const std::string& path = object;
-    ECOTERRA_H5_GUARD(
-        m_impl->on_object(object, [&](H5::H5Object& o) { string_attr(o, name, value); }))
+    m_impl->guarded(
+        object, [&] { m_impl->on_object(object, [&](hid_t o) { string_attr(o, name, value); }); });
 }
 
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
-    const std::string& path = object;
-    ECOTERRA_H5_GUARD(
-        m_impl->on_object(object, [&](H5::H5Object& o) { double_attr(o, name, value); }))
+    m_impl->guarded(
+        object, [&] { m_impl->on_object(object, [&](hid_t o) { double_attr(o, name, value); }); });
 }
 
 void Hdf5Writer::commit() {
+    std::vector<char> image;
     try {
-        m_impl->file.close();
-    } catch (const H5::Exception& e) {
-        throw IoError(m_impl->where + ": HDF5 close failed: " + e.getDetailMsg());
+        const hid_t id = m_impl->file.id();
+        check(H5Fflush(id, H5F_SCOPE_GLOBAL), "H5Fflush");
+        const ssize_t size = H5Fget_file_image(id, nullptr, 0);
+        if (size < 0) check(-1, "H5Fget_file_image");
+        image.resize(static_cast<std::size_t>(size));
+        if (H5Fget_file_image(id, image.data(), image.size()) != size)
+            check(-1, "H5Fget_file_image");
+        m_impl->file.close("H5Fclose");
+    } catch (const Failure& e) {
+        throw IoError(m_impl->where + ": HDF5 close failed: " + e.what);
     }
+    m_impl->write_image(image);
     m_out.commit();
 }
 

@@ -2,6 +2,7 @@
 
 #include "ecoterra/error.hpp"
 
+#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 
@@ -55,7 +56,32 @@ void refuse_output_over_input(const std::string& option, const std::string& outp
 }
 
 void print_warnings(const std::vector<std::string>& warnings) {
+    end_progress_line();
     for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
+
+void print_notes(const std::vector<std::string>& notes) {
+    end_progress_line();
+    for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+}
+
+namespace {
+bool g_progress_showing = false;
+}
+
+void progress_line(const char* format, ...) {
+    std::fflush(stdout); // what the command said before the progress, in order
+    std::fputc('\r', stderr);
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stderr, format, args);
+    va_end(args);
+    g_progress_showing = true;
+}
+
+void end_progress_line() {
+    if (g_progress_showing) std::fputc('\n', stderr);
+    g_progress_showing = false;
 }
 
 } // namespace ecoterra::app

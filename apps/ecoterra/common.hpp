@@ -21,6 +21,12 @@ void refuse_output_over_input(const std::string& option, const std::string& outp
                               const std::vector<std::string>& inputs);
 /// Prints each warning to stderr as "warning: ...".
 void print_warnings(const std::vector<std::string>& warnings);
+/// Prints each note to stderr as "note: ...".
+void print_notes(const std::vector<std::string>& notes);
+/// Rewrites the progress line on stderr (printf-style).
+[[gnu::format(printf, 1, 2)]] void progress_line(const char* format, ...);
+/// Ends the progress line, if one is showing, so that what follows starts on a line of its own.
+void end_progress_line();
 
 class Stopwatch {
 public:

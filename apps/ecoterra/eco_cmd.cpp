@@ -51,6 +51,7 @@ void run_run(const RunArgs& a) {
         }
         for (const auto& n : scene->ecosystem.notes)
             std::fprintf(stderr, "note: %s: %s\n", scene->ecosystem.source.c_str(), n.c_str());
+        if (scene->hydro.observed) print_notes(hydro::fill_report(*scene->hydro.observed));
     } else if (!sets.empty()) {
         throw InputError("run --resume: --set and --seed need the scene file too (and then must "
                          "not change it)");
@@ -61,6 +62,8 @@ void run_run(const RunArgs& a) {
     opt.pictures = !a.no_pictures;
     opt.picture_dir = a.pictures_dir;
     opt.provenance = provenance({{"scene_file", a.scene}, {"overrides", sets}});
+    if (scene && scene->hydro.observed)
+        opt.provenance["observed_weather_filled"] = scene->hydro.observed->filled;
     if (opt.resume) opt.years = a.years;
     if (scene) {
         const auto& g = scene->hydro.dem.grid();
@@ -77,12 +80,11 @@ void run_run(const RunArgs& a) {
             const int done = p.years > 0 ? kBar * p.year / p.years : kBar;
             std::string bar(static_cast<std::size_t>(done), '#');
             bar.resize(kBar, '.');
-            std::fprintf(stderr,
-                         "\r  [%s] year %d/%d  %zu plants  BA %.2f m2/ha  %.3g plant-years/s  ",
-                         bar.c_str(), p.year, p.years, p.plants, p.basal_area_m2_per_ha,
-                         p.plant_years / std::max(p.seconds, 1e-9));
+            progress_line("  [%s] year %d/%d  %zu plants  BA %.2f m2/ha  %.3g plant-years/s  ",
+                          bar.c_str(), p.year, p.years, p.plants, p.basal_area_m2_per_ha,
+                          p.plant_years / std::max(p.seconds, 1e-9));
         });
-    std::fputc('\n', stderr);
+    end_progress_line();
     const auto& st = sum.stand;
     std::printf("%d years run (%d in total)%s in %.2f s: %.3g plant-years/s, %.3g simulated "
                 "years/s\n",

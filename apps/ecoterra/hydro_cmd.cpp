@@ -192,18 +192,22 @@ void run_hydro_run(const RunArgs& a) {
     } catch (const InputError& e) {
         throw InputError(a.scene + ": " + e.what());
     }
+    json prov = provenance({{"scene_file", a.scene}, {"overrides", sets}});
+    if (sc.observed) {
+        print_notes(hydro::fill_report(*sc.observed));
+        prov["observed_weather_filled"] = sc.observed->filled;
+    }
     std::printf("hydrology: %d x %d cells of %.4g m, %d years, seed %llu, %s climate%s\n",
                 sc.dem.nx(), sc.dem.ny(), sc.dem.cell_size(), sc.years,
                 static_cast<unsigned long long>(sc.seed), sc.climate.name.c_str(),
                 sc.options.groundwater ? ", groundwater on" : "");
     const double cells = static_cast<double>(sc.dem.size());
-    const auto sum = hydro::run_hydro_scene(
-        sc, a.output, provenance({{"scene_file", a.scene}, {"overrides", sets}}), a.png_dir,
-        [&](int day, int total, double s) {
-            std::fprintf(stderr, "\r  year %d day %3d  (%d of %d days, %.3g cell-days/s)   ",
-                         (day - 1) / 365 + 1, (day - 1) % 365 + 1, day, total,
-                         cells * day / std::max(s, 1e-9));
-            if (day == total) std::fputc('\n', stderr);
+    const auto sum =
+        hydro::run_hydro_scene(sc, a.output, prov, a.png_dir, [&](int day, int total, double s) {
+            progress_line("  year %d day %3d  (%d of %d days, %.3g cell-days/s)   ",
+                          (day - 1) / 365 + 1, (day - 1) % 365 + 1, day, total,
+                          cells * day / std::max(s, 1e-9));
+            if (day == total) end_progress_line();
         });
     std::printf("%d days in %.2f s (%.3g cell-days/s)\n", sum.days, sum.seconds,
                 cells * sum.days / sum.seconds);

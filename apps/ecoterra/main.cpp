@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
@@ -25,10 +26,18 @@ void ensure_passive_wait(char** argv) {
     // Only reached if the new start failed: go on with the runtime as it is.
 }
 
+/// Prints an error on a line of its own, after what the program printed so far.
+void report(const char* kind, const char* what) {
+    std::fflush(stdout);
+    ecoterra::app::end_progress_line();
+    std::fprintf(stderr, "ecoterra: %s: %s\n", kind, what);
+}
 } // namespace
 
 int main(int argc, char** argv) {
     ensure_passive_wait(argv);
+    // A file over the size limit (ulimit -f) is a write error to report, not a fatal signal.
+    std::signal(SIGXFSZ, SIG_IGN);
     ecoterra::app::set_command_line(argc, argv);
     CLI::App app{"ecoterra: synthetic off-road worlds (terrain, hydrology, vegetation)"};
     app.require_subcommand(1);
@@ -44,19 +53,19 @@ int main(int argc, char** argv) {
         return code == 0 ? 0 : 2;
     } catch (const nlohmann::json::exception& e) {
         // JSON errors the readers did not put in context (they name the file where they can).
-        std::fprintf(stderr, "ecoterra: error: %s\n", e.what());
+        report("error", e.what());
         return 2;
     } catch (const ecoterra::InputError& e) {
-        std::fprintf(stderr, "ecoterra: error: %s\n", e.what());
+        report("error", e.what());
         return 2;
     } catch (const ecoterra::Error& e) {
-        std::fprintf(stderr, "ecoterra: error: %s\n", e.what());
+        report("error", e.what());
         return 1;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "ecoterra: error: out of memory\n");
+        report("error", "out of memory");
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "ecoterra: internal error: %s\n", e.what());
+        report("internal error", e.what());
         return 3;
     }
     return 0;

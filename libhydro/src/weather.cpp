@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 
@@ -214,15 +215,37 @@ bool leap(int y) {
 }
 
 /// Parses YYYY-MM-DD into (year, day of year).
+int days_in_month(int year, int month) {
+    static constexpr int kDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    return kDays[month - 1] + (month == 2 && leap(year) ? 1 : 0);
+}
+
+/// (year, day of year) of a YYYY-MM-DD date; a day the calendar does not have is refused.
 std::pair<int, int> parse_date(const std::string& s, const std::string& where) {
     int y = 0, m = 0, d = 0;
     char c1 = 0, c2 = 0;
     std::istringstream in(s);
-    if (!(in >> y >> c1 >> m >> c2 >> d) || c1 != '-' || c2 != '-' || m < 1 || m > 12 || d < 1 ||
-        d > 31)
+    const bool read = static_cast<bool>(in >> y >> c1 >> m >> c2 >> d) && (in >> std::ws).eof();
+    if (!read || c1 != '-' || c2 != '-' || m < 1 || m > 12 || d < 1)
         throw InputError(where + ": date must be YYYY-MM-DD, got '" + s + "'");
-    static constexpr int kCum[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
-    return {y, kCum[m - 1] + d + ((leap(y) && m > 2) ? 1 : 0)};
+    if (d > days_in_month(y, m))
+        throw InputError(where + ": date '" + s + "' does not exist (" + std::to_string(y) +
+                         (m == 2 ? (leap(y) ? " is a leap year" : " is not a leap year")
+                                 : std::string(" has ") + std::to_string(days_in_month(y, m)) +
+                                       " days in that month") +
+                         ")");
+    int doy = d;
+    for (int k = 1; k < m; ++k) doy += days_in_month(y, k);
+    return {y, doy};
+}
+
+/// YYYY-MM-DD of a (year, day of year).
+std::string iso_date(int year, int doy) {
+    int m = 1;
+    while (m < 12 && doy > days_in_month(year, m)) doy -= days_in_month(year, m++);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%04d-%02d-%02d", year, m, doy);
+    return buf;
 }
 
 std::vector<std::string> split_csv(const std::string& line) {
@@ -265,10 +288,11 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
         if (!col.count(req))
             throw InputError(where + ": missing column '" + std::string(req) + "'");
     WeatherSeries ws;
+    ws.source = where;
     ws.latitude_deg = lat;
     ws.elevation_m = elev;
     struct Raw {
-        int year, doy;
+        int year, doy, line;
         std::map<std::string, std::optional<double>> v;
     };
     std::vector<Raw> rows;
@@ -282,6 +306,7 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
             throw InputError(at + ": " + std::to_string(f.size()) + " fields, header has " +
                              std::to_string(header.size()));
         Raw r{};
+        r.line = lineno;
         std::tie(r.year, r.doy) = parse_date(f[col["date"]], at);
         for (const auto& [name, k] : col) {
             if (name == "date") continue;
@@ -303,6 +328,24 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
         rows.push_back(std::move(r));
     }
     if (rows.empty()) throw InputError(where + ": no data rows");
+    // One row per day, in order, none missing: a model year is a calendar year.
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const Raw &a = rows[k - 1], &b = rows[k];
+        const bool next =
+            (b.year == a.year && b.doy == a.doy + 1) ||
+            (b.year == a.year + 1 && b.doy == 1 && a.doy == days_in_calendar_year(a.year));
+        if (next) continue;
+        const std::string at = where + " line " + std::to_string(b.line) + ": " +
+                               iso_date(b.year, b.doy) + " follows " + iso_date(a.year, a.doy) +
+                               " (line " + std::to_string(a.line) + "): ";
+        if (b.year == a.year && b.doy == a.doy) throw InputError(at + "the day is given twice");
+        if (b.year < a.year || (b.year == a.year && b.doy < a.doy))
+            throw InputError(at + "days must be in calendar order");
+        const int next_year = a.doy == days_in_calendar_year(a.year) ? a.year + 1 : a.year;
+        const int next_doy = a.doy == days_in_calendar_year(a.year) ? 1 : a.doy + 1;
+        throw InputError(at + "days must follow one another; " + iso_date(next_year, next_doy) +
+                         " is missing (give it a row with empty fields to have it filled)");
+    }
     // Temperatures: linear interpolation between the nearest observed days.
     for (const char* t : {"tmin_c", "tmax_c"}) {
         std::vector<int> have;
@@ -381,6 +424,14 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
 
 int days_in_calendar_year(int year) {
     return leap(year) ? 366 : 365;
+}
+
+std::vector<std::string> fill_report(const WeatherSeries& ws) {
+    std::vector<std::string> out;
+    for (const auto& [what, count] : ws.filled)
+        out.push_back(ws.source + ": " + std::to_string(count) + " of " +
+                      std::to_string(ws.days.size()) + " days filled: " + what);
+    return out;
 }
 
 } // namespace ecoterra::hydro

@@ -218,3 +218,39 @@ TEST_CASE("a write that fails for want of space is reported, at any size, and lo
     // The surviving run still resumes.
     CHECK(test::run(dir, "run --resume run.h5 --years 1 --no-pictures").code == 0);
 }
+
+TEST_CASE("a weather file with a missing day is refused, one with gaps is filled and says so",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    std::string rows = "date,tmin_c,tmax_c,rain_mm,u2_m_per_s\n";
+    for (int d = 1; d <= 31; ++d) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "2003-01-%02d,%d,%d,%s,%s\n", d, 1 + d % 3, 10 + d % 4,
+                      d % 7 == 0 ? "" : "1", d < 4 ? "2.5" : "");
+        rows += buf;
+    }
+    for (int m = 2; m <= 12; ++m)
+        for (int d = 1; d <= (m == 2 ? 28 : m == 4 || m == 6 || m == 9 || m == 11 ? 30 : 31); ++d) {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "2003-%02d-%02d,5,15,1,2.0\n", m, d);
+            rows += buf;
+        }
+    write(dir / "w.csv", rows);
+    json sc = tiny_scene(1, 1);
+    sc["climate"] = {{"preset", "humid_subtropical"}, {"csv", (dir / "w.csv").string()}};
+    write(dir / "s.json", sc.dump());
+    auto r = test::run(dir, "run s.json -o run.h5 --no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("w.csv: 4 of 365 days filled: rain_mm: missing, taken as 0"));
+    CHECK_THAT(r.out, Catch::Contains("w.csv: 28 of 365 days filled: u2: 2 m/s (FAO-56)"));
+    const json prov = eco::read_run_info(dir / "run.h5").provenance;
+    CHECK(prov.at("observed_weather_filled").at("rain_mm: missing, taken as 0") == 4);
+    // 10 March taken out: refused with the file, the line and the missing day.
+    const auto cut = rows.find("2003-03-10");
+    write(dir / "w.csv", rows.substr(0, cut) + rows.substr(rows.find('\n', cut) + 1));
+    r = test::run(dir, "run s.json -o gap.h5 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("w.csv line 70: 2003-03-11 follows 2003-03-09"));
+    CHECK_THAT(r.out, Catch::Contains("2003-03-10 is missing"));
+    CHECK_FALSE(fs::exists(dir / "gap.h5"));
+}

@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
 
 using namespace ecoterra;
@@ -82,6 +84,11 @@ TEST_CASE("Observed weather: gaps are filled as FAO-56 recommends and reported",
     CHECK(s.filled.at("tmin_c: interpolated") == 1);
     CHECK(s.filled.at("u2: 2 m/s (FAO-56)") == 1);
     CHECK(s.filled.at("rain_mm: missing, taken as 0") == 1);
+    const auto report = fill_report(s);
+    REQUIRE(report.size() == s.filled.size());
+    for (const auto& line : report) CHECK_THAT(line, Catch::Contains("w.csv: "));
+    CHECK(std::count(report.begin(), report.end(),
+                     (dir / "w.csv").string() + ": 1 of 3 days filled: tmin_c: interpolated") == 1);
     std::ofstream(dir / "bad.csv") << "date,tmin_c,tmax_c,rain_mm,snow\n";
     CHECK_THROWS_WITH(read_weather_csv(dir / "bad.csv", 0, 0), Catch::Contains("snow"));
     std::ofstream(dir / "bad2.csv") << "date,tmin_c,tmax_c,rain_mm\n2024-13-01,1,2,3\n";
@@ -89,4 +96,80 @@ TEST_CASE("Observed weather: gaps are filled as FAO-56 recommends and reported",
                       Catch::Contains("line 2") && Catch::Contains("YYYY-MM-DD"));
     std::ofstream(dir / "bad3.csv") << "date,tmin_c,tmax_c,rain_mm\n2024-01-01,1,x,3\n";
     CHECK_THROWS_WITH(read_weather_csv(dir / "bad3.csv", 0, 0), Catch::Contains("tmax_c"));
+}
+
+namespace {
+/// Rows "date,tmin_c,tmax_c,rain_mm" for every day from 1 January `first` to 31 December `last`.
+std::vector<std::string> calendar_rows(int first, int last) {
+    std::vector<std::string> rows;
+    static constexpr int kDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    for (int y = first; y <= last; ++y)
+        for (int m = 1; m <= 12; ++m) {
+            const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+            for (int d = 1; d <= kDays[m - 1] + (m == 2 && leap); ++d) {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "%04d-%02d-%02d,%d,%d,%d", y, m, d, 5 + d % 3,
+                              15 + d % 5, d % 4);
+                rows.push_back(buf);
+            }
+        }
+    return rows;
+}
+std::string csv(const std::vector<std::string>& rows) {
+    std::string s = "date,tmin_c,tmax_c,rain_mm\n";
+    for (const auto& r : rows) s += r + "\n";
+    return s;
+}
+} // namespace
+
+TEST_CASE("Observed weather: every day once and in order, a missing, repeated or misplaced day is "
+          "refused wherever it is",
+          "[weather][bad-input]") {
+    test::TempDir dir;
+    const auto rows = calendar_rows(2023, 2024); // 2024 is a leap year
+    std::ofstream(dir / "ok.csv") << csv(rows);
+    REQUIRE(read_weather_csv(dir / "ok.csv", 45, 0).days.size() == 365 + 366);
+    // The row index of 29 February 2024 (and of every 30th day): each mutation at each place.
+    std::vector<std::size_t> at;
+    for (std::size_t k = 1; k + 1 < rows.size(); k += 30) at.push_back(k);
+    const auto feb29 = static_cast<std::size_t>(
+        std::find_if(rows.begin(), rows.end(),
+                     [](const std::string& r) { return r.rfind("2024-02-29", 0) == 0; }) -
+        rows.begin());
+    at.push_back(feb29);
+    for (const std::size_t k : at) {
+        CAPTURE(k);
+        const std::string line = "line " + std::to_string(k + 2); // the header is line 1
+        const std::string day = rows[k].substr(0, 10);
+        auto missing = rows;
+        missing.erase(missing.begin() + static_cast<std::ptrdiff_t>(k));
+        std::ofstream(dir / "m.csv") << csv(missing);
+        CHECK_THROWS_WITH(read_weather_csv(dir / "m.csv", 45, 0),
+                          Catch::Contains("m.csv " + line) && Catch::Contains(day + " is missing"));
+        auto twice = rows;
+        twice.insert(twice.begin() + static_cast<std::ptrdiff_t>(k), rows[k]);
+        std::ofstream(dir / "t.csv") << csv(twice);
+        CHECK_THROWS_WITH(read_weather_csv(dir / "t.csv", 45, 0),
+                          Catch::Contains("line " + std::to_string(k + 3)) &&
+                              Catch::Contains("given twice"));
+        auto swapped = rows;
+        std::swap(swapped[k], swapped[k + 1]);
+        std::ofstream(dir / "s.csv") << csv(swapped);
+        CHECK_THROWS_WITH(read_weather_csv(dir / "s.csv", 45, 0),
+                          Catch::Contains("s.csv " + line) && Catch::Contains("is missing"));
+    }
+    // Days the calendar does not have, and dates with more after them.
+    for (const auto& [date, why] :
+         std::vector<std::pair<std::string, std::string>>{{"2023-02-29", "not a leap year"},
+                                                          {"2100-02-29", "not a leap year"},
+                                                          {"2024-04-31", "30 days"},
+                                                          {"2024-01-01x", "YYYY-MM-DD"},
+                                                          {"2024-1-1-1", "YYYY-MM-DD"}}) {
+        CAPTURE(date);
+        std::ofstream(dir / "d.csv") << "date,tmin_c,tmax_c,rain_mm\n" << date << ",1,2,3\n";
+        CHECK_THROWS_WITH(read_weather_csv(dir / "d.csv", 0, 0),
+                          Catch::Contains(date) && Catch::Contains(why));
+    }
+    std::ofstream(dir / "leap.csv") << "date,tmin_c,tmax_c,rain_mm\n2000-02-29,1,2,3\n";
+    CHECK(read_weather_csv(dir / "leap.csv", 0, 0).days.at(0).doy == 60);
 }

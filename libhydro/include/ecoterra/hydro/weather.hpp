@@ -98,7 +98,11 @@ struct WeatherSeries {
     std::vector<DayWeather> days;
     std::map<std::string, int> filled; ///< what was filled how often ("rs: Hargreaves", ...)
     double latitude_deg = 0, elevation_m = 0;
+    std::string source; ///< the file read
 };
+
+/// One line per kind of filled value: "FILE: N of M days filled: what" (empty if none).
+std::vector<std::string> fill_report(const WeatherSeries& ws);
 
 /// Reads a daily CSV (header: date,tmin_c,tmax_c,rain_mm and optionally rh_min_pct, rh_max_pct,
 /// rh_mean_pct, tdew_c, u2_m_per_s, rs_mj_per_m2_day; empty or NA = missing), filling gaps.

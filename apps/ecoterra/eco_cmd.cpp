@@ -26,13 +26,14 @@ struct RunArgs {
     std::optional<std::uint64_t> seed;
     std::vector<std::string> sets;
     bool no_pictures = false;
+    bool output_given = false; ///< -o was on the command line (even with its default value)
 };
 
 void run_run(const RunArgs& a) {
     if (a.scene.empty() && a.resume.empty())
         throw InputError("run: give a scene file, or --resume RUN.h5");
     if (a.resume.empty()) refuse_output_over_input("-o", a.output, {a.scene});
-    if (!a.resume.empty() && a.output != "run.h5")
+    if (!a.resume.empty() && a.output_given)
         throw InputError("-o " + a.output + ": --resume " + a.resume +
                          " continues that run file in place; -o is not used with --resume");
     std::optional<eco::EcoScene> scene;
@@ -186,8 +187,9 @@ void add_eco_commands(CLI::App& app) {
     auto r = std::make_shared<RunArgs>();
     CLI::App* run = app.add_subcommand("run", "grow an ecosystem: the coupled engine");
     run->add_option("scene", r->scene, "scene JSON file (docs/formats.md)");
-    run->add_option("-o,--output", r->output, "HDF5 run file (snapshots go to NAME.snapshots/)")
-        ->capture_default_str();
+    CLI::Option* output =
+        run->add_option("-o,--output", r->output, "HDF5 run file (snapshots go to NAME.snapshots/)")
+            ->capture_default_str();
     run->add_option("--resume", r->resume, "continue the run in this file from its last snapshot");
     run->add_option("--years", r->years,
                     "simulated years (a new run: overrides simulation.years; --resume: years to "
@@ -196,7 +198,10 @@ void add_eco_commands(CLI::App& app) {
     run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
     run->add_flag("--no-pictures", r->no_pictures, "skip the pictures");
     run->add_option("--pictures", r->pictures_dir, "picture folder (default NAME.pictures/)");
-    run->callback([r] { run_run(*r); });
+    run->callback([r, output] {
+        r->output_given = output->count() > 0;
+        run_run(*r);
+    });
 
     auto s = std::make_shared<StandArgs>();
     CLI::App* stand = app.add_subcommand("stand", "stand metrics of a run snapshot");

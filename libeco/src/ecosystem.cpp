@@ -175,15 +175,27 @@ void Ecosystem::place_initial_plants() {
             while (nf < 5 && std::getline(ss, f[nf], ',')) ++nf;
             const std::string where = ini.file.string() + " line " + std::to_string(lineno);
             if (nf < 4) throw InputError(where + ": expected x_m,y_m,species,dbh_cm[,age_yr]");
-            double x, y, dcm, age = 0;
-            try {
-                x = std::stod(f[0]);
-                y = std::stod(f[1]);
-                dcm = std::stod(f[3]);
-                if (nf == 5) age = std::stod(f[4]);
-            } catch (const std::exception&) {
-                throw InputError(where + ": not a number in '" + line + "'");
-            }
+            // Numbers in full (no "12abc"), finite; the column is named with its value.
+            auto number = [&](int k, const char* column) {
+                std::string v = f[k];
+                v.erase(0, v.find_first_not_of(" \t\r"));
+                v.erase(v.find_last_not_of(" \t\r") + 1);
+                double out = 0;
+                std::size_t used = 0;
+                try {
+                    out = std::stod(v, &used);
+                } catch (const std::exception&) {
+                    used = 0;
+                }
+                if (v.empty() || used != v.size() || !std::isfinite(out))
+                    throw InputError(where + ": " + column + " = '" + f[k] +
+                                     "' is not a finite number");
+                return out;
+            };
+            const double x = number(0, "x_m"), y = number(1, "y_m"), dcm = number(3, "dbh_cm");
+            const double age = nf == 5 ? number(4, "age_yr") : 0.0;
+            if (age < 0 || age > 10000)
+                throw InputError(where + ": age_yr = " + f[4] + " is outside [0, 10000]");
             if (!g.contains_point(x, y))
                 throw InputError(where + ": position (" + format_number(x) + ", " +
                                  format_number(y) + ") m is outside the terrain");

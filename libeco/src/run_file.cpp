@@ -9,6 +9,8 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace ecoterra::eco {
@@ -155,6 +157,43 @@ H5::H5File open_run(const fs::path& run) {
     }
 }
 
+/// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
+void require_writable_folder(const fs::path& dir, const std::string& what) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create " + what + ": " + ec.message());
+    std::string probe(".write-test-");
+    probe.append(std::to_string(::getpid()));
+    const fs::path file = dir / probe;
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throw IoError(dir.string() + ": cannot write in " + what + ": " + std::strerror(errno));
+    ::close(fd);
+    fs::remove(file, ec);
+}
+
+/// Opens snapshot `k` of `run` and calls f on its root group. The file is found by the run file's
+/// present name (RUN.snapshots/NNNN.h5 beside RUN.h5), so that a run file renamed together with
+/// its folder still reads; the external links in RUN.h5 serve other tools (h5py, HDFView).
+template <class F>
+void open_snapshot(const fs::path& run, int k, F&& f) {
+    const fs::path parent = run.has_parent_path() ? run.parent_path() : fs::path(".");
+    const fs::path file = parent / snapshot_dir_name(run) / snapshot_file_name(k);
+    const std::string what =
+        run.string() + ": snapshot " + std::to_string(k) + " (" + file.string() + ") ";
+    const std::string hint = "; a run file NAME.h5 and its folder NAME.snapshots are moved and "
+                             "renamed together";
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) throw InputError(what + "is missing" + hint);
+    try {
+        if (!H5::H5File::isHdf5(file.string())) throw InputError(what + "is not an HDF5 file");
+        H5::H5File h(file.string(), H5F_ACC_RDONLY);
+        f(h.openGroup("/"));
+    } catch (const H5::Exception& e) {
+        throw InputError(what + "is damaged (" + e.getDetailMsg() + ")");
+    }
+}
+
 } // namespace
 
 RunInfo read_run_info(const fs::path& run) {
@@ -188,13 +227,9 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     if (k < 0 || k >= info.snapshots)
         throw InputError(run.string() + ": --snapshot " + std::to_string(index) +
                          " is outside 0.." + std::to_string(info.snapshots - 1));
-    H5::H5File f = open_run(run);
-    char name[32];
-    std::snprintf(name, sizeof name, "/snapshots/%04d", k);
     SnapshotPlants s;
     s.index = k;
-    try {
-        H5::Group g = f.openGroup(name);
+    open_snapshot(run, k, [&](const H5::Group& g) {
         s.year = static_cast<int>(read_double_attr(g, "year"));
         H5::Group p = g.openGroup("plants");
         const auto& D = H5::PredType::NATIVE_DOUBLE;
@@ -208,11 +243,7 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
         s.crown_radius_m = read_vector<double>(p, "crown_radius_m", D);
         s.age_yr = read_vector<double>(p, "age_yr", D);
         s.carbohydrate_kg = read_vector<double>(p, "carbohydrate_kg", D);
-    } catch (const H5::Exception& e) {
-        throw InputError(run.string() + ": cannot read snapshot " + std::to_string(k) + " (" +
-                         snapshot_dir_name(run) + "/" + snapshot_file_name(k) +
-                         " missing or damaged: " + e.getDetailMsg() + ")");
-    }
+    });
     return s;
 }
 
@@ -353,6 +384,14 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         if (hash != std::to_string(raster_hash(sc.hydro.dem)))
             throw InputError(out.string() + ": the terrain rebuilt from the stored scene differs "
                                             "from the run's (was the terrain file changed?)");
+        // Every snapshot the run file lists must be there and whole, or the resumed run would link
+        // to files that are gone.
+        for (int k = 0; k < info.snapshots; ++k)
+            open_snapshot(out, k, [&](const H5::Group& g) {
+                if (!g.nameExists("plants") || !g.attrExists("year"))
+                    throw InputError(out.string() + ": snapshot " + std::to_string(k) +
+                                     " lacks its plants or its year");
+            });
         ArchiveReader r(bytes.data(), bytes.size(), out.string());
         eco->load_state(r);
         snapshots = info.snapshots;
@@ -377,6 +416,13 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     // earlier run only when it is complete: killed or failed, it leaves the earlier run as it was.
     // A new run into a free path (and a resumed run) writes in place, so that a killed run can be
     // resumed from its last snapshot.
+    // The picture folder is tried before the years are run, not found unwritable after them.
+    fs::path picture_dir;
+    if (opt.pictures) {
+        picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
+                                              : opt.picture_dir;
+        require_writable_folder(picture_dir, "the picture folder");
+    }
     std::error_code ec;
     remove_leftovers(parent, out);
     const bool staged = !opt.resume && fs::exists(out, ec);
@@ -394,6 +440,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         throw IoError(snap_dir.string() + ": cannot create the snapshot folder: " + ec.message());
 
     RunSummary sum;
+    sum.picture_dir = picture_dir;
     double plant_years = 0;
     const int first_year = eco->years_done();
     auto grow = [&] {

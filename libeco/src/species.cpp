@@ -176,7 +176,14 @@ Species parse_species(const json& e) {
     if (!e.contains("Mesh File"))
         throw InputError("missing key 'Mesh File' (the species identity, as in MAVS)");
     s.mesh_file = get_string(e, "Mesh File", "", "");
-    s.name = get_string(e, "Species Name", s.mesh_file, "");
+    // MAVS never reads "Species Name"; ecoterra names species by it in stem files, outputs and
+    // pictures, so it is required rather than taken silently from the mesh path.
+    if (!e.contains("Species Name"))
+        throw InputError("missing key 'Species Name' (Mesh File '" + s.mesh_file +
+                         "'): ecoterra names species by it in stem files and outputs");
+    s.name = get_string(e, "Species Name", "", "");
+    if (s.name.find_first_not_of(" \t") == std::string::npos)
+        throw InputError("'Species Name' is empty (Mesh File '" + s.mesh_file + "')");
     auto req = [&](const char* key, double lo, double hi) {
         if (!e.contains(key)) throw InputError("missing key '" + std::string(key) + "'");
         return get_number(e, key, 0, "", lo, hi);

@@ -103,10 +103,15 @@ TEST_CASE("resume refuses -o", "[cli][bad-input]") {
     test::TempDir dir;
     write(dir / "s.json", tiny_scene(1, 1).dump());
     REQUIRE(test::run(dir, "run s.json -o a.h5 --no-pictures").code == 0);
-    const auto r = test::run(dir, "run --resume a.h5 -o b.h5 --years 1 --no-pictures");
+    auto r = test::run(dir, "run --resume a.h5 -o b.h5 --years 1 --no-pictures");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("-o is not used with --resume"));
     CHECK_FALSE(fs::exists(dir / "b.h5"));
+    // Also when -o names the default.
+    r = test::run(dir, "run --resume a.h5 -o run.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("-o is not used with --resume"));
+    CHECK_FALSE(fs::exists(dir / "run.h5"));
 }
 
 TEST_CASE("a finished run survives a new run to its path that is killed, at any moment",
@@ -253,4 +258,65 @@ TEST_CASE("a weather file with a missing day is refused, one with gaps is filled
     CHECK_THAT(r.out, Catch::Contains("w.csv line 70: 2003-03-11 follows 2003-03-09"));
     CHECK_THAT(r.out, Catch::Contains("2003-03-10 is missing"));
     CHECK_FALSE(fs::exists(dir / "gap.h5"));
+}
+
+TEST_CASE("resume refuses a run whose snapshots are gone or damaged, and reads one renamed with "
+          "its folder",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(3, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o a.h5 --no-pictures").code == 0);
+    const auto plants = eco::read_snapshot_plants(dir / "a.h5", -1);
+    // Renamed together (file and folder): still read and resumed; the resume relinks the file.
+    fs::rename(dir / "a.h5", dir / "b.h5");
+    fs::rename(dir / "a.snapshots", dir / "b.snapshots");
+    CHECK(eco::read_snapshot_plants(dir / "b.h5", -1).dbh_m == plants.dbh_m);
+    auto r = test::run(dir, "stand b.h5");
+    CHECK(r.code == 0);
+    fs::copy(dir / "b.h5", dir / "keep.h5");
+    fs::copy(dir / "b.snapshots", dir / "keep.snapshots");
+    REQUIRE(test::run(dir, "run --resume b.h5 --years 1 --no-pictures").code == 0);
+    // Each snapshot deleted, then truncated: refused, naming the run, the snapshot and its file.
+    for (int k = 0; k < 3; ++k)
+        for (const bool truncate : {false, true}) {
+            CAPTURE(k, truncate);
+            fs::remove_all(dir / "c.snapshots");
+            fs::copy_file(dir / "keep.h5", dir / "c.h5", fs::copy_options::overwrite_existing);
+            fs::copy(dir / "keep.snapshots", dir / "c.snapshots");
+            const fs::path snap =
+                dir / "c.snapshots" / (std::string("000") + char('0' + k) + ".h5");
+            if (truncate)
+                fs::resize_file(snap, fs::file_size(snap) / 2);
+            else
+                fs::remove(snap);
+            const std::string before = read(dir / "c.h5");
+            r = test::run(dir, "run --resume c.h5 --years 1 --no-pictures");
+            CHECK(r.code == 2);
+            CHECK_THAT(r.out, Catch::Contains("c.h5: snapshot " + std::to_string(k)));
+            CHECK_THAT(r.out, Catch::Contains(truncate ? "is damaged" : "is missing"));
+            CHECK(read(dir / "c.h5") == before);
+        }
+    // The whole folder gone.
+    fs::remove_all(dir / "c.snapshots");
+    r = test::run(dir, "run --resume c.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("snapshot 0") && Catch::Contains("renamed together"));
+}
+
+TEST_CASE("a picture folder that cannot be made is refused before the run, and loses nothing",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(2, 1).dump());
+    write(dir / "blocker", "a file where the picture folder's parent should be");
+    auto r = test::run(dir, "run s.json -o fresh.h5 --pictures blocker/pics");
+    CHECK(r.code == 1);
+    CHECK_THAT(r.out, Catch::Contains("blocker/pics") && Catch::Contains("picture folder"));
+    CHECK_THAT(r.out, !Catch::Contains("year 1/2"));
+    CHECK_FALSE(fs::exists(dir / "fresh.h5"));
+    REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
+    const std::string before = read(dir / "run.h5");
+    r = test::run(dir, "run s.json -o run.h5 --pictures blocker/pics --set simulation.seed=3");
+    CHECK(r.code == 1);
+    CHECK(read(dir / "run.h5") == before);
+    CHECK(work_files(dir.path()).empty());
 }

@@ -290,6 +290,21 @@ TEST_CASE("run: bad input names the file, species and key", "[eco][cli][errors]"
     CHECK(r.code == 2);
     CHECK_THAT(r.out,
                Catch::Contains("stems.csv line 3") && Catch::Contains("outside the terrain"));
+    // Each column refuses what is not a finite number, or out of range, naming line and value.
+    for (const auto& [row, expect] : std::vector<std::pair<std::string, std::string>>{
+             {"10,10,Birch,12,-5", "age_yr = -5 is outside [0, 10000]"},
+             {"10,10,Birch,12,nan", "age_yr = 'nan' is not a finite number"},
+             {"10,10,Birch,12abc", "dbh_cm = '12abc' is not a finite number"},
+             {"inf,10,Birch,12", "x_m = 'inf' is not a finite number"},
+             {"10,,Birch,12", "y_m = '' is not a finite number"},
+             {"10,10,Birch,0", "dbh_cm = 0 is outside (0, 500)"},
+             {"10,10,Larch,12", "species 'Larch' is not in"}}) {
+        CAPTURE(row);
+        write(dir / "stems.csv", "x_m,y_m,species,dbh_cm,age_yr\n10,10,Birch,12,3\n" + row + "\n");
+        r = test::run(dir, "run s3.json -o out.h5");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("stems.csv line 3: " + expect));
+    }
     r = test::run(dir, "run s3.json -o out.h5 --set vegetation.competition=light");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("vegetation.competition"));

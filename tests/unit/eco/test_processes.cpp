@@ -331,4 +331,14 @@ TEST_CASE("species files: MAVS entries load with reported defaults, bad values a
     missing["Species"][0].erase("Max Age");
     CHECK_THROWS_WITH(parse_ecosystem(missing, "eco.json"),
                       Catch::Contains("missing key 'Max Age'"));
+    // A MAVS file may leave out the name (MAVS never reads it); ecoterra needs it.
+    json nameless = mavs;
+    nameless["Species"][0].erase("Species Name");
+    CHECK_THROWS_WITH(parse_ecosystem(nameless, "eco.json"),
+                      Catch::Contains("eco.json") && Catch::Contains("#0") &&
+                          Catch::Contains("missing key 'Species Name'") &&
+                          Catch::Contains("a.obj"));
+    nameless["Species"][0]["Species Name"] = " ";
+    CHECK_THROWS_WITH(parse_ecosystem(nameless, "eco.json"),
+                      Catch::Contains("'Species Name' is empty"));
 }

@@ -29,8 +29,8 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
     TempDir d;
     const char* cmds[] = {
         "terrain generate --preset majhor2023 --d-high 2.45 --seed 7 -o mf.h5",
-        "terrain generate --method wm --D 2.45 --M 64 --G 1e-8 --gamma 1.5 --L 100.9 --size 1009 "
-        "--cell 0.05 --seed 7 -o wm.h5",
+        ("terrain generate --method wm --D 2.45 --M 64 --G 1e-8 --gamma 1.5 --L 100.9 --size 1009 "
+         "--cell 0.05 --seed 7 -o wm.h5"),
         "terrain generate --method variable --size 512 --cell 0.25 --seed 3 -o var.png",
         "terrain generate --method fbm --D 2.3 --size 1024 --cell 0.5 --seed 3 -o fbm.tif",
         "terrain analyze mf.h5 --json report.json --png pictures/",

@@ -70,7 +70,9 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
             pq.emplace(mm[s], s);
         }
         while (!pq.empty()) {
-            const auto [v, c] = pq.top();
+            // (Not a structured binding: clang 14 cannot capture one in the lambda below.)
+            const double v = pq.top().first;
+            const auto c = pq.top().second;
             pq.pop();
             if (v > mm[c] || fd.is_outlet(c)) continue;
             neighbours(c, [&](std::int64_t q) {

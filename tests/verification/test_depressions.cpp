@@ -198,7 +198,9 @@ RasterD priority_flood_fill(const RasterD& z) {
                 closed[cell_index(g, i, j)] = 1;
             }
     while (!open.empty()) {
-        const auto [h, c] = open.top();
+        // (Not a structured binding: clang 14 cannot capture one in the lambda below.)
+        const double h = open.top().first;
+        const auto c = open.top().second;
         open.pop();
         z.for_moore(static_cast<int>(c % g.nx), static_cast<int>(c / g.nx), [&](int a, int b) {
             const std::int64_t n = cell_index(g, a, b);

@@ -225,7 +225,7 @@ void Ecosystem::refresh_canopy() {
     const auto& sp = m_scene.ecosystem.species;
     const auto n = static_cast<std::int64_t>(m_plants.size());
     if (m_scene.competition == Competition::coupled) {
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
         for (std::int64_t k = 0; k < n; ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
             const Species& s = sp[p.species];
@@ -300,7 +300,7 @@ bool Ecosystem::step_day() {
             gather_supply(m_roots, m_ratio, m_fraction);
         std::vector<CarbonDay>& cd = m_carbon;
         cd.assign(n, CarbonDay{});
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(n) >= parallel_min_items())
         for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
             if (!p.alive) continue;

@@ -64,7 +64,7 @@ void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
                    std::vector<double>& fraction) {
     const auto n = static_cast<std::int64_t>(roots.size());
     fraction.resize(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
     for (std::int64_t p = 0; p < n; ++p) {
         double acc = 0;
         for (std::uint32_t e = roots.offset[static_cast<std::size_t>(p)];

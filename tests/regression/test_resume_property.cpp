@@ -8,11 +8,14 @@
 #include "ecoterra/archive.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/parallel.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cstring>
 #include <fstream>
+#include <memory>
+#include <omp.h>
 
 using namespace ecoterra;
 using nlohmann::json;
@@ -115,4 +118,40 @@ TEST_CASE("resume: a groundwater scene split at every year ends bit for bit as o
     j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}};
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     check_every_split(scene, 6, 1);
+}
+
+TEST_CASE("threads: a run gives the same bytes on 1, 2, 3, 4 and 7 threads",
+          "[eco][determinism][property]") {
+    // Every loop goes parallel whatever its size (set_parallel_min_items(1)), so the threads
+    // really share the plants, the root cells and the cell sums of a small scene; with
+    // groundwater.
+    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+    json j = json::parse(f);
+    j["terrain"]["generate"]["size"] = 32;
+    j["hydrology"]["groundwater"] = true;
+    j["simulation"]["years"] = 2;
+    j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 800}, {"max_dbh_m", 0.3}}}};
+    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    const int saved = omp_get_max_threads();
+    set_parallel_min_items(1);
+    std::vector<std::uint8_t> one;
+    std::unique_ptr<eco::Ecosystem> first;
+    for (const int threads : {1, 2, 3, 4, 7}) {
+        CAPTURE(threads);
+        omp_set_num_threads(threads);
+        auto e = std::make_unique<eco::Ecosystem>(scene);
+        for (int y = 0; y < 2; ++y) e->run_year();
+        const auto bytes = checkpoint(*e);
+        if (threads == 1) {
+            one = bytes;
+            first = std::move(e);
+            REQUIRE(first->plants().size() > 100);
+            continue;
+        }
+        const std::int64_t at = first_difference(bytes, one);
+        INFO("first difference: " << (at == -1 ? "none" : first_different_part(*e, *first)));
+        CHECK(at == -1);
+    }
+    omp_set_num_threads(saved);
+    set_parallel_min_items(kMinParallelItems);
 }

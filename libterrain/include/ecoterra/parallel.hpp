@@ -4,7 +4,9 @@
 // inputs give the same bits on 1 thread or many.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <cstdlib>
 #include <vector>
 
 namespace ecoterra {
@@ -16,6 +18,28 @@ inline constexpr std::int64_t kMinParallelBlocks = 8;
 /// tens of microseconds a region, more than a small loop saves. Results do not depend on it.
 inline constexpr std::int64_t kMinParallelItems = 16384;
 
+namespace detail {
+inline std::atomic<std::int64_t>& parallel_min_items_value() {
+    static std::atomic<std::int64_t> v{[] {
+        const char* e = std::getenv("ECOTERRA_PARALLEL_MIN_ITEMS");
+        const long long n = e ? std::atoll(e) : 0;
+        return n >= 1 ? static_cast<std::int64_t>(n) : kMinParallelItems;
+    }()};
+    return v;
+}
+} // namespace detail
+
+/// The size below which loops stay on one thread: kMinParallelItems, or the environment's
+/// ECOTERRA_PARALLEL_MIN_ITEMS (>= 1), or what set_parallel_min_items set. Tests set 1 so that
+/// small scenes run every parallel loop on all threads; results never depend on it.
+inline std::int64_t parallel_min_items() {
+    return detail::parallel_min_items_value().load(std::memory_order_relaxed);
+}
+inline void set_parallel_min_items(std::int64_t n) {
+    detail::parallel_min_items_value().store(std::max<std::int64_t>(1, n),
+                                             std::memory_order_relaxed);
+}
+
 /// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
 /// std::array<double, K>; returns the K totals.
 template <std::size_t K, class F>
@@ -23,7 +47,7 @@ std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
     const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
     std::vector<std::array<double, K>> part(static_cast<std::size_t>(blocks));
     // Small grids stay on one thread: a parallel region costs more than it saves there.
-#pragma omp parallel for schedule(static) if (blocks >= kMinParallelBlocks)
+#pragma omp parallel for schedule(static) if (n >= kMinParallelBlocks * parallel_min_items())
     for (std::int64_t b = 0; b < blocks; ++b) {
         std::array<double, K> s{};
         const std::int64_t end = std::min(n, (b + 1) * kSumBlockCells);

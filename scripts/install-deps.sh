@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages ecoterra builds against. Idempotent, non-interactive, needs root.
+# --sanitize adds clang with its sanitizer and libFuzzer runtimes and OpenMP (scripts/sanitize.sh).
 set -euo pipefail
 
 packages=(
@@ -8,6 +9,9 @@ packages=(
   libhdf5-dev nlohmann-json3-dev catch2
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
 )
+if [ "${1:-}" = "--sanitize" ]; then
+  packages+=(clang libclang-rt-14-dev libomp-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The sanitizer pass (docs/testing.md): builds everything with clang under AddressSanitizer +
+# UndefinedBehaviorSanitizer (LeakSanitizer included) and libFuzzer coverage in ./build-sanitize,
+# runs the whole test suite there (every finding fails it), then fuzzes each reader for
+# ECOTERRA_FUZZ_SECONDS seconds (default 20) from its corpus in fuzz/corpus/. An input that makes
+# a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the pass: keep it there, fixed, as a
+# regression test (the suite replays that folder).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$root/scripts/install-deps.sh" --sanitize
+build="$root/build-sanitize"
+jobs="$(nproc 2>/dev/null || echo 2)"
+flags="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link"
+flags+=" -fno-sanitize-recover=all"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=None -DCMAKE_C_COMPILER=clang \
+  -DCMAKE_CXX_COMPILER=clang++ -DECOTERRA_FUZZ=ON -DECOTERRA_BUILD_BENCH=OFF \
+  -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
+cmake --build "$build" -j "$jobs"
+
+# Leaks count; the only suppressions are leaks inside system libraries (tests/sanitizer/lsan.supp).
+export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export LSAN_OPTIONS="suppressions=$root/tests/sanitizer/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+(cd "$build" && ctest --output-on-failure -j "$jobs")
+
+seconds="${ECOTERRA_FUZZ_SECONDS:-20}"
+[ "$seconds" -gt 0 ] || exit 0
+work="$build/fuzz-corpus"
+failed=()
+for exe in "$build"/fuzz/fuzz_*; do
+  target="$(basename "$exe")"
+  target="${target#fuzz_}"
+  mkdir -p "$work/$target" "$root/fuzz/crashes/$target"
+  # New inputs go to the build's corpus (fuzz/corpus/ is read, not changed; scripts/fuzz-merge.sh
+  # folds the build's corpus back into it).
+  if ! "$exe" "$work/$target" "$root/fuzz/corpus/$target" -max_total_time="$seconds" \
+      -timeout=20 -rss_limit_mb=3072 -artifact_prefix="$root/fuzz/crashes/$target/" \
+      -print_final_stats=1 > "$build/fuzz-$target.log" 2>&1; then
+    failed+=("$target")
+    tail -40 "$build/fuzz-$target.log"
+  fi
+  grep -h "stat::number_of_executed_units\|cov:" "$build/fuzz-$target.log" | tail -2 |
+    sed "s/^/fuzz $target: /"
+done
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "sanitize: fuzzing found inputs that fail: ${failed[*]} (saved in fuzz/crashes/)" >&2
+  exit 1
+fi
+echo "sanitize: test suite and fuzzing clean"

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -30,6 +31,14 @@ double parse_number(const std::string& tok, const std::string& where, const std:
         throw IoError(where + ": field " + field + " is not a number: '" + tok + "'");
     return v;
 }
+/// A whole number of cells in [1, 2^31 - 1] (ncols, nrows).
+int parse_count(const std::string& tok, const std::string& where, const std::string& field) {
+    const double v = parse_number(tok, where, field);
+    if (!(v >= 1 && v <= 2147483647.0) || v != std::floor(v))
+        throw IoError(where + ": field " + field + " must be a whole number of cells from 1 to " +
+                      "2147483647, got '" + tok + "'");
+    return static_cast<int>(v);
+}
 } // namespace
 
 RasterD read_esri_ascii(const std::filesystem::path& path) {
@@ -53,8 +62,8 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
     for (const char* req : {"ncols", "nrows"})
         if (!h.count(req)) throw IoError(where + ": header lacks " + std::string(req));
     GridSpec g;
-    g.nx = static_cast<int>(parse_number(h["ncols"], where, "ncols"));
-    g.ny = static_cast<int>(parse_number(h["nrows"], where, "nrows"));
+    g.nx = parse_count(h["ncols"], where, "ncols");
+    g.ny = parse_count(h["nrows"], where, "nrows");
     if (h.count("cellsize")) {
         g.cell_size_m = parse_number(h["cellsize"], where, "cellsize");
     } else if (h.count("dx") && h.count("dy")) {

@@ -41,6 +41,10 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
             throw IoError(where + ": dataset " + dataset + " must be 2-D [ny, nx]");
         hsize_t dims[2];
         sp.getSimpleExtentDims(dims);
+        constexpr hsize_t kMaxSide = 2147483647;
+        if (dims[0] > kMaxSide || dims[1] > kMaxSide)
+            throw IoError(where + ": dataset " + dataset + " has " + std::to_string(dims[0]) +
+                          " x " + std::to_string(dims[1]) + " cells, more than a grid can hold");
         GridSpec g;
         g.ny = static_cast<int>(dims[0]);
         g.nx = static_cast<int>(dims[1]);

@@ -162,6 +162,15 @@ TEST_CASE("Malformed and missing files give errors naming the file", "[io][error
     CHECK_THROWS_WITH(tio::read_raster(dir / "fake.h5"), Catch::Contains("not an HDF5"));
     CHECK_THROWS_WITH(tio::read_raster(dir / "fake.tif"), Catch::Contains("fake.tif"));
     CHECK_THROWS_WITH(tio::format_from_path("x.xyz"), Catch::Contains(".xyz"));
+    // Cell counts are whole numbers that fit a grid (fuzzing found 2e116 rows cast to int).
+    for (const std::string count : {"2.5", "0", "-3", "1e116", "2147483648"}) {
+        CAPTURE(count);
+        std::ofstream(dir / "count.asc")
+            << "ncols 2\nnrows " << count << "\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n";
+        CHECK_THROWS_WITH(tio::read_raster(dir / "count.asc"),
+                          Catch::Contains("count.asc") && Catch::Contains("nrows") &&
+                              Catch::Contains("whole number of cells") && Catch::Contains(count));
+    }
 }
 
 TEST_CASE("A failed write never damages an existing output", "[io][errors]") {

@@ -6,6 +6,7 @@
 #include <cpl_error.h>
 #include <cpl_string.h>
 #include <gdal.h>
+#include <hdf5.h>
 #include <ogr_srs_api.h>
 
 #include <mutex>
@@ -17,7 +18,12 @@ namespace {
 
 void init_gdal() {
     static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
+    std::call_once(once, [] {
+        GDALAllRegister();
+        // GDAL's HDF5 driver probes files of any name; HDF5 would print its error stack for each
+        // file that is not HDF5. ecoterra reports errors itself.
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    });
 }
 
 /// Silences GDAL's own printing for the lifetime of the object; the last message is kept.

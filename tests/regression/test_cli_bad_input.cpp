@@ -377,3 +377,22 @@ TEST_CASE("a run killed at any moment and resumed ends bit for bit as one run",
     }
     CHECK(resumed >= 3); // the moments fell inside the run, not all before or after it
 }
+
+TEST_CASE("a missing or malformed input file is bad input: exit 2 naming the file",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "header.asc", "ncols 2\nnrows 2.5\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n");
+    write(dir / "short.asc", "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n");
+    write(dir / "fake.png", "not a png");
+    write(dir / "fake.h5", "not hdf5");
+    write(dir / "fake.tif", "not a tiff");
+    write(dir / "mesh.obj", "v 0 0 0\nv 1 0 0\n");
+    for (const std::string input :
+         {"header.asc", "short.asc", "fake.png", "fake.h5", "fake.tif", "mesh.obj", "none.asc"}) {
+        CAPTURE(input);
+        const auto r = test::run(dir, "terrain convert " + input + " out.tif");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains(input));
+        CHECK_FALSE(fs::exists(dir / "out.tif"));
+    }
+}

@@ -81,7 +81,7 @@ void write_text_atomic(const fs::path& target, const std::string& text) {
 
 std::string read_text(const fs::path& path) {
     std::ifstream f(path, std::ios::binary);
-    if (!f) throw IoError(path.string() + ": cannot open for reading: " + std::strerror(errno));
+    if (!f) throw InputError(path.string() + ": cannot open for reading: " + std::strerror(errno));
     std::ostringstream s;
     s << f.rdbuf();
     return s.str();

@@ -28,15 +28,16 @@ double parse_number(const std::string& tok, const std::string& where, const std:
     if (!tok.empty() && *b == '+') ++b;
     auto [p, ec] = std::from_chars(b, e, v);
     if (ec != std::errc() || p != e)
-        throw IoError(where + ": field " + field + " is not a number: '" + tok + "'");
+        throw InputError(where + ": field " + field + " is not a number: '" + tok + "'");
     return v;
 }
 /// A whole number of cells in [1, 2^31 - 1] (ncols, nrows).
 int parse_count(const std::string& tok, const std::string& where, const std::string& field) {
     const double v = parse_number(tok, where, field);
     if (!(v >= 1 && v <= 2147483647.0) || v != std::floor(v))
-        throw IoError(where + ": field " + field + " must be a whole number of cells from 1 to " +
-                      "2147483647, got '" + tok + "'");
+        throw InputError(where + ": field " + field +
+                         " must be a whole number of cells from 1 to " + "2147483647, got '" + tok +
+                         "'");
     return static_cast<int>(v);
 }
 } // namespace
@@ -55,12 +56,12 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
         const std::string k = lower(key);
         if (std::find(std::begin(keys), std::end(keys), k) == std::end(keys)) break;
         std::string v;
-        if (!(in >> v)) throw IoError(where + ": header field " + key + " has no value");
+        if (!(in >> v)) throw InputError(where + ": header field " + key + " has no value");
         h[k] = v;
         data_start = in.tellg();
     }
     for (const char* req : {"ncols", "nrows"})
-        if (!h.count(req)) throw IoError(where + ": header lacks " + std::string(req));
+        if (!h.count(req)) throw InputError(where + ": header lacks " + std::string(req));
     GridSpec g;
     g.nx = parse_count(h["ncols"], where, "ncols");
     g.ny = parse_count(h["nrows"], where, "nrows");
@@ -70,24 +71,24 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
         const double dx = parse_number(h["dx"], where, "dx"),
                      dy = parse_number(h["dy"], where, "dy");
         if (std::abs(dx - dy) > 1e-9 * std::abs(dx))
-            throw IoError(where + ": non-square cells (dx " + h["dx"] + ", dy " + h["dy"] +
-                          ") are not supported");
+            throw InputError(where + ": non-square cells (dx " + h["dx"] + ", dy " + h["dy"] +
+                             ") are not supported");
         g.cell_size_m = dx;
     } else {
-        throw IoError(where + ": header lacks cellsize");
+        throw InputError(where + ": header lacks cellsize");
     }
     if (h.count("xllcorner"))
         g.origin_x_m = parse_number(h["xllcorner"], where, "xllcorner");
     else if (h.count("xllcenter"))
         g.origin_x_m = parse_number(h["xllcenter"], where, "xllcenter") - 0.5 * g.cell_size_m;
     else
-        throw IoError(where + ": header lacks xllcorner or xllcenter");
+        throw InputError(where + ": header lacks xllcorner or xllcenter");
     if (h.count("yllcorner"))
         g.origin_y_m = parse_number(h["yllcorner"], where, "yllcorner");
     else if (h.count("yllcenter"))
         g.origin_y_m = parse_number(h["yllcenter"], where, "yllcenter") - 0.5 * g.cell_size_m;
     else
-        throw IoError(where + ": header lacks yllcorner or yllcenter");
+        throw InputError(where + ": header lacks yllcorner or yllcenter");
     const double nodata = h.count("nodata_value")
                               ? parse_number(h["nodata_value"], where, "nodata_value")
                               : kDefaultNodata;
@@ -101,16 +102,16 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
         const int j = g.ny - 1 - r; // first data row is the north edge
         for (int i = 0; i < g.nx; ++i) {
             if (!(in >> tok))
-                throw IoError(where + ": data ends early at row " + std::to_string(r + 1) +
-                              ", column " + std::to_string(i + 1) + " (expected " +
-                              std::to_string(g.nx) + " x " + std::to_string(g.ny) + " values)");
+                throw InputError(where + ": data ends early at row " + std::to_string(r + 1) +
+                                 ", column " + std::to_string(i + 1) + " (expected " +
+                                 std::to_string(g.nx) + " x " + std::to_string(g.ny) + " values)");
             const double v = parse_number(
                 tok, where, "row " + std::to_string(r + 1) + " column " + std::to_string(i + 1));
             z(i, j) = (v == nodata) ? std::nan("") : v;
         }
     }
     if (in >> tok)
-        throw IoError(where + ": more values than ncols x nrows = " + std::to_string(g.size()));
+        throw InputError(where + ": more values than ncols x nrows = " + std::to_string(g.size()));
     return z;
 }
 

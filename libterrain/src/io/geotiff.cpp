@@ -52,11 +52,11 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     init_gdal();
     QuietGdal quiet;
     const std::string where = path.string();
-    if (!std::filesystem::exists(path)) throw IoError(where + ": no such file");
+    if (!std::filesystem::exists(path)) throw InputError(where + ": no such file");
     Dataset ds(GDALOpen(where.c_str(), GA_ReadOnly));
-    if (!ds) throw IoError(where + ": GDAL cannot read it: " + QuietGdal::last());
+    if (!ds) throw InputError(where + ": GDAL cannot read it: " + QuietGdal::last());
     const int nx = GDALGetRasterXSize(ds.get()), ny = GDALGetRasterYSize(ds.get());
-    if (GDALGetRasterCount(ds.get()) < 1) throw IoError(where + ": has no raster band");
+    if (GDALGetRasterCount(ds.get()) < 1) throw InputError(where + ": has no raster band");
     double gt[6];
     if (GDALGetGeoTransform(ds.get(), gt) != CE_None) {
         gt[0] = 0;
@@ -67,12 +67,12 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
         gt[5] = -1;
     }
     if (gt[2] != 0.0 || gt[4] != 0.0)
-        throw IoError(where + ": rotated rasters are not supported (geotransform terms " +
-                      std::to_string(gt[2]) + ", " + std::to_string(gt[4]) + ")");
+        throw InputError(where + ": rotated rasters are not supported (geotransform terms " +
+                         std::to_string(gt[2]) + ", " + std::to_string(gt[4]) + ")");
     const double dx = gt[1], dy = gt[5];
     if (std::abs(std::abs(dx) - std::abs(dy)) > 1e-6 * std::abs(dx))
-        throw IoError(where + ": non-square cells (" + std::to_string(dx) + " x " +
-                      std::to_string(std::abs(dy)) + ") are not supported; resample first");
+        throw InputError(where + ": non-square cells (" + std::to_string(dx) + " x " +
+                         std::to_string(std::abs(dy)) + ") are not supported; resample first");
     GridSpec g{nx, ny, std::abs(dx), dx > 0 ? gt[0] : gt[0] + nx * dx,
                dy < 0 ? gt[3] + ny * dy : gt[3]};
     g.validate(where);

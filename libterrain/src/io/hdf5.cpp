@@ -30,35 +30,35 @@ std::string read_string_attr(const H5::H5Object& obj, const char* name) {
 RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset) {
     H5::Exception::dontPrint();
     const std::string where = path.string();
-    if (!std::filesystem::exists(path)) throw IoError(where + ": no such file");
+    if (!std::filesystem::exists(path)) throw InputError(where + ": no such file");
     try {
-        if (!H5::H5File::isHdf5(where)) throw IoError(where + ": not an HDF5 file");
+        if (!H5::H5File::isHdf5(where)) throw InputError(where + ": not an HDF5 file");
         H5::H5File f(where, H5F_ACC_RDONLY);
-        if (!f.nameExists(dataset)) throw IoError(where + ": has no dataset " + dataset);
+        if (!f.nameExists(dataset)) throw InputError(where + ": has no dataset " + dataset);
         H5::DataSet ds = f.openDataSet(dataset);
         H5::DataSpace sp = ds.getSpace();
         if (sp.getSimpleExtentNdims() != 2)
-            throw IoError(where + ": dataset " + dataset + " must be 2-D [ny, nx]");
+            throw InputError(where + ": dataset " + dataset + " must be 2-D [ny, nx]");
         hsize_t dims[2];
         sp.getSimpleExtentDims(dims);
         constexpr hsize_t kMaxSide = 2147483647;
         if (dims[0] > kMaxSide || dims[1] > kMaxSide)
-            throw IoError(where + ": dataset " + dataset + " has " + std::to_string(dims[0]) +
-                          " x " + std::to_string(dims[1]) + " cells, more than a grid can hold");
+            throw InputError(where + ": dataset " + dataset + " has " + std::to_string(dims[0]) +
+                             " x " + std::to_string(dims[1]) + " cells, more than a grid can hold");
         GridSpec g;
         g.ny = static_cast<int>(dims[0]);
         g.nx = static_cast<int>(dims[1]);
         if (!read_double_attr(ds, "cell_size_m", g.cell_size_m))
-            throw IoError(where + ": dataset " + dataset + " lacks the attribute cell_size_m");
+            throw InputError(where + ": dataset " + dataset + " lacks the attribute cell_size_m");
         read_double_attr(ds, "origin_x_m", g.origin_x_m);
         read_double_attr(ds, "origin_y_m", g.origin_y_m);
         g.validate(where + " " + dataset);
         const std::string order = read_string_attr(ds, "row_order");
         if (!order.empty() && order != "south_to_north" && order != "north_to_south")
-            throw IoError(where +
-                          ": attribute row_order must be south_to_north or "
-                          "north_to_south, got '" +
-                          order + "'");
+            throw InputError(where +
+                             ": attribute row_order must be south_to_north or "
+                             "north_to_south, got '" +
+                             order + "'");
         ensure_fits_in_memory(g.size(), 12.0, where);
         RasterD z(g, 0.0);
         ds.read(z.data(), H5::PredType::NATIVE_DOUBLE);

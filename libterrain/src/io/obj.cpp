@@ -46,7 +46,7 @@ void write_obj(const RasterD& z, const std::filesystem::path& path) {
 RasterD read_obj(const std::filesystem::path& path) {
     const std::string where = path.string();
     std::ifstream in(path);
-    if (!in) throw IoError(where + ": cannot open for reading");
+    if (!in) throw InputError(where + ": cannot open for reading");
     std::vector<std::array<double, 3>> v;
     std::string line;
     long lineno = 0;
@@ -56,10 +56,10 @@ RasterD read_obj(const std::filesystem::path& path) {
         std::istringstream s(line.substr(2));
         std::array<double, 3> p{};
         if (!(s >> p[0] >> p[1] >> p[2]))
-            throw IoError(where + ": line " + std::to_string(lineno) + ": malformed vertex");
+            throw InputError(where + ": line " + std::to_string(lineno) + ": malformed vertex");
         v.push_back(p);
     }
-    if (v.size() < 4) throw IoError(where + ": fewer than 4 vertices; not a terrain mesh");
+    if (v.size() < 4) throw InputError(where + ": fewer than 4 vertices; not a terrain mesh");
     // The vertices must sit on a regular grid: find the spacing from the distinct x and y.
     std::set<double> xs, ys;
     for (auto& p : v) xs.insert(p[0]), ys.insert(p[1]);
@@ -71,8 +71,8 @@ RasterD read_obj(const std::filesystem::path& path) {
     };
     const double hx = spacing(xs), hy = spacing(ys);
     if (!(std::abs(hx - hy) <= 1e-6 * hx))
-        throw IoError(where + ": vertices do not lie on a square grid (spacing " +
-                      std::to_string(hx) + " x " + std::to_string(hy) + " m)");
+        throw InputError(where + ": vertices do not lie on a square grid (spacing " +
+                         std::to_string(hx) + " x " + std::to_string(hy) + " m)");
     const double h = hx;
     GridSpec g;
     g.cell_size_m = h;
@@ -86,8 +86,8 @@ RasterD read_obj(const std::filesystem::path& path) {
         const double fi = (p[0] - *xs.begin()) / h, fj = (p[1] - *ys.begin()) / h;
         const long i = std::lround(fi), j = std::lround(fj);
         if (std::abs(fi - i) > 1e-3 || std::abs(fj - j) > 1e-3)
-            throw IoError(where + ": vertex (" + std::to_string(p[0]) + ", " +
-                          std::to_string(p[1]) + ") is off the grid");
+            throw InputError(where + ": vertex (" + std::to_string(p[0]) + ", " +
+                             std::to_string(p[1]) + ") is off the grid");
         z(static_cast<int>(i), static_cast<int>(j)) = p[2];
     }
     return z;

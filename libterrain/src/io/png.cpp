@@ -242,10 +242,10 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
     const std::string where = path.string();
     RawPng raw;
     const std::string e = read_png_raw(where.c_str(), raw);
-    if (!e.empty()) throw IoError(where + ": " + e);
+    if (!e.empty()) throw InputError(where + ": " + e);
     if (raw.channels != 1 && raw.channels != 2)
-        throw IoError(where + ": PNG heightmaps must be grayscale, this one has " +
-                      std::to_string(raw.channels) + " channels");
+        throw InputError(where + ": PNG heightmaps must be grayscale, this one has " +
+                         std::to_string(raw.channels) + " channels");
     GridSpec g{raw.width, raw.height, 1.0, 0.0, 0.0};
     double scale = 1.0 / kUint16Max, offset = 0.0;
     std::optional<long> nodata;
@@ -262,7 +262,7 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
             if (j.contains("nodata_value") && !j["nodata_value"].is_null())
                 nodata = j["nodata_value"].get<long>();
         } catch (const nlohmann::json::exception& ex) {
-            throw IoError(side.string() + ": malformed sidecar: " + ex.what());
+            throw InputError(side.string() + ": malformed sidecar: " + ex.what());
         }
         if (raw.bit_depth == 8) scale *= 257.0; // an 8-bit file under a 16-bit sidecar
     } else {

@@ -58,7 +58,7 @@ std::string format_name(RasterFormat f) {
 }
 
 RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>* warnings) {
-    if (!std::filesystem::exists(path)) throw IoError(path.string() + ": no such file");
+    if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
     const std::string name = lower(path.filename().string());
     RasterD z;
     if (ends_with(name, ".h5") || ends_with(name, ".hdf5"))

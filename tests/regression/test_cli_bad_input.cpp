@@ -387,8 +387,11 @@ TEST_CASE("a missing or malformed input file is bad input: exit 2 naming the fil
     write(dir / "fake.h5", "not hdf5");
     write(dir / "fake.tif", "not a tiff");
     write(dir / "mesh.obj", "v 0 0 0\nv 1 0 0\n");
-    for (const std::string input :
-         {"header.asc", "short.asc", "fake.png", "fake.h5", "fake.tif", "mesh.obj", "none.asc"}) {
+    // Found by fuzzing: 6 x 6 cells and 65,535 pixel-interleaved bands (GDAL would allocate 17 GB).
+    fs::copy_file(test::data_dir() / "../fuzz/crashes/geotiff/huge_block_oom.tif",
+                  dir / "bands.tif");
+    for (const std::string input : {"header.asc", "short.asc", "fake.png", "fake.h5", "fake.tif",
+                                    "mesh.obj", "none.asc", "bands.tif"}) {
         CAPTURE(input);
         const auto r = test::run(dir, "terrain convert " + input + " out.tif");
         CHECK(r.code == 2);

@@ -115,7 +115,7 @@ void run_stand(const StandArgs& a) {
     refuse_output_over_input("--json", a.json_out, {a.run});
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    const std::vector<double>& dbh = s.dbh_m; // 0 below breast height
+    const std::vector<double> dbh = s.values("dbh_m"); // 0 below breast height
     const auto all = eco::stand_metrics(dbh, info.area_m2);
     json out = eco::to_json(all);
     out["run"] = a.run;
@@ -135,7 +135,7 @@ void run_stand(const StandArgs& a) {
     for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
         std::vector<double> d;
         for (std::size_t k = 0; k < dbh.size(); ++k)
-            if (static_cast<std::size_t>(s.species[k]) == sp) d.push_back(dbh[k]);
+            if (static_cast<std::size_t>(s.plants[k].species) == sp) d.push_back(dbh[k]);
         const auto m = eco::stand_metrics(d, info.area_m2);
         print(info.species[sp], m);
         per[info.species[sp]] = eco::to_json(m);
@@ -167,18 +167,9 @@ void run_export_vegetation(const ExportArgs& a) {
     refuse_output_over_input("-o", a.output, {a.run});
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    std::ostringstream f;
-    f << "x_m,y_m,z_m,species,dbh_cm,height_m,crown_radius_m\n";
-    f.precision(10);
-    for (std::size_t k = 0; k < s.id.size(); ++k) {
-        const auto sp = static_cast<std::size_t>(s.species[k]);
-        const std::string name = sp < info.species.size() ? info.species[sp] : std::to_string(sp);
-        f << s.x_m[k] << ',' << s.y_m[k] << ',' << s.z_m[k] << ',' << name << ','
-          << s.dbh_m[k] * 100.0 << ',' << s.height_m[k] << ',' << s.crown_radius_m[k] << '\n';
-    }
-    terrain::io::write_text_atomic(a.output, f.str());
-    std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.id.size(), s.index, s.year,
-                a.output.c_str());
+    terrain::io::write_text_atomic(a.output, eco::stem_csv(s.plants, info.species));
+    std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.plants.size(), s.index,
+                s.year, a.output.c_str());
 }
 
 } // namespace

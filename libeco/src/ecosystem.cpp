@@ -35,17 +35,6 @@ constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
 constexpr std::uint32_t kCheckpointVersion = 5;
 } // namespace
 
-void Table::add_column(std::string name, std::string unit, std::string description) {
-    names.push_back(std::move(name));
-    units.push_back(std::move(unit));
-    descriptions.push_back(std::move(description));
-    columns.emplace_back();
-}
-
-void Table::push_row(const std::vector<double>& row) {
-    for (std::size_t k = 0; k < columns.size(); ++k) columns[k].push_back(row[k]);
-}
-
 Ecosystem::Ecosystem(const EcoScene& scene)
     : m_scene(scene), m_gen(scene.hydro.climate, scene.seed), m_rng_seed(scene.seed, "eco.seeding"),
       m_rng_mort(scene.seed, "eco.mortality"), m_rng_arrival(scene.seed, "eco.arrival") {
@@ -63,38 +52,8 @@ Ecosystem::Ecosystem(const EcoScene& scene)
                                                       scene.hydro.options, scene.hydro.climate);
     m_ground_shade = terrain::RasterD(m_pgrid, 0.0);
     m_request_mm = terrain::RasterD(hg, 0.0);
-    for (const auto& c : hydro::daily_budget_columns())
-        m_daily.add_column(c.name, std::string(c.name).ends_with("_mm") ? "mm/day" : "1",
-                           c.description);
-    const std::vector<std::array<const char*, 3>> yearly = {
-        {"year", "1", "completed simulation years"},
-        {"basal_area_m2_per_ha", "m2/ha", "basal area of stems at breast height"},
-        {"stems_per_ha", "1/ha", "stems that reached breast height (1.3 m)"},
-        {"mean_dbh_m", "m", "arithmetic mean trunk diameter at breast height"},
-        {"quadratic_mean_dbh_m", "m", "quadratic mean diameter Dq"},
-        {"reineke_sdi_per_ha", "1/ha", "Reineke stand density index N (Dq/25.4 cm)^1.605"},
-        {"live_plants", "1", "live plants, including those below breast height"},
-        {"births", "1", "recruits established this year"},
-        {"deaths_starvation", "1", "deaths by an exhausted carbohydrate reserve"},
-        {"deaths_age", "1", "deaths at the species' maximum age"},
-        {"deaths_background", "1", "deaths by the background rate"},
-        {"deaths_suppression", "1", "deaths by growth suppression (low growth efficiency)"},
-        {"deaths_overlap", "1", "light-only deaths by crown overlap"},
-        {"seeds_dispersed", "1", "seeds produced and dispersed"},
-        {"seeds_lost_outside", "1", "seeds that landed outside the terrain"},
-        {"production_kg", "kg", "carbohydrate produced"},
-        {"maintenance_respiration_kg", "kg", "maintenance respiration"},
-        {"growth_respiration_kg", "kg", "growth respiration of new wood"},
-        {"recruit_carbon_kg", "kg", "carbohydrate of new recruits (from outside the balance)"},
-        {"dead_carbon_kg", "kg", "wood and reserve of plants that died"},
-        {"wood_stock_kg", "kg", "stem dry mass of live plants at year end"},
-        {"reserve_stock_kg", "kg", "carbohydrate reserve of live plants at year end"},
-        {"carbon_residual_kg", "kg",
-         "stock change - (production - respiration + recruits - dead); round-off only"},
-        {"transpiration_demand_mm", "mm", "plant water demand over the domain"},
-        {"transpiration_supplied_mm", "mm", "plant water supplied by the soil"},
-    };
-    for (const auto& c : yearly) m_yearly.add_column(c[0], c[1], c[2]);
+    m_daily = Table::of(hydro::daily_budget_columns());
+    m_yearly = Table::of(yearly_columns());
     place_initial_plants();
     refresh_canopy();
     update_vegetation_density();
@@ -332,8 +291,8 @@ bool Ecosystem::step_day() {
         f = m_hydro->step(w, nullptr);
     }
     const double domain_m2 = hg.width_m() * hg.height_m();
-    const auto row = hydro::daily_budget_row(m_days_done, w, f, domain_m2);
-    m_daily.push_row(std::vector<double>(row.begin(), row.end()));
+    m_daily.push(hydro::daily_budget_row(m_days_done, w, f, domain_m2),
+                 hydro::daily_budget_columns());
     const int year_length =
         m_scene.hydro.observed ? hydro::days_in_calendar_year(w.year) : kDaysPerYearInt;
     if (w.doy < year_length) return false;
@@ -574,31 +533,33 @@ void Ecosystem::year_end_common() {
 
     const StandMetrics st = stand();
     const double to_mm = kMmPerM / (hg.width_m() * hg.height_m());
-    m_yearly.push_row({static_cast<double>(m_years_done),
-                       st.basal_area_m2_per_ha,
-                       st.stems_per_ha,
-                       st.mean_dbh_m,
-                       st.quadratic_mean_dbh_m,
-                       st.sdi_per_ha,
-                       static_cast<double>(m_plants.size()),
-                       m_sum.births,
-                       m_sum.deaths_starvation,
-                       m_sum.deaths_age,
-                       m_sum.deaths_background,
-                       m_sum.deaths_suppression,
-                       m_sum.deaths_overlap,
-                       m_sum.seeds,
-                       m_sum.seeds_lost,
-                       m_sum.production,
-                       m_sum.maintenance,
-                       m_sum.growth_resp,
-                       m_sum.recruit_carbon,
-                       m_sum.dead_carbon,
-                       wood,
-                       reserve,
-                       residual,
-                       m_sum.demand_m3 * to_mm,
-                       m_sum.supplied_m3 * to_mm});
+    YearRow row;
+    row.year = m_years_done;
+    row.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
+    row.stems_per_ha = st.stems_per_ha;
+    row.mean_dbh_m = st.mean_dbh_m;
+    row.quadratic_mean_dbh_m = st.quadratic_mean_dbh_m;
+    row.reineke_sdi_per_ha = st.sdi_per_ha;
+    row.live_plants = static_cast<double>(m_plants.size());
+    row.births = m_sum.births;
+    row.deaths_starvation = m_sum.deaths_starvation;
+    row.deaths_age = m_sum.deaths_age;
+    row.deaths_background = m_sum.deaths_background;
+    row.deaths_suppression = m_sum.deaths_suppression;
+    row.deaths_overlap = m_sum.deaths_overlap;
+    row.seeds_dispersed = m_sum.seeds;
+    row.seeds_lost_outside = m_sum.seeds_lost;
+    row.production_kg = m_sum.production;
+    row.maintenance_respiration_kg = m_sum.maintenance;
+    row.growth_respiration_kg = m_sum.growth_resp;
+    row.recruit_carbon_kg = m_sum.recruit_carbon;
+    row.dead_carbon_kg = m_sum.dead_carbon;
+    row.wood_stock_kg = wood;
+    row.reserve_stock_kg = reserve;
+    row.carbon_residual_kg = residual;
+    row.transpiration_demand_mm = m_sum.demand_m3 * to_mm;
+    row.transpiration_supplied_mm = m_sum.supplied_m3 * to_mm;
+    m_yearly.push(row, yearly_columns());
     m_sum = YearSums{};
 }
 

@@ -41,33 +41,25 @@ void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Ta
 
 void write_snapshot(const Ecosystem& eco, const fs::path& path) {
     terrain::io::Hdf5Writer h5(path);
-    const auto& plants = eco.plants();
     const auto& w = eco.last_weather();
-    std::vector<std::int64_t> id;
-    std::vector<std::int32_t> species;
-    std::vector<double> col[8];
-    for (const auto& p : plants) {
-        id.push_back(p.id);
-        species.push_back(p.species);
-        const double v[8] = {p.x_m,    p.y_m,       p.z_m, p.height_m, p.dbh_m, p.crown_radius_m,
-                             p.age_yr, p.reserve_kg};
-        for (int k = 0; k < 8; ++k) col[k].push_back(v[k]);
+    std::vector<PlantRecord> rows;
+    rows.reserve(eco.plants().size());
+    for (const auto& p : eco.plants()) rows.push_back(plant_record(p));
+    for (const auto& c : plant_columns()) {
+        const std::string dataset = "/plants/" + c.name;
+        auto write = [&]<class T>(T) {
+            std::vector<T> v;
+            v.reserve(rows.size());
+            for (const auto& r : rows) v.push_back(static_cast<T>(c.get(r)));
+            h5.series(dataset, v, c.unit, c.description);
+        };
+        if (c.type == ColumnType::int64)
+            write(std::int64_t{});
+        else if (c.type == ColumnType::int32)
+            write(std::int32_t{});
+        else
+            write(double{});
     }
-    h5.series("/plants/id", id, "1", "plant id, unique within the run");
-    h5.series("/plants/species", species, "1", "index into /species of the run file");
-    const char* names[8] = {
-        "x_m", "y_m", "z_m", "height_m", "dbh_m", "crown_radius_m", "age_yr", "carbohydrate_kg"};
-    const char* units[8] = {"m", "m", "m", "m", "m", "m", "yr", "kg"};
-    const char* desc[8] = {"stem position, east",
-                           "stem position, north",
-                           "ground elevation at the stem",
-                           "plant height",
-                           "trunk diameter at breast height (1.3 m; 0 below it)",
-                           "crown (and root) radius",
-                           "age",
-                           "carbohydrate reserve"};
-    for (int k = 0; k < 8; ++k)
-        h5.series(std::string("/plants/") + names[k], col[k], units[k], desc[k]);
     const auto& hy = eco.hydrology();
     h5.raster("/soil_moisture", hy.soil_moisture(), "m3/m3",
               "volumetric soil water in the root zone");
@@ -220,6 +212,17 @@ RunInfo read_run_info(const fs::path& run) {
     return info;
 }
 
+std::vector<double> SnapshotPlants::values(const std::string& name) const {
+    for (const auto& c : plant_columns())
+        if (c.name == name) {
+            std::vector<double> v;
+            v.reserve(plants.size());
+            for (const auto& p : plants) v.push_back(c.get(p));
+            return v;
+        }
+    throw Error("snapshot plants: no column '" + name + "'");
+}
+
 SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     const RunInfo info = read_run_info(run);
     if (info.snapshots == 0) throw InputError(run.string() + ": the run has no snapshots");
@@ -232,17 +235,25 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     open_snapshot(run, k, [&](const H5::Group& g) {
         s.year = static_cast<int>(read_double_attr(g, "year"));
         H5::Group p = g.openGroup("plants");
-        const auto& D = H5::PredType::NATIVE_DOUBLE;
-        s.id = read_vector<std::int64_t>(p, "id", H5::PredType::NATIVE_INT64);
-        s.species = read_vector<std::int32_t>(p, "species", H5::PredType::NATIVE_INT32);
-        s.x_m = read_vector<double>(p, "x_m", D);
-        s.y_m = read_vector<double>(p, "y_m", D);
-        s.z_m = read_vector<double>(p, "z_m", D);
-        s.height_m = read_vector<double>(p, "height_m", D);
-        s.dbh_m = read_vector<double>(p, "dbh_m", D);
-        s.crown_radius_m = read_vector<double>(p, "crown_radius_m", D);
-        s.age_yr = read_vector<double>(p, "age_yr", D);
-        s.carbohydrate_kg = read_vector<double>(p, "carbohydrate_kg", D);
+        for (const auto& c : plant_columns()) {
+            auto read = [&]<class T>(const H5::PredType& type, T) {
+                const auto v = read_vector<T>(p, c.name, type);
+                if (&c == &plant_columns().front()) s.plants.resize(v.size());
+                if (v.size() != s.plants.size())
+                    throw InputError(run.string() + ": snapshot " + std::to_string(k) +
+                                     ": plants/" + c.name + " has " + std::to_string(v.size()) +
+                                     " rows, plants/" + plant_columns().front().name + " " +
+                                     std::to_string(s.plants.size()));
+                for (std::size_t r = 0; r < v.size(); ++r)
+                    c.set(s.plants[r], static_cast<double>(v[r]));
+            };
+            if (c.type == ColumnType::int64)
+                read(H5::PredType::NATIVE_INT64, std::int64_t{});
+            else if (c.type == ColumnType::int32)
+                read(H5::PredType::NATIVE_INT32, std::int32_t{});
+            else
+                read(H5::PredType::NATIVE_DOUBLE, double{});
+        }
     });
     return s;
 }

@@ -13,6 +13,49 @@ std::string competition_name(Competition c) {
     return c == Competition::coupled ? "coupled" : "light_only";
 }
 
+const ParamCatalog<EcoScene>& vegetation_catalog() {
+    using E = EcoScene;
+    static const ParamCatalog<E> c(
+        "vegetation",
+        {choice<E>("competition", &E::competition,
+                   std::vector<std::pair<std::string, Competition>>{
+                       {"coupled", Competition::coupled}, {"light_only", Competition::light_only}},
+                   "model: coupled (carbohydrate, light and root water) or light_only (the "
+                   "geometric rule of MAVS), docs/ecosystem.md s7"),
+         choice<E>(
+             "shading", &E::shading,
+             std::vector<std::pair<std::string, ShadingMode>>{
+                 {"blocking", ShadingMode::blocking}, {"beer_lambert", ShadingMode::beer_lambert}},
+             "shading rule"),
+         number<E>("extinction_coefficient", &E::extinction, "1", 0.01, 5,
+                   "Beer-Lambert extinction coefficient k"),
+         choice<E>("light_only_radius", &E::light_only_radius,
+                   std::vector<std::pair<std::string, LightOnlyRadius>>{
+                       {"crown", LightOnlyRadius::crown}, {"mavs", LightOnlyRadius::mavs}},
+                   "light-only overlap circle: the crown radius or MAVS's 0.5 ratio H"),
+         std::move(number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 100,
+                             "crown and root grid cell; divides the terrain cell a whole number "
+                             "of times"))
+             .with_note("min(1, terrain cell)"),
+         integer<E>("canopy_interval_days", &E::canopy_interval_days, "day", 1, 365,
+                    "days between refreshes of structure, crowns and shading")});
+    return c;
+}
+
+const ParamCatalog<EcoScene>& eco_simulation_catalog() {
+    using E = EcoScene;
+    static const ParamCatalog<E> c(
+        "simulation",
+        {integer<E>("years", &E::years, "yr", 1, 10000, "years to run"),
+         integer<E>("seed", &E::seed, "1", 0, 4.611686018427388e18,
+                    "seed of every random stream of the run"),
+         integer<E>("snapshot_interval_years", &E::snapshot_interval_years, "yr", 1, 100000,
+                    "years between snapshots and checkpoints; the last year always gets one"),
+         optional_number<E>("target_basal_area_m2_per_ha", &E::target_basal_area_m2_per_ha, "m2/ha",
+                            0.001, 500, "stop at the first year end at or above this basal area")});
+    return c;
+}
+
 EcoScene load_eco_scene(const json& s, const fs::path& base) {
     if (!s.is_object()) throw InputError("scene: must be a JSON object");
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
@@ -22,17 +65,11 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     json h = s;
     const json veg = s.value("vegetation", json::object());
     const json sim = s.value("simulation", json::object());
-    require_known_keys(veg,
-                       {"ecosystem", "competition", "shading", "extinction_coefficient",
-                        "plant_cell_m", "canopy_interval_days", "initial", "light_only_radius"},
-                       "vegetation");
-    require_known_keys(sim,
-                       {"years", "seed", "snapshot_interval_years", "target_basal_area_m2_per_ha"},
-                       "simulation");
     h["vegetation"] = {{"density", 0.0}};
     h["simulation"] = json::object();
     for (const char* k : {"years", "seed"})
-        if (sim.contains(k)) h["simulation"][k] = sim[k];
+        if (sim.is_object() && sim.contains(k)) h["simulation"][k] = sim[k];
+    e = eco_simulation_catalog().read(sim, e);
     e.hydro = hydro::load_hydro_scene(h, base);
     if (e.hydro.observed) {
         // Replayed year by year in a cycle, so the series must hold whole calendar years.
@@ -49,37 +86,23 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
                              " to day " + std::to_string(last.doy) + " of " +
                              std::to_string(last.year));
     }
-    e.years = e.hydro.years;
-    e.seed = e.hydro.seed;
     e.resolved = e.hydro.resolved;
     e.resolved.erase("vegetation");
 
-    const std::string w = "vegetation";
+    const double terrain_cell = e.hydro.dem.grid().cell_size_m;
+    e.plant_cell_m = std::min(1.0, terrain_cell);
+    e = vegetation_catalog().read(veg, e, {"ecosystem", "initial"});
     if (!veg.contains("ecosystem"))
         throw InputError("vegetation.ecosystem: missing (an ecosystem file, e.g. "
                          "data/ecosystems/humid_subtropical_broadleaf.json)");
-    fs::path eco = get_string(veg, "ecosystem", "", w);
+    fs::path eco = get_string(veg, "ecosystem", "", "vegetation");
     if (eco.is_relative()) eco = base / eco;
     e.ecosystem = load_ecosystem(eco);
-    const std::vector<std::string> comps = {"coupled", "light_only"};
-    const std::string comp = comps[get_choice(veg, "competition", comps, 0, w)];
-    e.competition = comp == "coupled" ? Competition::coupled : Competition::light_only;
-    const std::vector<std::string> shadings = {"blocking", "beer_lambert"};
-    const std::string sh = shadings[get_choice(veg, "shading", shadings, 0, w)];
-    e.shading = sh == "blocking" ? ShadingMode::blocking : ShadingMode::beer_lambert;
-    e.extinction = get_number(veg, "extinction_coefficient", e.extinction, w, 0.01, 5);
-    const std::vector<std::string> radii = {"crown", "mavs"};
-    const std::string radius = radii[get_choice(veg, "light_only_radius", radii, 0, w)];
-    e.light_only_radius = radius == "mavs" ? LightOnlyRadius::mavs : LightOnlyRadius::crown;
-    const double terrain_cell = e.hydro.dem.grid().cell_size_m;
-    e.plant_cell_m = get_number(veg, "plant_cell_m", std::min(1.0, terrain_cell), w, 0.05, 100);
     const double ratio = terrain_cell / e.plant_cell_m;
     if (std::abs(ratio - std::round(ratio)) > 1e-9 || std::round(ratio) < 1)
         throw InputError("vegetation.plant_cell_m = " + format_number(e.plant_cell_m) +
                          " must divide the terrain cell (" + format_number(terrain_cell) +
                          " m) a whole number of times");
-    e.canopy_interval_days =
-        static_cast<int>(get_integer(veg, "canopy_interval_days", 7, w, 1, 365));
     json init_resolved = "bare";
     if (veg.contains("initial")) {
         const json& in = veg.at("initial");
@@ -87,16 +110,9 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
             e.initial.kind = InitialPlants::Kind::bare;
         } else if (in.is_object() && in.contains("random")) {
             require_known_keys(in, {"random"}, "vegetation.initial");
-            const json& r = in.at("random");
-            require_known_keys(r, {"stems_per_ha", "max_dbh_m"}, "vegetation.initial.random");
+            e.initial = initial_random_catalog().read(in.at("random"), InitialPlants{});
             e.initial.kind = InitialPlants::Kind::random;
-            e.initial.stems_per_ha =
-                get_number(r, "stems_per_ha", 500, "vegetation.initial.random", 0, 1e5);
-            e.initial.max_dbh_m =
-                get_number(r, "max_dbh_m", 0.3, "vegetation.initial.random", 0.001, 5);
-            init_resolved = {
-                {"random",
-                 {{"stems_per_ha", e.initial.stems_per_ha}, {"max_dbh_m", e.initial.max_dbh_m}}}};
+            init_resolved = {{"random", initial_random_catalog().to_json(e.initial)}};
         } else if (in.is_object() && in.contains("file")) {
             require_known_keys(in, {"file"}, "vegetation.initial");
             e.initial.kind = InitialPlants::Kind::file;
@@ -109,25 +125,22 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
                              in.dump());
         }
     }
-    e.snapshot_interval_years =
-        static_cast<int>(get_integer(sim, "snapshot_interval_years", 5, "simulation", 1, 100000));
-    if (sim.contains("target_basal_area_m2_per_ha"))
-        e.target_basal_area_m2_per_ha =
-            get_number(sim, "target_basal_area_m2_per_ha", 0, "simulation", 0.001, 500);
-    e.resolved["vegetation"] = {{"ecosystem", eco.string()},
-                                {"competition", comp},
-                                {"shading", sh},
-                                {"extinction_coefficient", e.extinction},
-                                {"light_only_radius", radius},
-                                {"plant_cell_m", e.plant_cell_m},
-                                {"canopy_interval_days", e.canopy_interval_days},
-                                {"initial", init_resolved}};
-    e.resolved["simulation"] = {{"years", e.years},
-                                {"seed", e.seed},
-                                {"snapshot_interval_years", e.snapshot_interval_years}};
-    if (e.target_basal_area_m2_per_ha)
-        e.resolved["simulation"]["target_basal_area_m2_per_ha"] = *e.target_basal_area_m2_per_ha;
+    e.resolved["vegetation"] = vegetation_catalog().to_json(e);
+    e.resolved["vegetation"]["ecosystem"] = eco.string();
+    e.resolved["vegetation"]["initial"] = init_resolved;
+    e.resolved["simulation"] = eco_simulation_catalog().to_json(e);
     return e;
+}
+
+const ParamCatalog<InitialPlants>& initial_random_catalog() {
+    using I = InitialPlants;
+    static const ParamCatalog<I> c(
+        "vegetation.initial.random",
+        {number<I>("stems_per_ha", &I::stems_per_ha, "1/ha", 0, 1e5,
+                   "stem density of the initial stand, species drawn uniformly"),
+         number<I>("max_dbh_m", &I::max_dbh_m, "m", 0.001, 5,
+                   "diameters are uniform in [the species' recruit diameter, this]")});
+    return c;
 }
 
 } // namespace ecoterra::eco

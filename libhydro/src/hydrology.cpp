@@ -52,36 +52,50 @@ std::vector<std::int64_t> upstream_first_order(const terrain::RasterD& dem) {
 }
 } // namespace
 
-const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns() {
-    static const std::array<BudgetColumn, kBudgetColumns> cols = {{
-        {"day", "simulation day, 1-based"},
-        {"year", "simulation year (or calendar year)"},
-        {"day_of_year", "day of year"},
-        {"rain_mm", "rain over the domain"},
-        {"evaporation_mm", "soil and open-water evaporation"},
-        {"transpiration_mm", "transpiration supplied to plants"},
-        {"infiltration_mm", "infiltration into the soil"},
-        {"runoff_out_mm", "surface water that left through the domain edge"},
-        {"groundwater_out_mm", "groundwater that left through fixed-head edges"},
-        {"recharge_mm", "percolation to the water table"},
-        {"d_soil_storage_mm", "change in root-zone storage"},
-        {"d_surface_storage_mm", "change in standing surface water"},
-        {"d_groundwater_storage_mm", "change in groundwater storage"},
-        {"residual_mm", "rain - outputs - storage changes"},
-    }};
-    return cols;
+const std::vector<Column<BudgetRow>>& daily_budget_columns() {
+    using R = BudgetRow;
+    const char* mm = "mm/day";
+    static const std::vector<Column<R>> c = {
+        column("day", &R::day, "1", "simulation day, 1-based"),
+        column("year", &R::year, "1", "simulation year (or calendar year)"),
+        column("day_of_year", &R::day_of_year, "1", "day of year"),
+        column("rain_mm", &R::rain_mm, mm, "rain over the domain"),
+        column("evaporation_mm", &R::evaporation_mm, mm, "soil and open-water evaporation"),
+        column("transpiration_mm", &R::transpiration_mm, mm, "transpiration supplied to plants"),
+        column("infiltration_mm", &R::infiltration_mm, mm, "infiltration into the soil"),
+        column("runoff_out_mm", &R::runoff_out_mm, mm,
+               "surface water that left through the domain edge"),
+        column("groundwater_out_mm", &R::groundwater_out_mm, mm,
+               "groundwater that left through fixed-head edges"),
+        column("recharge_mm", &R::recharge_mm, mm, "percolation to the water table"),
+        column("d_soil_storage_mm", &R::d_soil_storage_mm, mm, "change in root-zone storage"),
+        column("d_surface_storage_mm", &R::d_surface_storage_mm, mm,
+               "change in standing surface water"),
+        column("d_groundwater_storage_mm", &R::d_groundwater_storage_mm, mm,
+               "change in groundwater storage"),
+        column("residual_mm", &R::residual_mm, mm, "rain - outputs - storage changes"),
+    };
+    return c;
 }
 
-std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w,
-                                                    const DailyFluxes& f, double domain_m2) {
+BudgetRow daily_budget_row(int day, const DayWeather& w, const DailyFluxes& f, double domain_m2) {
     const double to_mm = kMmPerM / domain_m2;
-    return {static_cast<double>(day),   static_cast<double>(w.year),
-            static_cast<double>(w.doy), f.rain * to_mm,
-            f.evaporation * to_mm,      f.transpiration * to_mm,
-            f.infiltration * to_mm,     f.runoff_out * to_mm,
-            f.groundwater_out * to_mm,  f.recharge * to_mm,
-            f.d_soil * to_mm,           f.d_surface * to_mm,
-            f.d_groundwater * to_mm,    f.residual * to_mm};
+    BudgetRow r;
+    r.day = day;
+    r.year = w.year;
+    r.day_of_year = w.doy;
+    r.rain_mm = f.rain * to_mm;
+    r.evaporation_mm = f.evaporation * to_mm;
+    r.transpiration_mm = f.transpiration * to_mm;
+    r.infiltration_mm = f.infiltration * to_mm;
+    r.runoff_out_mm = f.runoff_out * to_mm;
+    r.groundwater_out_mm = f.groundwater_out * to_mm;
+    r.recharge_mm = f.recharge * to_mm;
+    r.d_soil_storage_mm = f.d_soil * to_mm;
+    r.d_surface_storage_mm = f.d_surface * to_mm;
+    r.d_groundwater_storage_mm = f.d_groundwater * to_mm;
+    r.residual_mm = f.residual * to_mm;
+    return r;
 }
 
 et::DailyWeather et_weather(const DayWeather& w, const Climate& c) {
@@ -97,22 +111,56 @@ et::DailyWeather et_weather(const DayWeather& w, const Climate& c) {
     return dw;
 }
 
+const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
+    using O = HydrologyOptions;
+    static const ParamCatalog<O> c(
+        "hydrology",
+        {number<O>("root_zone_depth_m", &O::root_zone_depth_m, "m", 0.01, 10,
+                   "depth of the root zone whose water the model tracks"),
+         number<O>("initial_saturation", &O::initial_saturation, "1", 0, 1,
+                   "initial soil water as a fraction s of FC - WP: theta0 = WP + s (FC - WP)"),
+         choice<O>("routing", &O::routing,
+                   std::vector<std::pair<std::string, Routing>>{{"d8", Routing::d8},
+                                                                {"d8-lowest", Routing::d8_lowest},
+                                                                {"mfd", Routing::mfd}},
+                   "flow directions: d8 steepest descent, d8-lowest lowest neighbour (as "
+                   "Fill-Spill-Merge), mfd multiple flow directions"),
+         choice<O>("runoff", &O::runoff,
+                   std::vector<std::pair<std::string, RunoffMethod>>{
+                       {"coefficients", RunoffMethod::coefficients},
+                       {"curve_number", RunoffMethod::curve_number}},
+                   "rain partition: runoff coefficients (vegetation x slope x texture) or the "
+                   "SCS curve number"),
+         number<O>("flat_slope", &O::flat_slope, "1", 0, 1,
+                   "slope (rise/run) below which a cell absorbs all its rain"),
+         number<O>("grass_density_threshold", &O::grass_density_threshold, "1", 0, 1,
+                   "vegetation density at which the surface evaporates as grass, not bare soil"),
+         choice<O>("wind_function", &O::wind,
+                   std::vector<std::pair<std::string, et::WindFunction>>{
+                       {"penman1948", et::WindFunction::penman1948},
+                       {"penman1956", et::WindFunction::penman1956},
+                       {"shuttleworth1993", et::WindFunction::shuttleworth1993}},
+                   "Penman wind function"),
+         flag<O>("groundwater", &O::groundwater, "lateral groundwater flow under the root zone"),
+         number<O>("specific_yield", &O::specific_yield, "m3/m3", 0.001, 0.6,
+                   "drainable porosity of the aquifer"),
+         number<O>("aquifer_thickness_m", &O::aquifer_thickness_m, "m", 0.1, 1000,
+                   "from the impermeable base to the surface"),
+         number<O>("initial_water_table_depth_m", &O::initial_water_table_depth_m, "m", 0, 1000,
+                   "below the surface at the start; at most aquifer_thickness_m")});
+    return c;
+}
+
 void HydrologyOptions::validate() const {
-    auto in = [](double v, double lo, double hi, const char* key) {
-        if (!(v >= lo && v <= hi)) {
-            std::ostringstream s;
-            s << "hydrology." << key << " = " << v << " is outside [" << lo << ", " << hi << "]";
-            throw InputError(s.str());
-        }
-    };
-    in(root_zone_depth_m, 0.01, 10, "root_zone_depth_m");
-    in(initial_saturation, 0, 1, "initial_saturation");
-    in(flat_slope, 0, 1, "flat_slope");
-    in(grass_density_threshold, 0, 1, "grass_density_threshold");
-    in(specific_yield, 0.001, 0.6, "specific_yield");
-    in(aquifer_thickness_m, 0.1, 1000, "aquifer_thickness_m");
-    in(initial_water_table_depth_m, 0, aquifer_thickness_m, "initial_water_table_depth_m");
-    in(budget_tolerance, 0, 1, "budget_tolerance");
+    hydrology_catalog().check(*this);
+    if (!(initial_water_table_depth_m <= aquifer_thickness_m))
+        throw InputError("hydrology.initial_water_table_depth_m = " +
+                         format_number(initial_water_table_depth_m) +
+                         " is below the aquifer base (aquifer_thickness_m = " +
+                         format_number(aquifer_thickness_m) + ")");
+    if (!(budget_tolerance >= 0 && budget_tolerance <= 1))
+        throw InputError("hydrology budget_tolerance = " + format_number(budget_tolerance) +
+                         " is outside [0, 1]");
 }
 
 HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,

@@ -1,5 +1,6 @@
 #include "ecoterra/hydro/runoff.hpp"
 
+#include "ecoterra/data_dir.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/io/atomic_file.hpp"
 
@@ -13,11 +14,6 @@ namespace {
 constexpr double kCnBare[4] = {77, 86, 91, 94};
 constexpr double kCnWoods[4] = {36, 60, 73, 79};
 } // namespace
-
-std::filesystem::path data_dir() {
-    if (const char* env = std::getenv("ECOTERRA_DATA"); env && *env) return env;
-    return ECOTERRA_SOURCE_DATA_DIR;
-}
 
 RunoffTable RunoffTable::standard() {
     return load(data_dir() / "hydro" / "runoff_coefficients.json");

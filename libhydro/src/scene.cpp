@@ -106,110 +106,40 @@ SoilMap load_soil(const json& s, const fs::path& base, const terrain::GridSpec& 
 }
 
 Climate load_climate(const json& c, const fs::path& base, HydroScene& scene, json& resolved) {
-    const std::vector<std::string> fields = {"preset",
-                                             "csv",
-                                             "latitude_deg",
-                                             "elevation_m",
-                                             "p_wet_after_dry",
-                                             "p_wet_after_wet",
-                                             "precip_seasonal_amplitude",
-                                             "precip_peak_doy",
-                                             "wet_day_mean_mm",
-                                             "gamma_shape",
-                                             "tmax_mean_c",
-                                             "tmax_amplitude_c",
-                                             "tmin_mean_c",
-                                             "tmin_amplitude_c",
-                                             "warmest_doy",
-                                             "wet_day_tmax_drop_c",
-                                             "temperature_sd_c",
-                                             "temperature_lag1",
-                                             "dew_depression_mean_c",
-                                             "dew_depression_amplitude_c",
-                                             "wind_mean_m_per_s",
-                                             "wind_amplitude_m_per_s",
-                                             "dry_radiation_fraction",
-                                             "wet_radiation_fraction"};
-    require_known_keys(c, fields, "climate");
-    Climate cl = climate_preset(get_string(c, "preset", "humid_subtropical", "climate"));
-    auto num = [&](const char* k, double& v) { v = get_number(c, k, v, "climate"); };
-    num("latitude_deg", cl.latitude_deg);
-    num("elevation_m", cl.elevation_m);
-    num("p_wet_after_dry", cl.p_wet_after_dry);
-    num("p_wet_after_wet", cl.p_wet_after_wet);
-    num("precip_seasonal_amplitude", cl.precip_seasonal_amplitude);
-    num("wet_day_mean_mm", cl.wet_day_mean_mm);
-    num("gamma_shape", cl.gamma_shape);
-    num("tmax_mean_c", cl.tmax_mean_c);
-    num("tmax_amplitude_c", cl.tmax_amplitude_c);
-    num("tmin_mean_c", cl.tmin_mean_c);
-    num("tmin_amplitude_c", cl.tmin_amplitude_c);
-    num("wet_day_tmax_drop_c", cl.wet_day_tmax_drop_c);
-    num("temperature_sd_c", cl.temperature_sd_c);
-    num("temperature_lag1", cl.temperature_lag1);
-    num("dew_depression_mean_c", cl.dew_depression_mean_c);
-    num("dew_depression_amplitude_c", cl.dew_depression_amplitude_c);
-    num("wind_mean_m_per_s", cl.wind_mean_m_per_s);
-    num("wind_amplitude_m_per_s", cl.wind_amplitude_m_per_s);
-    num("dry_radiation_fraction", cl.dry_radiation_fraction);
-    num("wet_radiation_fraction", cl.wet_radiation_fraction);
-    cl.precip_peak_doy =
-        static_cast<int>(get_integer(c, "precip_peak_doy", cl.precip_peak_doy, "climate", 1, 366));
-    cl.warmest_doy =
-        static_cast<int>(get_integer(c, "warmest_doy", cl.warmest_doy, "climate", 1, 366));
+    const std::string preset = get_string(c, "preset", "humid_subtropical", "climate");
+    Climate cl = climate_catalog().read(c, climate_preset(preset), {"preset", "csv"});
     cl.validate();
-    resolved["climate"] = c;
+    resolved["climate"] = climate_catalog().to_json(cl);
     resolved["climate"]["preset"] = cl.name;
     if (c.contains("csv")) {
         const auto path = resolve(base, get_string(c, "csv", "", "climate"));
+        resolved["climate"]["csv"] = path.string();
         scene.observed = read_weather_csv(path, cl.latitude_deg, cl.elevation_m);
     }
     return cl;
 }
 
 HydrologyOptions load_options(const json& h, json& resolved) {
-    require_known_keys(h,
-                       {"root_zone_depth_m", "initial_saturation", "routing", "runoff",
-                        "flat_slope", "grass_density_threshold", "wind_function", "groundwater",
-                        "specific_yield", "aquifer_thickness_m", "initial_water_table_depth_m"},
-                       "hydrology");
-    HydrologyOptions o;
-    const std::string w = "hydrology";
-    o.root_zone_depth_m = get_number(h, "root_zone_depth_m", o.root_zone_depth_m, w);
-    o.initial_saturation = get_number(h, "initial_saturation", o.initial_saturation, w);
-    o.routing = parse_routing(get_string(h, "routing", "d8", w));
-    const std::vector<std::string> runoff_methods = {"coefficients", "curve_number"};
-    const std::string runoff = runoff_methods[get_choice(h, "runoff", runoff_methods, 0, w)];
-    o.runoff = runoff == "coefficients" ? RunoffMethod::coefficients : RunoffMethod::curve_number;
-    o.flat_slope = get_number(h, "flat_slope", o.flat_slope, w);
-    o.grass_density_threshold =
-        get_number(h, "grass_density_threshold", o.grass_density_threshold, w);
-    const std::vector<std::string> winds = {"penman1948", "penman1956", "shuttleworth1993"};
-    const std::size_t wi = get_choice(h, "wind_function", winds, 0, w);
-    const std::string wind = winds[wi];
-    o.wind = std::array{et::WindFunction::penman1948, et::WindFunction::penman1956,
-                        et::WindFunction::shuttleworth1993}[wi];
-    o.groundwater = get_bool(h, "groundwater", o.groundwater, w);
-    o.specific_yield = get_number(h, "specific_yield", o.specific_yield, w);
-    o.aquifer_thickness_m = get_number(h, "aquifer_thickness_m", o.aquifer_thickness_m, w);
-    o.initial_water_table_depth_m =
-        get_number(h, "initial_water_table_depth_m", o.initial_water_table_depth_m, w);
+    HydrologyOptions o = hydrology_catalog().read(h, HydrologyOptions{});
     o.validate();
-    resolved["hydrology"] = {{"root_zone_depth_m", o.root_zone_depth_m},
-                             {"initial_saturation", o.initial_saturation},
-                             {"routing", routing_name(o.routing)},
-                             {"runoff", runoff},
-                             {"flat_slope", o.flat_slope},
-                             {"grass_density_threshold", o.grass_density_threshold},
-                             {"wind_function", wind},
-                             {"groundwater", o.groundwater},
-                             {"specific_yield", o.specific_yield},
-                             {"aquifer_thickness_m", o.aquifer_thickness_m},
-                             {"initial_water_table_depth_m", o.initial_water_table_depth_m}};
+    resolved["hydrology"] = hydrology_catalog().to_json(o);
     return o;
 }
 
 } // namespace
+
+const ParamCatalog<HydroScene>& hydro_simulation_catalog() {
+    using H = HydroScene;
+    static const ParamCatalog<H> c(
+        "simulation",
+        {integer<H>("years", &H::years, "yr", 1, 10000,
+                    "simulated years of 365 days (observed weather: its own length)"),
+         integer<H>("seed", &H::seed, "1", 0, 4.611686018427388e18,
+                    "seed of every random stream of the run"),
+         integer<H>("snapshot_interval_days", &H::snapshot_interval_days, "day", 1, 3650000,
+                    "days between snapshots; the last day always gets one")});
+    return c;
+}
 
 void apply_overrides(json& scene, const std::vector<std::string>& overrides) {
     for (const auto& o : overrides) {
@@ -247,15 +177,8 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
                        "");
     HydroScene scene;
     json& r = scene.resolved;
-    const json sim = s.value("simulation", json::object());
-    require_known_keys(sim, {"years", "seed", "snapshot_interval_days"}, "simulation");
-    scene.years = static_cast<int>(get_integer(sim, "years", 1, "simulation", 1, 10000));
-    scene.seed = static_cast<std::uint64_t>(get_integer(sim, "seed", 1, "simulation", 0));
-    scene.snapshot_interval_days =
-        static_cast<int>(get_integer(sim, "snapshot_interval_days", 365, "simulation", 1, 3650000));
-    r["simulation"] = {{"years", scene.years},
-                       {"seed", scene.seed},
-                       {"snapshot_interval_days", scene.snapshot_interval_days}};
+    scene = hydro_simulation_catalog().read(s.value("simulation", json::object()), scene);
+    r["simulation"] = hydro_simulation_catalog().to_json(scene);
     if (!s.contains("terrain")) throw InputError("scene: missing key 'terrain'");
     scene.dem = load_terrain(s["terrain"], base, r);
     require_valid_cells(scene.dem, "terrain");
@@ -296,13 +219,13 @@ void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil) {
     h5.raster("/soil/ksat_m_per_s", soil.ksat_m_per_s, "m/s", "saturated hydraulic conductivity");
 }
 
-void write_budget_series(terrain::io::Hdf5Writer& h5,
-                         const std::vector<double> (&series)[kBudgetColumns]) {
-    const auto& cols = daily_budget_columns();
-    for (int k = 0; k < kBudgetColumns; ++k)
-        h5.series(std::string("/series/daily/") + cols[k].name, series[k], k < 3 ? "1" : "mm/day",
-                  std::string(cols[k].description) +
-                      (k < 3 ? "" : " (mm per day over the whole domain)"));
+void write_budget_series(terrain::io::Hdf5Writer& h5, const std::vector<BudgetRow>& rows) {
+    for (const auto& c : daily_budget_columns()) {
+        std::vector<double> v;
+        v.reserve(rows.size());
+        for (const auto& r : rows) v.push_back(c.get(r));
+        h5.series("/series/daily/" + c.name, v, c.unit, c.description);
+    }
 }
 
 HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
@@ -314,8 +237,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     WeatherGenerator gen(sc.climate, sc.seed);
     const int total = sc.observed ? static_cast<int>(sc.observed->days.size()) : 365 * sc.years;
     const double domain_m2 = sc.dem.grid().width_m() * sc.dem.grid().height_m();
-    std::vector<double> series[kBudgetColumns];
-    enum { kRain = 3, kEvap, kTransp, kInf, kOut, kGwOut };
+    std::vector<BudgetRow> series;
     HydroRunSummary sum;
     int snapshot = 0;
     auto write_snapshot = [&](const DayWeather& w, int day) {
@@ -338,13 +260,13 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         const DayWeather w =
             sc.observed ? sc.observed->days[static_cast<std::size_t>(d - 1)] : gen.next();
         const DailyFluxes f = model.step(w);
-        const auto row = daily_budget_row(d, w, f, domain_m2);
-        for (int k = 0; k < kBudgetColumns; ++k) series[k].push_back(row[k]);
-        sum.rain_mm += row[kRain];
-        sum.evaporation_mm += row[kEvap];
-        sum.transpiration_mm += row[kTransp];
-        sum.runoff_out_mm += row[kOut];
-        sum.groundwater_out_mm += row[kGwOut];
+        const BudgetRow row = daily_budget_row(d, w, f, domain_m2);
+        series.push_back(row);
+        sum.rain_mm += row.rain_mm;
+        sum.evaporation_mm += row.evaporation_mm;
+        sum.transpiration_mm += row.transpiration_mm;
+        sum.runoff_out_mm += row.runoff_out_mm;
+        sum.groundwater_out_mm += row.groundwater_out_mm;
         if (d % sc.snapshot_interval_days == 0 || d == total) write_snapshot(w, d);
         if (progress && (d % 30 == 0 || d == total))
             progress(d, total,

@@ -1,12 +1,15 @@
 #include "ecoterra/hydro/weather.hpp"
 
+#include "ecoterra/data_dir.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/io/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
 
@@ -29,24 +32,56 @@ double harmonic(double mean, double amplitude, int peak, int doy) {
 
 } // namespace
 
+const ParamCatalog<Climate>& climate_catalog() {
+    using C = Climate;
+    static const ParamCatalog<C> c(
+        "climate",
+        {number<C>("latitude_deg", &C::latitude_deg, "deg", -90, 90, "site latitude (north +)"),
+         number<C>("elevation_m", &C::elevation_m, "m", -500, 9000, "site elevation"),
+         number<C>("p_wet_after_dry", &C::p_wet_after_dry, "1", 0, 1,
+                   "Markov chain: probability of a wet day after a dry day"),
+         number<C>("p_wet_after_wet", &C::p_wet_after_wet, "1", 0, 1,
+                   "Markov chain: probability of a wet day after a wet day"),
+         number<C>("precip_seasonal_amplitude", &C::precip_seasonal_amplitude, "1", -0.9, 0.9,
+                   "a of the harmonic p(d) = p0 (1 + a cos(2 pi (d - d_peak) / 365))"),
+         integer<C>("precip_peak_doy", &C::precip_peak_doy, "day", 1, 366,
+                    "day of year of the wettest season"),
+         number<C>("wet_day_mean_mm", &C::wet_day_mean_mm, "mm", 0, 500, "mean rain of a wet day"),
+         number<C>("gamma_shape", &C::gamma_shape, "1", 0.05, 20,
+                   "shape of the gamma distribution of wet-day amounts"),
+         number<C>("tmax_mean_c", &C::tmax_mean_c, "degC", -60, 60,
+                   "annual mean of the daily maximum temperature"),
+         number<C>("tmax_amplitude_c", &C::tmax_amplitude_c, "degC", 0, 40,
+                   "seasonal amplitude of the daily maximum"),
+         number<C>("tmin_mean_c", &C::tmin_mean_c, "degC", -60, 60,
+                   "annual mean of the daily minimum temperature; at most tmax_mean_c"),
+         number<C>("tmin_amplitude_c", &C::tmin_amplitude_c, "degC", 0, 40,
+                   "seasonal amplitude of the daily minimum"),
+         integer<C>("warmest_doy", &C::warmest_doy, "day", 1, 366,
+                    "day of year of the warmest season"),
+         number<C>("wet_day_tmax_drop_c", &C::wet_day_tmax_drop_c, "degC", 0, 20,
+                   "the maximum temperature is lower by this on wet days"),
+         number<C>("temperature_sd_c", &C::temperature_sd_c, "degC", 0, 20,
+                   "standard deviation of the daily temperature anomalies"),
+         number<C>("temperature_lag1", &C::temperature_lag1, "1", 0, 0.99,
+                   "lag-1 autocorrelation of the temperature anomalies"),
+         number<C>("dew_depression_mean_c", &C::dew_depression_mean_c, "degC", 0, 40,
+                   "mean of Tmin - Tdew"),
+         number<C>("dew_depression_amplitude_c", &C::dew_depression_amplitude_c, "degC", 0, 40,
+                   "seasonal amplitude of the dew-point depression"),
+         number<C>("wind_mean_m_per_s", &C::wind_mean_m_per_s, "m/s", 0, 30,
+                   "mean wind speed at 2 m"),
+         number<C>("wind_amplitude_m_per_s", &C::wind_amplitude_m_per_s, "m/s", 0, 30,
+                   "seasonal amplitude of the wind speed"),
+         number<C>("dry_radiation_fraction", &C::dry_radiation_fraction, "1", 0.1, 1,
+                   "solar radiation of a dry day as a fraction of the clear-sky value"),
+         number<C>("wet_radiation_fraction", &C::wet_radiation_fraction, "1", 0.1, 1,
+                   "solar radiation of a wet day as a fraction of the clear-sky value")});
+    return c;
+}
+
 void Climate::validate() const {
-    auto in = [&](double v, double lo, double hi, const char* key) {
-        if (!(v >= lo && v <= hi))
-            throw InputError("climate " + name + ": " + key + " = " + format_number(v) +
-                             " is outside [" + format_number(lo) + ", " + format_number(hi) + "]");
-    };
-    in(latitude_deg, -90, 90, "latitude_deg");
-    in(elevation_m, -500, 9000, "elevation_m");
-    in(p_wet_after_dry, 0, 1, "p_wet_after_dry");
-    in(p_wet_after_wet, 0, 1, "p_wet_after_wet");
-    in(precip_seasonal_amplitude, -0.9, 0.9, "precip_seasonal_amplitude");
-    in(wet_day_mean_mm, 0, 500, "wet_day_mean_mm");
-    in(gamma_shape, 0.05, 20, "gamma_shape");
-    in(temperature_sd_c, 0, 20, "temperature_sd_c");
-    in(temperature_lag1, 0, 0.99, "temperature_lag1");
-    in(wind_mean_m_per_s, 0, 30, "wind_mean_m_per_s");
-    in(dry_radiation_fraction, 0.1, 1, "dry_radiation_fraction");
-    in(wet_radiation_fraction, 0.1, 1, "wet_radiation_fraction");
+    climate_catalog().check(*this, "climate " + name);
     if (tmax_mean_c < tmin_mean_c)
         throw InputError("climate " + name + ": tmax_mean_c is below tmin_mean_c");
 }
@@ -57,77 +92,33 @@ double Climate::expected_annual_rain_mm() const {
 }
 
 std::vector<std::string> climate_presets() {
-    return {"humid_subtropical", "semi_arid_desert", "temperate"};
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(data_dir() / "climates", ec))
+        if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 Climate climate_preset(const std::string& name) {
-    Climate c;
-    c.name = name;
-    if (name == "humid_subtropical") {
-        // The paper's broadleaf forest: about 62 in (1575 mm) of rain a year, on the order of
-        // north-east Mississippi (33.5 N). 122 wet days x 12.9 mm.
-        c.latitude_deg = 33.5;
-        c.elevation_m = 100;
-        c.p_wet_after_dry = 0.25;
-        c.p_wet_after_wet = 0.50;
-        c.precip_seasonal_amplitude = 0.10;
-        c.precip_peak_doy = 45;
-        c.wet_day_mean_mm = 12.9;
-        c.gamma_shape = 0.75;
-        c.tmax_mean_c = 24;
-        c.tmax_amplitude_c = 9;
-        c.tmin_mean_c = 12;
-        c.tmin_amplitude_c = 10;
-        c.warmest_doy = 200;
-        c.dew_depression_mean_c = 3.0;
-        c.dew_depression_amplitude_c = 1.0;
-        c.wind_mean_m_per_s = 2.0;
-        c.wind_amplitude_m_per_s = 0.3;
-    } else if (name == "semi_arid_desert") {
-        // South-western desert (about 32 N, 730 m): about 300 mm, a summer monsoon.
-        c.latitude_deg = 32.2;
-        c.elevation_m = 730;
-        c.p_wet_after_dry = 0.06;
-        c.p_wet_after_wet = 0.35;
-        c.precip_seasonal_amplitude = 0.6;
-        c.precip_peak_doy = 215;
-        c.wet_day_mean_mm = 9.7;
-        c.gamma_shape = 0.7;
-        c.tmax_mean_c = 29.5;
-        c.tmax_amplitude_c = 9.5;
-        c.tmin_mean_c = 14;
-        c.tmin_amplitude_c = 9;
-        c.warmest_doy = 190;
-        c.dew_depression_mean_c = 15;
-        c.dew_depression_amplitude_c = 4;
-        c.wind_mean_m_per_s = 2.8;
-        c.wind_amplitude_m_per_s = 0.5;
-        c.dry_radiation_fraction = 0.9;
-    } else if (name == "temperate") {
-        // Western European lowland (about 51 N): about 800 mm on 175 days.
-        c.latitude_deg = 50.8;
-        c.elevation_m = 100;
-        c.p_wet_after_dry = 0.35;
-        c.p_wet_after_wet = 0.62;
-        c.precip_seasonal_amplitude = 0.1;
-        c.precip_peak_doy = 330;
-        c.wet_day_mean_mm = 4.6;
-        c.gamma_shape = 0.8;
-        c.tmax_mean_c = 14.5;
-        c.tmax_amplitude_c = 8;
-        c.tmin_mean_c = 6.5;
-        c.tmin_amplitude_c = 6;
-        c.warmest_doy = 200;
-        c.dew_depression_mean_c = 3.0;
-        c.dew_depression_amplitude_c = 1.0;
-        c.wind_mean_m_per_s = 3.0;
-        c.wind_amplitude_m_per_s = 0.5;
-        c.dry_radiation_fraction = 0.75;
-        c.wet_radiation_fraction = 0.4;
-    } else {
-        throw InputError("unknown climate preset '" + name +
-                         "' (humid_subtropical, semi_arid_desert, temperate)");
+    const auto path = data_dir() / "climates" / (name + ".json");
+    std::error_code ec;
+    if (name.empty() || name.find('/') != std::string::npos ||
+        !std::filesystem::is_regular_file(path, ec)) {
+        std::string list;
+        for (const auto& n : climate_presets()) list += (list.empty() ? "" : ", ") + n;
+        throw InputError("unknown climate preset '" + name + "' (" + list + "; files in " +
+                         (data_dir() / "climates").string() + ")");
     }
+    return load_climate_file(path);
+}
+
+Climate load_climate_file(const std::filesystem::path& path) {
+    const auto j = parse_json(terrain::io::read_text(path), path.string());
+    Climate c;
+    c.name = path.stem().string();
+    c = climate_catalog().read(j, c, {"description"}, path.string());
+    c.validate();
     return c;
 }
 

@@ -1,10 +1,12 @@
 #include "ecoterra/terrain/generate.hpp"
 
+#include "ecoterra/catalog.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/noise.hpp"
 #include "ecoterra/terrain/spectral.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
 
+#include <limits>
 #include <numbers>
 
 namespace ecoterra::terrain {
@@ -20,90 +22,67 @@ const std::vector<std::string> kMultifractalKeys = {
     "low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
 const std::vector<std::string> kFbmKeys = {"hurst", "D", "rms_m"};
 
-/// The parameters of a struct P, by type, each read from and written to JSON under its key.
-template <class P>
-struct Fields {
-    struct Integer {
-        const char* key;
-        int (*get)(const P&);
-        void (*set)(P&, int);
-        long long min, max;
-    };
-    std::vector<std::pair<const char*, double P::*>> numbers;
-    std::vector<Integer> integers;
-    std::vector<std::pair<const char*, bool P::*>> flags;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
-    std::vector<std::string> keys() const {
-        std::vector<std::string> k;
-        for (const auto& f : integers) k.emplace_back(f.key);
-        for (const auto& [key, m] : numbers) k.emplace_back(key);
-        for (const auto& [key, m] : flags) k.emplace_back(key);
-        return k;
-    }
-    json to_json(const P& p) const {
-        json j = json::object();
-        for (const auto& f : integers) j[f.key] = f.get(p);
-        for (const auto& [key, m] : numbers) j[key] = p.*m;
-        for (const auto& [key, m] : flags) j[key] = p.*m;
-        return j;
-    }
-    /// Reads the keys present in j over `p`, rejecting unknown keys.
-    P read(const json& j, P p, const std::string& where) const {
-        require_known_keys(j, keys(), where);
-        for (const auto& f : integers)
-            f.set(p, static_cast<int>(get_integer(j, f.key, f.get(p), where, f.min, f.max)));
-        for (const auto& [key, m] : numbers) p.*m = get_number(j, key, p.*m, where);
-        for (const auto& [key, m] : flags) p.*m = get_bool(j, key, p.*m, where);
-        return p;
-    }
-};
-
-const Fields<WMParams>& wm_fields() {
+const ParamCatalog<WMParams>& wm_fields() {
     using P = WMParams;
-    static const Fields<P> f{
-        {{"gamma", &P::gamma},
-         {"D", &P::D},
-         {"L_m", &P::L_m},
-         {"G_m", &P::G_m},
-         {"phase_max_rad", &P::phase_max_rad}},
-        {{"M", [](const P& p) { return p.M; }, [](P& p, int v) { p.M = v; }, 1, 4096},
-         {"n_max", [](const P& p) { return p.n_max; }, [](P& p, int v) { p.n_max = v; }, 0,
-          100000}},
-        {}};
-    return f;
+    static const ParamCatalog<P> c(
+        "params",
+        {integer<P>("M", &P::M, "1", 1, 4096, "number of ridges (directions)"),
+         integer<P>("n_max", &P::n_max, "1", 0, 100000,
+                    "highest frequency index; 0 = the grid's Nyquist cutoff"),
+         number<P>("gamma", &P::gamma, "1", 1, kInf, "frequency density, > 1"),
+         number<P>("D", &P::D, "1", 2, 3, "fractal dimension, strictly between 2 and 3"),
+         number<P>("L_m", &P::L_m, "m", 0, kInf, "sampling length, > 0"),
+         number<P>("G_m", &P::G_m, "m", 0, kInf, "elevation scaling coefficient, > 0"),
+         number<P>("phase_max_rad", &P::phase_max_rad, "rad", 0, 2 * std::numbers::pi,
+                   "random phases are uniform in [0, this], > 0 (pi in Majhor & Bos Table 1)")});
+    return c;
 }
 
-const Fields<PerlinSurfaceParams>& perlin_fields() {
+const ParamCatalog<PerlinSurfaceParams>& perlin_fields() {
     using P = PerlinSurfaceParams;
-    static const Fields<P> f{{{"hi_wavelength_m", &P::hi_wavelength_m},
-                              {"hi_magnitude_m", &P::hi_magnitude_m},
-                              {"lo_wavelength_m", &P::lo_wavelength_m},
-                              {"lo_magnitude_m", &P::lo_magnitude_m}},
-                             {},
-                             {{"mavs_compat", &P::mavs_compat}}};
-    return f;
+    static const ParamCatalog<P> c(
+        "params",
+        {number<P>("hi_wavelength_m", &P::hi_wavelength_m, "m", 0, kInf,
+                   "wavelength of the high-frequency octave, > 0"),
+         number<P>("hi_magnitude_m", &P::hi_magnitude_m, "m", 0, kInf,
+                   "magnitude of the high-frequency octave"),
+         number<P>("lo_wavelength_m", &P::lo_wavelength_m, "m", 0, kInf,
+                   "wavelength of the low-frequency octave, > 0"),
+         number<P>("lo_magnitude_m", &P::lo_magnitude_m, "m", 0, kInf,
+                   "magnitude of the low-frequency octave"),
+         flag<P>("mavs_compat", &P::mavs_compat, "reproduce MAVS's scaling of the octaves")});
+    return c;
 }
 
-const Fields<GaussianSurfaceParams>& gaussian_fields() {
+const ParamCatalog<GaussianSurfaceParams>& gaussian_fields() {
     using P = GaussianSurfaceParams;
-    static const Fields<P> f{{{"rms_m", &P::rms_m},
-                              {"correlation_length_m", &P::correlation_length_m},
-                              {"lo_wavelength_m", &P::lo_wavelength_m},
-                              {"lo_magnitude_m", &P::lo_magnitude_m}},
-                             {},
-                             {}};
-    return f;
+    static const ParamCatalog<P> c(
+        "params", {number<P>("rms_m", &P::rms_m, "m", 0, kInf, "RMS height of the rough part"),
+                   number<P>("correlation_length_m", &P::correlation_length_m, "m", 0, kInf,
+                             "Gaussian correlation length, > 0"),
+                   number<P>("lo_wavelength_m", &P::lo_wavelength_m, "m", 0, kInf,
+                             "wavelength of the low-frequency Perlin octave, > 0"),
+                   number<P>("lo_magnitude_m", &P::lo_magnitude_m, "m", 0, kInf,
+                             "magnitude of the low-frequency Perlin octave")});
+    return c;
 }
 
-const Fields<VariableSurfaceParams>& variable_fields() {
+const ParamCatalog<VariableSurfaceParams>& variable_fields() {
     using P = VariableSurfaceParams;
-    static const Fields<P> f{{{"hi_magnitude_m", &P::hi_magnitude_m},
-                              {"spectral_exponent", &P::spectral_exponent},
-                              {"max_wavelength_m", &P::max_wavelength_m},
-                              {"envelope_wavelength_m", &P::envelope_wavelength_m}},
-                             {},
-                             {{"mavs_compat", &P::mavs_compat}}};
-    return f;
+    static const ParamCatalog<P> c(
+        "params",
+        {number<P>("hi_magnitude_m", &P::hi_magnitude_m, "m", 0, kInf,
+                   "magnitude of the rough part"),
+         number<P>("spectral_exponent", &P::spectral_exponent, "1", 0, 6,
+                   "PSD exponent of the rough part (3 with mavs_compat)"),
+         number<P>("max_wavelength_m", &P::max_wavelength_m, "m", 0, kInf,
+                   "longest wavelength of the rough part, > 0"),
+         number<P>("envelope_wavelength_m", &P::envelope_wavelength_m, "m", 0, kInf,
+                   "wavelength of the roughness envelope"),
+         flag<P>("mavs_compat", &P::mavs_compat, "reproduce MAVS's variable-roughness surface")});
+    return c;
 }
 
 json wm_json(const WMParams& p) {
@@ -111,7 +90,7 @@ json wm_json(const WMParams& p) {
 }
 
 WMParams wm_from(const json& j, WMParams d, const std::string& where) {
-    WMParams p = wm_fields().read(j, d, where);
+    WMParams p = wm_fields().read(j, d, {}, where);
     validate(p);
     return p;
 }
@@ -145,13 +124,13 @@ MultifractalParams multifractal_from(const json& j, const std::string& where) {
 }
 
 PerlinSurfaceParams perlin_from(const json& j, const std::string& where) {
-    const auto p = perlin_fields().read(j, PerlinSurfaceParams{}, where);
+    const auto p = perlin_fields().read(j, PerlinSurfaceParams{}, {}, where);
     validate(p);
     return p;
 }
 
 GaussianSurfaceParams gaussian_from(const json& j, const std::string& where) {
-    const auto p = gaussian_fields().read(j, GaussianSurfaceParams{}, where);
+    const auto p = gaussian_fields().read(j, GaussianSurfaceParams{}, {}, where);
     validate(p);
     return p;
 }
@@ -162,7 +141,7 @@ json variable_json(const VariableSurfaceParams& p) {
     return j;
 }
 VariableSurfaceParams variable_from(const json& j, const std::string& where) {
-    auto p = variable_fields().read(j, VariableSurfaceParams{}, where);
+    auto p = variable_fields().read(j, VariableSurfaceParams{}, {}, where);
     if (p.mavs_compat && j.contains("spectral_exponent") && p.spectral_exponent != 3.0)
         throw InputError(where + ": mavs_compat fixes spectral_exponent at 3; do not set both");
     validate(p);
@@ -271,10 +250,10 @@ json resolve_terrain_spec(const json& spec) {
 
 std::vector<std::string> terrain_param_keys(const std::string& method) {
     if (method == "multifractal") return kMultifractalKeys;
-    if (method == "wm") return wm_fields().keys();
-    if (method == "perlin") return perlin_fields().keys();
-    if (method == "gaussian") return gaussian_fields().keys();
-    if (method == "variable") return variable_fields().keys();
+    if (method == "wm") return wm_fields().keys_at("");
+    if (method == "perlin") return perlin_fields().keys_at("");
+    if (method == "gaussian") return gaussian_fields().keys_at("");
+    if (method == "variable") return variable_fields().keys_at("");
     if (method == "fbm") return kFbmKeys;
     throw InputError("unknown method '" + method + "'");
 }

@@ -325,7 +325,7 @@ TEST_CASE("species files: MAVS entries load with reported defaults, bad values a
     };
     bad("Max Height", -3.0, "Max Height");
     bad("physiology.shade.tolerance", 0.0, "physiology.shade.tolerance");
-    bad("physiology.texture", "peat", "unknown USDA texture class 'peat'");
+    bad("physiology.texture", "peat", "physiology.texture must be sand, loamy_sand");
     bad("physiology.leaf_area_per_crown_areaa", 3.0, "did you mean");
     json missing = mavs;
     missing["Species"][0].erase("Max Age");

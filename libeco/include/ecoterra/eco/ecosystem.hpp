@@ -9,6 +9,7 @@
 // geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s7).
 #include "ecoterra/archive.hpp"
 #include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/eco/scene_config.hpp"
@@ -20,15 +21,6 @@
 #include <memory>
 
 namespace ecoterra::eco {
-
-/// A table of equal-length double columns with names, units and descriptions.
-struct Table {
-    std::vector<std::string> names, units, descriptions;
-    std::vector<std::vector<double>> columns;
-    void add_column(std::string name, std::string unit, std::string description);
-    void push_row(const std::vector<double>& row);
-    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
-};
 
 class Ecosystem {
 public:

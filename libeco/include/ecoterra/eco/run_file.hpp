@@ -57,9 +57,9 @@ RunInfo read_run_info(const std::filesystem::path& run);
 
 struct SnapshotPlants {
     int index = 0, year = 0;
-    std::vector<std::int64_t> id;
-    std::vector<std::int32_t> species;
-    std::vector<double> x_m, y_m, z_m, height_m, dbh_m, crown_radius_m, age_yr, carbohydrate_kg;
+    std::vector<PlantRecord> plants; ///< columns: plant_columns()
+    /// One column of every plant, by its name in plant_columns().
+    std::vector<double> values(const std::string& column) const;
 };
 /// Reads the plants of snapshot `index` (negative: counted from the last, -1 = last).
 SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index);

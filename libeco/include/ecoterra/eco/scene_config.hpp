@@ -21,7 +21,7 @@ std::string competition_name(Competition c);
 
 struct InitialPlants {
     enum class Kind { bare, random, file } kind = Kind::bare;
-    double stems_per_ha = 0;    ///< random: stem density
+    double stems_per_ha = 500;  ///< random: stem density
     double max_dbh_m = 0.3;     ///< random: diameters uniform in [recruit dbh, max]
     std::filesystem::path file; ///< file: CSV with x_m,y_m,species,dbh_cm[,age_yr]
 };
@@ -42,6 +42,12 @@ struct EcoScene {
     std::uint64_t seed = 1;
     nlohmann::json resolved;
 };
+
+/// The scene keys of sections "vegetation" and "simulation" of an ecosystem scene (the
+/// hydrology sections are hydro::*_catalog()), and of vegetation.initial.random.
+const ParamCatalog<EcoScene>& vegetation_catalog();
+const ParamCatalog<EcoScene>& eco_simulation_catalog();
+const ParamCatalog<InitialPlants>& initial_random_catalog();
 
 EcoScene load_eco_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
 

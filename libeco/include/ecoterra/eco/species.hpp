@@ -9,6 +9,7 @@
 // accepted and ignored, and every physiology value that is not given takes a default derived from
 // the MAVS keys or a documented literature value; the loader lists each such default in
 // `notes`. docs/ecosystem.md gives every parameter's meaning, unit and source.
+#include "ecoterra/catalog.hpp"
 #include "ecoterra/hydro/soil.hpp"
 
 #include <nlohmann/json.hpp>
@@ -110,5 +111,10 @@ EcosystemDef parse_ecosystem(const nlohmann::json& j, const std::string& source)
 
 /// The species as JSON with every parameter (the resolved form stored in outputs).
 nlohmann::json species_to_json(const Species& s);
+
+/// The keys of a species entry: MAVS's own (top level, with spaces) and ecoterra's
+/// "physiology" block (every key, unit, default and range).
+const ParamCatalog<Species>& mavs_species_catalog();
+const ParamCatalog<Species>& physiology_catalog();
 
 } // namespace ecoterra::eco

@@ -23,6 +23,7 @@
 //  6. Groundwater (optional): see groundwater.hpp.
 // Budget (m3, whole domain): rain = evaporation + transpiration + runoff out + groundwater out
 // + d(soil) + d(surface) + d(groundwater) + residual.
+#include "ecoterra/catalog.hpp"
 #include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/hydro/runoff.hpp"
@@ -55,6 +56,9 @@ struct HydrologyOptions {
     void validate() const;
 };
 
+/// The scene keys of section "hydrology" (every key, unit, default and range).
+const ParamCatalog<HydrologyOptions>& hydrology_catalog();
+
 /// One day's water over the domain, m3.
 struct DailyFluxes {
     double rain = 0, evaporation = 0, transpiration = 0, infiltration = 0, runoff_out = 0;
@@ -63,16 +67,16 @@ struct DailyFluxes {
     double residual = 0;
 };
 
-/// The daily water-budget series written by every run: 14 columns, the first three (day, year,
-/// day_of_year) counts, the rest in mm/day over the whole domain.
-inline constexpr int kBudgetColumns = 14;
-struct BudgetColumn {
-    const char* name;
-    const char* description;
+/// One row of the daily water-budget series written by every run: the calendar, then the budget
+/// terms in mm/day over the whole domain.
+struct BudgetRow {
+    double day = 0, year = 0, day_of_year = 0;
+    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, infiltration_mm = 0,
+           runoff_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0, d_soil_storage_mm = 0,
+           d_surface_storage_mm = 0, d_groundwater_storage_mm = 0, residual_mm = 0;
 };
-const std::array<BudgetColumn, kBudgetColumns>& daily_budget_columns();
-std::array<double, kBudgetColumns> daily_budget_row(int day, const DayWeather& w,
-                                                    const DailyFluxes& f, double domain_m2);
+const std::vector<Column<BudgetRow>>& daily_budget_columns();
+BudgetRow daily_budget_row(int day, const DayWeather& w, const DailyFluxes& f, double domain_m2);
 
 /// The ET functions' view of a generated or observed day at the climate's site.
 et::DailyWeather et_weather(const DayWeather& w, const Climate& c);

@@ -46,7 +46,4 @@ int hydrologic_soil_group(Texture t);
 /// vegetation density.
 double curve_number(double vegetation_density, Texture t);
 
-/// The folder holding ecoterra's data files: $ECOTERRA_DATA if set, else the source tree's data/.
-std::filesystem::path data_dir();
-
 } // namespace ecoterra::hydro

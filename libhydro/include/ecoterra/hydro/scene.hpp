@@ -26,6 +26,9 @@ struct HydroScene {
     nlohmann::json resolved; ///< the scene with defaults filled in
 };
 
+/// The scene keys of section "simulation" of a hydrology scene.
+const ParamCatalog<HydroScene>& hydro_simulation_catalog();
+
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.
 HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
 
@@ -47,8 +50,7 @@ struct HydroRunSummary {
 void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil);
 
 /// Writes the daily budget series under /series/daily/.
-void write_budget_series(terrain::io::Hdf5Writer& h5,
-                         const std::vector<double> (&series)[kBudgetColumns]);
+void write_budget_series(terrain::io::Hdf5Writer& h5, const std::vector<BudgetRow>& rows);
 
 HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
                                 const nlohmann::json& provenance,

@@ -18,6 +18,7 @@
 // 1998) ch. 3 recommends and every fill is counted: humidity from Tdew = Tmin, radiation from
 // Hargreaves' Rs = 0.16 sqrt(Tmax - Tmin) Ra, wind 2 m/s; missing temperatures are interpolated
 // linearly between the nearest observed days; missing rain is taken as 0.
+#include "ecoterra/catalog.hpp"
 #include "ecoterra/random.hpp"
 
 #include <filesystem>
@@ -59,10 +60,16 @@ struct Climate {
     double expected_annual_rain_mm() const;
 };
 
-/// Presets: "humid_subtropical" (the paper's forest, about 62 in = 1575 mm a year),
-/// "semi_arid_desert" (about 300 mm, summer monsoon), "temperate" (about 800 mm).
+/// The generator's parameters as scene keys (section "climate"): key, unit, default, range.
+const ParamCatalog<Climate>& climate_catalog();
+
+/// Presets are data files, data/climates/NAME.json (every catalogue key, plus "description"):
+/// "humid_subtropical" (the paper's forest, about 62 in = 1575 mm a year), "semi_arid_desert"
+/// (about 300 mm, summer monsoon), "temperate" (about 800 mm).
 Climate climate_preset(const std::string& name);
 std::vector<std::string> climate_presets();
+/// Reads a climate file (strict: unknown keys are errors); its name is the file's stem.
+Climate load_climate_file(const std::filesystem::path& path);
 
 class WeatherGenerator {
 public:

@@ -1,0 +1,79 @@
+#pragma once
+// The output groups of an ecosystem run as catalogues: each column's name, unit, type and
+// description written once, and the writers and readers follow from them (docs/parameters.md
+// lists them, `ecoterra describe outputs` prints them).
+//
+//   /snapshots/NNNN/plants/*   plant_columns(), one row per live plant (PlantRecord)
+//   /series/yearly/*           yearly_columns(), one row per simulated year (YearRow)
+//   /series/daily/*            hydro::daily_budget_columns(), one row per day
+//   stem CSV                   stem_csv_columns() (`ecoterra export vegetation`)
+#include "ecoterra/catalog.hpp"
+#include "ecoterra/eco/plant.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ecoterra::eco {
+
+/// What a snapshot stores of one plant.
+struct PlantRecord {
+    std::int64_t id = 0;
+    std::int32_t species = 0;
+    double x_m = 0, y_m = 0, z_m = 0, height_m = 0, dbh_m = 0, crown_radius_m = 0, age_yr = 0,
+           carbohydrate_kg = 0;
+};
+PlantRecord plant_record(const Plant& p);
+const std::vector<Column<PlantRecord>>& plant_columns();
+
+/// One year of the yearly series.
+struct YearRow {
+    double year = 0, basal_area_m2_per_ha = 0, stems_per_ha = 0, mean_dbh_m = 0,
+           quadratic_mean_dbh_m = 0, reineke_sdi_per_ha = 0, live_plants = 0, births = 0,
+           deaths_starvation = 0, deaths_age = 0, deaths_background = 0, deaths_suppression = 0,
+           deaths_overlap = 0, seeds_dispersed = 0, seeds_lost_outside = 0, production_kg = 0,
+           maintenance_respiration_kg = 0, growth_respiration_kg = 0, recruit_carbon_kg = 0,
+           dead_carbon_kg = 0, wood_stock_kg = 0, reserve_stock_kg = 0, carbon_residual_kg = 0,
+           transpiration_demand_mm = 0, transpiration_supplied_mm = 0;
+};
+const std::vector<Column<YearRow>>& yearly_columns();
+
+/// A column of the stem CSV: its text for one plant, given the run's species names.
+struct StemCsvColumn {
+    std::string name, unit, description;
+    std::string (*text)(const PlantRecord&, const std::vector<std::string>& species);
+};
+const std::vector<StemCsvColumn>& stem_csv_columns();
+/// The stem CSV of a snapshot's plants (header line, then one row per plant).
+std::string stem_csv(const std::vector<PlantRecord>& plants,
+                     const std::vector<std::string>& species);
+
+/// A table of equal-length double columns with names, units and descriptions, built from a
+/// column catalogue and filled a whole row at a time.
+struct Table {
+    std::vector<std::string> names, units, descriptions;
+    std::vector<std::vector<double>> columns;
+    template <class R>
+    static Table of(const std::vector<Column<R>>& cols) {
+        Table t;
+        for (const auto& c : cols) {
+            t.names.push_back(c.name);
+            t.units.push_back(c.unit);
+            t.descriptions.push_back(c.description);
+            t.columns.emplace_back();
+        }
+        return t;
+    }
+    template <class R>
+    void push(const R& row, const std::vector<Column<R>>& cols) {
+        if (cols.size() != columns.size())
+            throw Error("table: a row of " + std::to_string(cols.size()) + " columns pushed into " +
+                        std::to_string(columns.size()));
+        for (std::size_t k = 0; k < cols.size(); ++k) columns[k].push_back(cols[k].get(row));
+    }
+    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
+    /// The column called `name`; Error if there is none.
+    const std::vector<double>& column(const std::string& name) const;
+};
+
+} // namespace ecoterra::eco

@@ -2,6 +2,7 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/eco/describe.hpp"
 #include "ecoterra/eco/run_file.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/json_util.hpp"
@@ -201,6 +202,15 @@ void add_eco_commands(CLI::App& app) {
         ->capture_default_str();
     stand->add_option("--json", s->json_out, "also write the metrics as JSON");
     stand->callback([s] { run_stand(*s); });
+
+    auto d = std::make_shared<std::pair<std::string, bool>>("all", false);
+    CLI::App* desc = app.add_subcommand(
+        "describe", "every key of scenes, species and terrain generators, and every output column, "
+                    "with unit, default and range");
+    desc->add_option("topic", d->first, "scene, species, terrain, outputs or all")
+        ->capture_default_str();
+    desc->add_flag("--markdown", d->second, "Markdown tables (as docs/parameters.md)");
+    desc->callback([d] { std::fputs(eco::describe(d->first, d->second).c_str(), stdout); });
 
     auto e = std::make_shared<ExportArgs>();
     CLI::App* exp = app.add_subcommand("export", "export run contents");

@@ -18,10 +18,6 @@ using nlohmann::json;
 /// Largest grid side accepted before the memory check (keeps nx * ny within int64 products).
 constexpr long long kMaxSide = 1LL << 20;
 
-const std::vector<std::string> kMultifractalKeys = {
-    "low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"};
-const std::vector<std::string> kFbmKeys = {"hurst", "D", "rms_m"};
-
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 const ParamCatalog<WMParams>& wm_fields() {
@@ -85,6 +81,27 @@ const ParamCatalog<VariableSurfaceParams>& variable_fields() {
     return c;
 }
 
+const ParamCatalog<MultifractalParams>& multifractal_fields() {
+    using P = MultifractalParams;
+    static const ParamCatalog<P> c(
+        "params",
+        {number<P>("filter_sigma_m", &P::filter_sigma_m, "m", 0, kInf,
+                   "Gaussian low-pass standard deviation (0 = no filter)"),
+         number<P>("relief_m", &P::relief_m, "m", 0, kInf, "total relief (max - min), > 0"),
+         number<P>("base_elevation_m", &P::base_elevation_m, "m", -kInf, kInf,
+                   "elevation of the lowest cell")});
+    return c;
+}
+
+const ParamCatalog<FbmParams>& fbm_fields() {
+    using P = FbmParams;
+    static const ParamCatalog<P> c(
+        "params", {number<P>("hurst", &P::hurst, "1", 0, 1,
+                             "Hurst exponent H, strictly between 0 and 1 (or give D = 3 - H)"),
+                   number<P>("rms_m", &P::rms_m, "m", 0, kInf, "RMS height about the mean, > 0")});
+    return c;
+}
+
 json wm_json(const WMParams& p) {
     return wm_fields().to_json(p);
 }
@@ -96,17 +113,17 @@ WMParams wm_from(const json& j, WMParams d, const std::string& where) {
 }
 
 json multifractal_json(const MultifractalParams& p) {
-    return {{"low", wm_json(p.low)},   {"mid", wm_json(p.mid)},
-            {"high", wm_json(p.high)}, {"filter_sigma_m", p.filter_sigma_m},
-            {"relief_m", p.relief_m},  {"base_elevation_m", p.base_elevation_m}};
+    json j = multifractal_fields().to_json(p);
+    j["low"] = wm_json(p.low);
+    j["mid"] = wm_json(p.mid);
+    j["high"] = wm_json(p.high);
+    return j;
 }
 
 MultifractalParams multifractal_from(const json& j, const std::string& where) {
-    require_known_keys(
-        j, {"low", "mid", "high", "d_high", "filter_sigma_m", "relief_m", "base_elevation_m"},
-        where);
-    MultifractalParams d;
-    MultifractalParams p = d;
+    const MultifractalParams d;
+    MultifractalParams p =
+        multifractal_fields().read(j, d, {"low", "mid", "high", "d_high"}, where);
     if (j.contains("low")) p.low = wm_from(j["low"], d.low, where + ".low");
     if (j.contains("mid")) p.mid = wm_from(j["mid"], d.mid, where + ".mid");
     if (j.contains("high")) p.high = wm_from(j["high"], d.high, where + ".high");
@@ -116,9 +133,6 @@ MultifractalParams multifractal_from(const json& j, const std::string& where) {
         p.high.D = get_number(j, "d_high", d.high.D, where);
         validate(p.high);
     }
-    p.filter_sigma_m = get_number(j, "filter_sigma_m", d.filter_sigma_m, where);
-    p.relief_m = get_number(j, "relief_m", d.relief_m, where);
-    p.base_elevation_m = get_number(j, "base_elevation_m", d.base_elevation_m, where);
     validate(p);
     return p;
 }
@@ -149,19 +163,21 @@ VariableSurfaceParams variable_from(const json& j, const std::string& where) {
 }
 
 json fbm_json(const FbmParams& p) {
-    return {{"hurst", p.hurst}, {"D", 3.0 - p.hurst}, {"rms_m", p.rms_m}};
+    json j = fbm_fields().to_json(p);
+    j["D"] = 3.0 - p.hurst;
+    return j;
 }
 FbmParams fbm_from(const json& j, const std::string& where) {
-    require_known_keys(j, kFbmKeys, where);
-    FbmParams d, p;
-    const double rms = get_number(j, "rms_m", d.rms_m, where);
+    const FbmParams d;
+    FbmParams p = fbm_fields().read(j, d, {"D"}, where);
+    const double rms = p.rms_m;
     if (j.contains("D") && j.contains("hurst") &&
         std::abs(j["D"].get<double>() + j["hurst"].get<double>() - 3.0) > 1e-12)
         throw InputError(where + ": D and hurst disagree (D = 3 - hurst); give one");
     if (j.contains("D"))
         p = FbmParams::from_dimension(get_number(j, "D", 2.3, where), rms);
     else
-        p = FbmParams{get_number(j, "hurst", d.hurst, where), rms};
+        p = FbmParams{p.hurst, rms};
     validate(p);
     return p;
 }
@@ -249,13 +265,40 @@ json resolve_terrain_spec(const json& spec) {
 }
 
 std::vector<std::string> terrain_param_keys(const std::string& method) {
-    if (method == "multifractal") return kMultifractalKeys;
+    if (method == "multifractal")
+        return multifractal_fields().keys_at("", {"low", "mid", "high", "d_high"});
     if (method == "wm") return wm_fields().keys_at("");
     if (method == "perlin") return perlin_fields().keys_at("");
     if (method == "gaussian") return gaussian_fields().keys_at("");
     if (method == "variable") return variable_fields().keys_at("");
-    if (method == "fbm") return kFbmKeys;
+    if (method == "fbm") return fbm_fields().keys_at("", {"D"});
     throw InputError("unknown method '" + method + "'");
+}
+
+std::vector<std::pair<std::string, std::vector<ParamInfo>>> describe_terrain_params() {
+    std::vector<std::pair<std::string, std::vector<ParamInfo>>> out;
+    auto wm = describe(wm_fields(), WMParams{});
+    auto mf = describe(multifractal_fields(), MultifractalParams{});
+    const MultifractalParams md;
+    for (const auto& [layer, w] : {std::pair<const char*, const WMParams*>{"low", &md.low},
+                                   {"mid", &md.mid},
+                                   {"high", &md.high}})
+        for (auto i : describe(wm_fields(), *w)) {
+            i.key = "params." + std::string(layer) + "." + i.key.substr(7);
+            i.description = std::string(layer) + " layer: " + i.description;
+            mf.push_back(std::move(i));
+        }
+    mf.push_back({"params.d_high", "1", format_number(md.high.D), "[2, 3]",
+                  "shorthand for params.high.D (the paper's D_high)"});
+    auto fbm = describe(fbm_fields(), FbmParams{});
+    fbm.push_back({"params.D", "1", "3 - hurst", "[2, 3]", "fractal dimension; give D or hurst"});
+    out.emplace_back("multifractal", std::move(mf));
+    out.emplace_back("wm", std::move(wm));
+    out.emplace_back("perlin", describe(perlin_fields(), PerlinSurfaceParams{}));
+    out.emplace_back("gaussian", describe(gaussian_fields(), GaussianSurfaceParams{}));
+    out.emplace_back("variable", describe(variable_fields(), VariableSurfaceParams{}));
+    out.emplace_back("fbm", std::move(fbm));
+    return out;
 }
 
 GeneratedTerrain generate_terrain(const json& spec) {

@@ -11,6 +11,8 @@
 // }
 #include "ecoterra/terrain/raster.hpp"
 
+#include "ecoterra/catalog.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -28,6 +30,9 @@ struct GeneratedTerrain {
 /// The methods and the parameter keys each accepts.
 const std::vector<std::string>& terrain_methods();
 std::vector<std::string> terrain_param_keys(const std::string& method);
+/// Every generator parameter per method (key, unit, default, range, description), for
+/// `ecoterra describe terrain` and docs/parameters.md.
+std::vector<std::pair<std::string, std::vector<ParamInfo>>> describe_terrain_params();
 
 /// Fills defaults (including a preset's) and checks every key and range; throws InputError.
 nlohmann::json resolve_terrain_spec(const nlohmann::json& spec);

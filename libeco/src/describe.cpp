@@ -1,0 +1,181 @@
+#include "ecoterra/eco/describe.hpp"
+
+#include "ecoterra/catalog.hpp"
+#include "ecoterra/eco/outputs.hpp"
+#include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/hydro/scene.hpp"
+#include "ecoterra/terrain/generate.hpp"
+
+#include <algorithm>
+
+namespace ecoterra::eco {
+
+namespace {
+
+struct Section {
+    std::string title, note;
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+};
+
+Section params(std::string title, std::string note, const std::vector<ParamInfo>& info) {
+    Section s{
+        std::move(title), std::move(note), {"key", "unit", "default", "range", "meaning"}, {}};
+    for (const auto& i : info)
+        s.rows.push_back({i.key, i.unit, i.default_value, i.range, i.description});
+    return s;
+}
+
+template <class R>
+Section columns(std::string title, std::string note, const std::string& group,
+                const std::vector<Column<R>>& cols) {
+    Section s{std::move(title), std::move(note), {"name", "unit", "type", "meaning"}, {}};
+    for (const auto& i : describe(group, cols))
+        s.rows.push_back({i.name, i.unit, i.type, i.description});
+    return s;
+}
+
+std::vector<Section> scene_sections() {
+    hydro::HydroScene h;
+    EcoScene e;
+    return {
+        params("Scene: climate",
+               "Defaults are the humid_subtropical preset's; any key overrides the preset "
+               "(climate.preset, data/climates/NAME.json).",
+               describe(hydro::climate_catalog(), hydro::climate_preset("humid_subtropical"))),
+        params("Scene: hydrology", "",
+               describe(hydro::hydrology_catalog(), hydro::HydrologyOptions{})),
+        params("Scene: simulation (ecoterra hydro run)", "",
+               describe(hydro::hydro_simulation_catalog(), h)),
+        params("Scene: vegetation (ecoterra run)",
+               "Besides vegetation.ecosystem (required) and vegetation.initial (docs/formats.md).",
+               describe(vegetation_catalog(), e)),
+        params("Scene: vegetation.initial.random (ecoterra run)", "",
+               describe(initial_random_catalog(), InitialPlants{})),
+        params("Scene: simulation (ecoterra run)", "", describe(eco_simulation_catalog(), e)),
+    };
+}
+
+std::vector<Section> species_sections() {
+    const Species d;
+    return {params("Species: MAVS keys",
+                   "The keys of a MAVS ecosystem species, read as MAVS reads them.",
+                   describe(mavs_species_catalog(), d)),
+            params("Species: physiology", "ecoterra's own block; every key is optional.",
+                   describe(physiology_catalog(), d))};
+}
+
+std::vector<Section> terrain_sections() {
+    std::vector<Section> out;
+    for (const auto& [method, info] : terrain::describe_terrain_params())
+        out.push_back(params("Terrain generator: " + method, "", info));
+    return out;
+}
+
+std::vector<Section> output_sections() {
+    return {
+        columns("Output: snapshot plants", "One row per live plant.", "/snapshots/NNNN/plants/",
+                plant_columns()),
+        columns("Output: yearly series", "One row per simulated year.", "/series/yearly/",
+                yearly_columns()),
+        columns("Output: daily series", "One row per day; the water budget over the whole domain.",
+                "/series/daily/", hydro::daily_budget_columns()),
+        [] {
+            Section s{"Output: stem CSV (ecoterra export vegetation)",
+                      "One row per plant.",
+                      {"name", "unit", "type", "meaning"},
+                      {}};
+            for (const auto& c : stem_csv_columns())
+                s.rows.push_back(
+                    {c.name, c.unit, c.name == "species" ? "text" : "float64", c.description});
+            return s;
+        }(),
+    };
+}
+
+std::string markdown(const std::vector<Section>& sections) {
+    std::string out;
+    for (const auto& s : sections) {
+        out += "## " + s.title + "\n\n";
+        if (!s.note.empty()) out += s.note + "\n\n";
+        auto row = [&](const std::vector<std::string>& cells) {
+            out += "|";
+            for (const auto& c : cells) {
+                std::string v = c;
+                std::replace(v.begin(), v.end(), '|', '/');
+                out += " " + v + " |";
+            }
+            out += "\n";
+        };
+        row(s.header);
+        out += "|";
+        for (std::size_t k = 0; k < s.header.size(); ++k) out += "---|";
+        out += "\n";
+        for (const auto& r : s.rows) {
+            auto cells = r;
+            cells[0] = "`" + cells[0] + "`";
+            row(cells);
+        }
+        out += "\n";
+    }
+    return out;
+}
+
+std::string text(const std::vector<Section>& sections) {
+    std::string out;
+    for (const auto& s : sections) {
+        out += s.title + "\n";
+        if (!s.note.empty()) out += "  " + s.note + "\n";
+        std::vector<std::size_t> width(s.header.size(), 0);
+        for (std::size_t k = 0; k + 1 < s.header.size(); ++k) {
+            width[k] = s.header[k].size();
+            for (const auto& r : s.rows) width[k] = std::max(width[k], r[k].size());
+        }
+        auto row = [&](const std::vector<std::string>& cells) {
+            out += "  ";
+            for (std::size_t k = 0; k < cells.size(); ++k) {
+                out += cells[k];
+                if (k + 1 < cells.size()) out += std::string(width[k] - cells[k].size() + 2, ' ');
+            }
+            out += "\n";
+        };
+        row(s.header);
+        for (const auto& r : s.rows) row(r);
+        out += "\n";
+    }
+    return out;
+}
+
+} // namespace
+
+std::vector<std::string> describe_topics() {
+    return {"scene", "species", "terrain", "outputs", "all"};
+}
+
+std::string describe(const std::string& topic, bool md) {
+    std::vector<Section> s;
+    auto add = [&](std::vector<Section> more) {
+        for (auto& x : more) s.push_back(std::move(x));
+    };
+    if (topic == "scene" || topic == "all") add(scene_sections());
+    if (topic == "species" || topic == "all") add(species_sections());
+    if (topic == "terrain" || topic == "all") add(terrain_sections());
+    if (topic == "outputs" || topic == "all") add(output_sections());
+    if (s.empty())
+        throw InputError("describe: unknown topic '" + topic +
+                         "' (scene, species, terrain, outputs or all; vehicle files come with "
+                         "`ecoterra mobility`)");
+    if (!md) return text(s);
+    if (topic != "all") return markdown(s);
+    return "# Parameters and output columns\n\n"
+           "Every scene key, species key and terrain-generator parameter with its unit, default "
+           "and valid range, and every output column with its unit and type. Generated from the "
+           "catalogues in the code by `ecoterra describe all --markdown`; a test fails when this "
+           "file and the code differ. The structure of the files (which sections exist, "
+           "`terrain.generate` or `terrain.file`, `soil.*`, `vegetation.initial`) is in "
+           "[formats.md](formats.md).\n\n" +
+           markdown(s);
+}
+
+} // namespace ecoterra::eco

@@ -1,0 +1,256 @@
+// The catalogues as properties: every key of every parameter catalogue, set to a value other than
+// its default, survives the resolved JSON a run stores and the scene that resume rebuilds from it;
+// every output column is written and read back; docs/parameters.md is what the catalogues say.
+#include "support/run_cli.hpp"
+#include "support/scenes.hpp"
+#include "support/temp_dir.hpp"
+
+#include "ecoterra/eco/describe.hpp"
+#include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/hydro/scene.hpp"
+#include "ecoterra/terrain/generate.hpp"
+
+#include <H5Cpp.h>
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+
+using namespace ecoterra;
+using nlohmann::json;
+
+namespace {
+
+/// Values to try for a parameter other than its default: the range's ends and middle, the other
+/// choices, the other flag value.
+template <class S>
+std::vector<json> other_values(const Param<S>& p, const json& current) {
+    std::vector<json> v;
+    switch (p.kind) {
+    case ParamKind::number:
+    case ParamKind::integer: {
+        const double lo = std::isfinite(p.min) ? p.min : -1e3;
+        const double hi = std::isfinite(p.max) ? p.max : 1e3;
+        for (double x : {lo, hi, 0.5 * (lo + hi), lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo),
+                         0.25 * (lo + hi)}) {
+            if (p.kind == ParamKind::integer) x = std::round(x);
+            if (p.kind == ParamKind::integer ? json(static_cast<long long>(x)) != current
+                                             : json(x) != current)
+                v.push_back(p.kind == ParamKind::integer ? json(static_cast<long long>(x))
+                                                         : json(x));
+        }
+        break;
+    }
+    case ParamKind::flag:
+        v.push_back(!current.get<bool>());
+        break;
+    case ParamKind::choice:
+        for (const auto& c : p.choices)
+            if (json(c) != current) v.push_back(c);
+        break;
+    case ParamKind::text:
+        v.push_back(current.get<std::string>() + "_other");
+        break;
+    }
+    return v;
+}
+
+json* at_path(json& j, const std::string& dotted) {
+    json* node = &j;
+    std::size_t start = 0;
+    for (;;) {
+        const auto dot = dotted.find('.', start);
+        node = &(*node)[dotted.substr(start, dot - start)];
+        if (dot == std::string::npos) return node;
+        start = dot + 1;
+    }
+}
+
+/// For each key of catalogue `c` (section `section` of the scene): some other value loads,
+/// appears in the resolved scene, and the scene rebuilt from the resolved JSON (as resume does)
+/// has the same value and the same resolved JSON.
+template <class S, class Load, class Get>
+void check_scene_catalog(const ParamCatalog<S>& c, const json& base, Load load, Get get) {
+    const auto base_scene = load(base);
+    for (const auto& p : c.params()) {
+        const std::string key = c.section() + "." + p.key;
+        const json current = p.get(get(base_scene));
+        bool tried = false;
+        for (const json& v : other_values(p, current)) {
+            json scene = base;
+            *at_path(scene, key) = v;
+            try {
+                const auto first = load(scene);
+                json resolved = first.resolved;
+                INFO(key << " = " << v.dump());
+                CHECK(*at_path(resolved, key) == v);
+                const auto again = load(resolved);
+                CHECK(again.resolved == resolved);
+                CHECK(p.get(get(again)) == v);
+                tried = true;
+                break;
+            } catch (const InputError&) {
+                // Another key limits this one (a cross-key rule): try the next value.
+            }
+        }
+        INFO(key << ": no value other than the default " << current.dump() << " loads");
+        CHECK(tried);
+    }
+}
+
+json read_json_file(const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return json::parse(ss.str());
+}
+
+} // namespace
+
+TEST_CASE("every scene key round-trips through the resolved scene and a resume") {
+    test::TempDir dir;
+    // Small grid so that each load is quick.
+    json eco_base = test::small_scene(1);
+    eco_base["terrain"]["generate"]["size"] = 8;
+    auto load_eco = [&](const json& s) { return eco::load_eco_scene(s, dir.path()); };
+    auto eco_self = [](const eco::EcoScene& e) -> const eco::EcoScene& { return e; };
+    auto hydro_opts = [](const eco::EcoScene& e) -> const hydro::HydrologyOptions& {
+        return e.hydro.options;
+    };
+    auto climate = [](const eco::EcoScene& e) -> const hydro::Climate& { return e.hydro.climate; };
+    check_scene_catalog(eco::vegetation_catalog(), eco_base, load_eco, eco_self);
+    check_scene_catalog(eco::eco_simulation_catalog(), eco_base, load_eco, eco_self);
+    check_scene_catalog(hydro::hydrology_catalog(), eco_base, load_eco, hydro_opts);
+    check_scene_catalog(hydro::climate_catalog(), eco_base, load_eco, climate);
+    // vegetation.initial.random below its own section.
+    auto initial = [](const eco::EcoScene& e) -> const eco::InitialPlants& { return e.initial; };
+    check_scene_catalog(eco::initial_random_catalog(), eco_base, load_eco, initial);
+
+    json hydro_base = eco_base;
+    hydro_base.erase("vegetation");
+    hydro_base["simulation"].erase("snapshot_interval_years");
+    auto load_hydro = [&](const json& s) { return hydro::load_hydro_scene(s, dir.path()); };
+    auto hydro_self = [](const hydro::HydroScene& h) -> const hydro::HydroScene& { return h; };
+    check_scene_catalog(hydro::hydro_simulation_catalog(), hydro_base, load_hydro, hydro_self);
+}
+
+TEST_CASE("every species key round-trips through the species JSON a run stores") {
+    const json eco_file = read_json_file(test::data_dir() / "ecosystems/southwest_desert.json");
+    for (const auto* cat : {&eco::mavs_species_catalog(), &eco::physiology_catalog()}) {
+        const auto def = eco::parse_ecosystem(eco_file, "eco.json");
+        const eco::Species& s0 = def.species.front();
+        for (const auto& p : cat->params()) {
+            const std::string key = cat->section().empty() ? p.key : cat->section() + "." + p.key;
+            bool tried = false;
+            for (const json& v : other_values(p, p.get(s0))) {
+                json f = eco_file;
+                *at_path(f["Species"][0], key) = v;
+                try {
+                    const auto a = eco::parse_ecosystem(f, "eco.json");
+                    const json stored = eco::species_to_json(a.species.front());
+                    INFO(key << " = " << v.dump());
+                    CHECK(*at_path(const_cast<json&>(stored), key) == v);
+                    json again_file = eco_file;
+                    again_file["Species"][0] = stored;
+                    const auto b = eco::parse_ecosystem(again_file, "eco.json");
+                    CHECK(eco::species_to_json(b.species.front()) == stored);
+                    tried = true;
+                    break;
+                } catch (const InputError&) {
+                }
+            }
+            INFO(key << ": no value other than the default loads");
+            CHECK(tried);
+        }
+    }
+}
+
+TEST_CASE("every terrain generator key round-trips through the resolved specification") {
+    for (const auto& [method, info] : terrain::describe_terrain_params()) {
+        const json base = {{"method", method}, {"size", 8}, {"cell_size_m", 1.0}};
+        const json resolved = terrain::resolve_terrain_spec(base);
+        // The resolved specification is a fixed point: resolving it again changes nothing.
+        CHECK(terrain::resolve_terrain_spec(resolved) == resolved);
+        for (const auto& i : info) {
+            if (i.key == "params.D" || i.key == "params.d_high") continue; // aliases
+            INFO(method << " " << i.key);
+            CHECK(at_path(const_cast<json&>(resolved), i.key)->is_null() == false);
+        }
+    }
+}
+
+TEST_CASE("every output column is written and read back") {
+    test::TempDir dir;
+    const auto scene = eco::load_eco_scene(test::small_scene(2), dir.path());
+    eco::RunOptions opt;
+    opt.output = dir / "run.h5";
+    opt.pictures = false;
+    opt.provenance = {{"software", "ecoterra"}, {"version", "test"}};
+    eco::run_ecosystem(&scene, opt);
+    // The same run in memory.
+    eco::Ecosystem e(scene);
+    e.run_year();
+    e.run_year();
+    // Snapshot plants: every column, every plant.
+    const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
+    REQUIRE(snap.plants.size() == e.plants().size());
+    REQUIRE(!snap.plants.empty());
+    for (const auto& c : eco::plant_columns()) {
+        INFO("plant column " << c.name);
+        std::vector<double> expect;
+        for (const auto& p : e.plants()) expect.push_back(c.get(eco::plant_record(p)));
+        CHECK(snap.values(c.name) == expect);
+    }
+    // Yearly and daily series: every column with its unit.
+    H5::H5File f((dir / "run.h5").string(), H5F_ACC_RDONLY);
+    auto check_table = [&](const std::string& group, const eco::Table& t) {
+        REQUIRE(t.rows() > 0);
+        for (std::size_t k = 0; k < t.names.size(); ++k) {
+            INFO(group << "/" << t.names[k]);
+            H5::DataSet ds = f.openDataSet(group + "/" + t.names[k]);
+            hsize_t n = 0;
+            ds.getSpace().getSimpleExtentDims(&n);
+            std::vector<double> v(n);
+            ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+            CHECK(v == t.columns[k]);
+            std::string unit;
+            H5::Attribute a = ds.openAttribute("units");
+            a.read(a.getStrType(), unit);
+            CHECK(unit == t.units[k]);
+        }
+    };
+    check_table("/series/yearly", e.yearly());
+    check_table("/series/daily", e.daily());
+    CHECK(e.yearly().names.size() == eco::yearly_columns().size());
+    // The stem CSV: the catalogue's header and one row per plant.
+    const std::string csv = eco::stem_csv(snap.plants, {"a", "b", "c", "d", "e", "f"});
+    std::string header;
+    for (const auto& c : eco::stem_csv_columns()) header += (header.empty() ? "" : ",") + c.name;
+    CHECK(csv.substr(0, csv.find('\n')) == header);
+    CHECK(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')) ==
+          snap.plants.size() + 1);
+}
+
+TEST_CASE("docs/parameters.md is what the catalogues say") {
+    std::ifstream f(std::filesystem::path(ECOTERRA_DATA_DIR) / "../docs/parameters.md");
+    REQUIRE(f.good());
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string expected = eco::describe("all", true);
+    INFO("regenerate with: ecoterra describe all --markdown > docs/parameters.md");
+    CHECK(ss.str() == expected);
+}
+
+TEST_CASE("ecoterra describe prints the catalogues and refuses unknown topics") {
+    test::TempDir dir;
+    const auto ok = test::run(dir, "describe scene");
+    CHECK(ok.code == 0);
+    CHECK_THAT(ok.out, Catch::Contains("hydrology.root_zone_depth_m") &&
+                           Catch::Contains("[0.01, 10]") && Catch::Contains("vegetation.shading"));
+    const auto bad = test::run(dir, "describe vehicles");
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.out, Catch::Contains("unknown topic 'vehicles'"));
+}

@@ -16,7 +16,6 @@ namespace ecoterra::eco {
 
 namespace {
 constexpr double kMmPerM = 1000.0;
-constexpr int kDaysPerYearInt = 365;
 /// Light-only mode: diameters approach the one at which H = 95 % of Hmax (MAVS's saturating
 /// growth curve applied to the stem, see docs/ecosystem.md s6).
 constexpr double kLightOnlyHeightFraction = 0.95;
@@ -204,7 +203,7 @@ void Ecosystem::refresh_canopy() {
     for (std::size_t k = 0; k < m_plants.size(); ++k) m_plants[k].shade_fraction = shade[k];
 }
 
-bool Ecosystem::step_day() {
+const hydro::DayWeather& Ecosystem::next_weather() {
     if (m_scene.hydro.observed) {
         // Observed weather replays its whole calendar years in a cycle.
         const auto& days = m_scene.hydro.observed->days;
@@ -212,13 +211,92 @@ bool Ecosystem::step_day() {
     } else {
         m_weather = m_gen.next();
     }
-    const auto& w = m_weather;
     ++m_days_done;
+    return m_weather;
+}
+
+void Ecosystem::plant_water_demand(double et0_m, const std::vector<double>& phen) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& hg = m_scene.hydro.dem.grid();
+    const std::size_t n = m_plants.size();
+    m_demand.assign(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Plant& p = m_plants[k];
+        if (!p.alive) continue;
+        m_demand[k] = species[p.species].transpiration_per_leaf_area * p.leaf_area_m2 *
+                      phen[p.species] * et0_m;
+    }
+    m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
+    scatter_demand(m_roots, m_demand, m_request);
+    for (std::int64_t c = 0; c < hg.size(); ++c)
+        m_request_mm.data()[c] =
+            m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
+}
+
+void Ecosystem::water_supply_fractions() {
+    const auto& hg = m_scene.hydro.dem.grid();
+    const auto& supplied = m_hydro->transpiration_supplied_mm();
+    m_ratio.assign(static_cast<std::size_t>(hg.size()), 1.0);
+    bool all_met = true;
+    for (std::int64_t c = 0; c < hg.size(); ++c) {
+        const double r = m_request_mm.data()[c];
+        if (r > 0) {
+            const double q = std::min(1.0, supplied.data()[c] / r);
+            m_ratio[static_cast<std::size_t>(c)] = q;
+            all_met = all_met && q == 1.0;
+        }
+    }
+    if (all_met)
+        m_fraction.assign(m_plants.size(), 1.0);
+    else
+        gather_supply(m_roots, m_ratio, m_fraction);
+}
+
+void Ecosystem::carbon_balance(const std::vector<double>& phen, const std::vector<double>& ftemp,
+                               double q10) {
+    const auto& species = m_scene.ecosystem.species;
+    const std::size_t n = m_plants.size();
+    std::vector<CarbonDay>& cd = m_carbon;
+    cd.assign(n, CarbonDay{});
+#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(n) >= parallel_min_items())
+    for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
+        Plant& p = m_plants[static_cast<std::size_t>(k)];
+        if (!p.alive) continue;
+        const Species& s = species[p.species];
+        const double ph = phen[p.species];
+        const double g = shade_factor(s.shade, p.shade_fraction) *
+                         water_factor(s.water, m_fraction[static_cast<std::size_t>(k)]) *
+                         p.soil_factor;
+        if (ph > 0) {
+            p.growth_sum += g;
+            p.growth_days += 1;
+        }
+        cd[static_cast<std::size_t>(k)] = carbon_day(s, p, g, ph, ftemp[p.species], q10);
+    }
+    // Sums and starvation in plant order (one order whatever the thread count).
+    for (std::size_t k = 0; k < n; ++k) {
+        m_sum.production += cd[k].production_kg;
+        m_sum.maintenance += cd[k].maintenance_kg;
+        m_sum.growth_resp += cd[k].growth_respiration_kg;
+        m_sum.demand_m3 += m_demand[k];
+        m_sum.supplied_m3 += m_demand[k] * m_fraction[k];
+        if (cd[k].starved) {
+            // Dead from today: no more demand or carbon; removed at the next refresh.
+            m_plants[k].alive = false;
+            m_sum.deaths_starvation += 1;
+        }
+    }
+}
+
+bool Ecosystem::step_day() {
+    const hydro::DayWeather& w = next_weather();
     const auto& species = m_scene.ecosystem.species;
     const auto& hg = m_scene.hydro.dem.grid();
     const bool coupled = m_scene.competition == Competition::coupled;
     hydro::DailyFluxes f;
     if (coupled) {
+        // Weather -> plant water demand -> hydrology -> supply -> carbohydrate balance, and every
+        // canopy_interval_days the structure, crowns and shading.
         const auto dw = hydro::et_weather(w, m_scene.hydro.climate);
         const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
         const double tmean = 0.5 * (w.tmin_c + w.tmax_c);
@@ -228,64 +306,10 @@ bool Ecosystem::step_day() {
             phen[s] = phenology(species[s], w.doy);
             ftemp[s] = temperature_factor(species[s], tmean);
         }
-        const std::size_t n = m_plants.size();
-        m_demand.assign(n, 0.0);
-        for (std::size_t k = 0; k < n; ++k) {
-            const Plant& p = m_plants[k];
-            if (!p.alive) continue;
-            m_demand[k] = species[p.species].transpiration_per_leaf_area * p.leaf_area_m2 *
-                          phen[p.species] * et0_m;
-        }
-        m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
-        scatter_demand(m_roots, m_demand, m_request);
-        for (std::int64_t c = 0; c < hg.size(); ++c)
-            m_request_mm.data()[c] =
-                m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
+        plant_water_demand(et0_m, phen);
         f = m_hydro->step(w, &m_request_mm);
-        const auto& supplied = m_hydro->transpiration_supplied_mm();
-        m_ratio.assign(static_cast<std::size_t>(hg.size()), 1.0);
-        bool all_met = true;
-        for (std::int64_t c = 0; c < hg.size(); ++c) {
-            const double r = m_request_mm.data()[c];
-            if (r > 0) {
-                const double q = std::min(1.0, supplied.data()[c] / r);
-                m_ratio[static_cast<std::size_t>(c)] = q;
-                all_met = all_met && q == 1.0;
-            }
-        }
-        if (all_met)
-            m_fraction.assign(n, 1.0);
-        else
-            gather_supply(m_roots, m_ratio, m_fraction);
-        std::vector<CarbonDay>& cd = m_carbon;
-        cd.assign(n, CarbonDay{});
-#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(n) >= parallel_min_items())
-        for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
-            Plant& p = m_plants[static_cast<std::size_t>(k)];
-            if (!p.alive) continue;
-            const Species& s = species[p.species];
-            const double ph = phen[p.species];
-            const double g = shade_factor(s.shade, p.shade_fraction) *
-                             water_factor(s.water, m_fraction[static_cast<std::size_t>(k)]) *
-                             p.soil_factor;
-            if (ph > 0) {
-                p.growth_sum += g;
-                p.growth_days += 1;
-            }
-            cd[static_cast<std::size_t>(k)] = carbon_day(s, p, g, ph, ftemp[p.species], q10);
-        }
-        for (std::size_t k = 0; k < n; ++k) {
-            m_sum.production += cd[k].production_kg;
-            m_sum.maintenance += cd[k].maintenance_kg;
-            m_sum.growth_resp += cd[k].growth_respiration_kg;
-            m_sum.demand_m3 += m_demand[k];
-            m_sum.supplied_m3 += m_demand[k] * m_fraction[k];
-            if (cd[k].starved) {
-                // Dead from today: no more demand or carbon; removed at the next refresh.
-                m_plants[k].alive = false;
-                m_sum.deaths_starvation += 1;
-            }
-        }
+        water_supply_fractions();
+        carbon_balance(phen, ftemp, q10);
         if (m_days_done % m_scene.canopy_interval_days == 0) refresh_canopy();
     } else {
         f = m_hydro->step(w, nullptr);
@@ -293,15 +317,17 @@ bool Ecosystem::step_day() {
     const double domain_m2 = hg.width_m() * hg.height_m();
     m_daily.push(hydro::daily_budget_row(m_days_done, w, f, domain_m2),
                  hydro::daily_budget_columns());
-    const int year_length =
-        m_scene.hydro.observed ? hydro::days_in_calendar_year(w.year) : kDaysPerYearInt;
-    if (w.doy < year_length) return false;
+    if (w.doy < year_length(w)) return false;
     if (coupled)
         year_end_coupled();
     else
         year_end_light_only();
     year_end_common();
     return true;
+}
+
+int Ecosystem::year_length(const hydro::DayWeather& w) const {
+    return m_scene.hydro.observed ? hydro::days_in_calendar_year(w.year) : hydro::kDaysPerYear;
 }
 
 void Ecosystem::run_year() {

@@ -1,6 +1,7 @@
 #include "ecoterra/hydro/hydrology.hpp"
 
 #include "ecoterra/hydro/groundwater.hpp"
+#include "ecoterra/hydro/kernels.hpp"
 #include "ecoterra/parallel.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 
@@ -13,7 +14,6 @@ namespace ecoterra::hydro {
 
 namespace {
 constexpr double kMmPerM = 1000.0;
-constexpr double kSecondsPerDay = 86400.0;
 
 /// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
 /// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close
@@ -244,164 +244,49 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
         throw InputError("the transpiration demand raster's grid does not match the terrain's");
     ++m_day;
     DailyFluxes f;
-    const auto& g = m_dem.grid();
-    const double depth = m_opt.root_zone_depth_m;
+    const std::int64_t cells = m_dem.grid().size();
     const double soil0 = soil_storage_m3(), surf0 = m_catch.total_volume_m3(),
                  gw0 = groundwater_storage_m3(), lost0 = m_catch.lost_m3();
-    // Penman demands of the day (mm).
+    // The day's Penman demands, mm.
     const et::DailyWeather dw = et_weather(w, m_climate);
     const double e0_mm = std::max(0.0, et::penman_open_water(dw, m_opt.wind));
-    const double bare_mm = et::kPenmanBareSoilFactor * e0_mm;
-    const double grass_mm = et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm;
+    const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
+                               et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
+                               m_veg.data(), m_opt.grass_density_threshold};
     const double rain_m = w.rain_mm / kMmPerM;
-    f.rain = rain_m * m_area * static_cast<double>(g.size());
-    std::vector<double>& recharge = m_recharge; // m3 per cell
-    if (m_gw) std::fill(recharge.begin(), recharge.end(), 0.0);
+    f.rain = rain_m * m_area * static_cast<double>(cells);
+    const SoilColumns soil{m_theta.data(),
+                           m_soil.field_capacity.data(),
+                           m_soil.wilting_point.data(),
+                           m_soil.ksat_m_per_s.data(),
+                           m_opt.root_zone_depth_m,
+                           m_area};
+    std::vector<double>* recharge = m_gw ? &m_recharge : nullptr; // m3 per cell
+    if (recharge) std::fill(recharge->begin(), recharge->end(), 0.0);
 
-    // 0. Standing water (as left by yesterday's equilibrium) evaporates at the open-water rate and
-    //    infiltrates into the soil under it (and percolates). The day's inflows come after, and
-    //    one equilibrium pass then settles both.
-    for (const auto& k : m_catch.catchments()) {
-        const std::int32_t id = k.id;
-        f.evaporation +=
-            m_catch.remove_water(id, e0_mm / kMmPerM * m_area * static_cast<double>(k.wet_cells));
-        m_catch.for_each_wet_cell(k, [&](std::int64_t c) {
-            if (!(k.level_m > m_dem.data()[c])) return;
-            double& th = m_theta.data()[c];
-            const double fc = m_soil.field_capacity.data()[c];
-            const double want = std::max(0.0, (fc - th) * depth * m_area);
-            const double got = m_catch.remove_water(id, want);
-            th += got / (depth * m_area);
-            f.infiltration += got;
-            if (m_gw) {
-                const double perc = m_catch.remove_water(id, m_soil.ksat_m_per_s.data()[c] *
-                                                                 kSecondsPerDay * m_area);
-                recharge[c] += perc;
-            }
-        });
-    }
-
-    const FlowDirections& fd = m_catch.flow();
+    lake_losses(m_catch, m_dem, soil, e0_mm, recharge, f.evaporation, f.infiltration);
     if (rain_m > 0) {
-        // 1. Rain on standing water joins it (its wet cells are those owner() reports).
-        for (const auto& k : m_catch.catchments())
-            m_catch.add_water_to(k.id, rain_m * m_area * static_cast<double>(k.wet_cells));
-        // 2. Rain elsewhere splits into runoff and infiltration, cell by cell in parallel.
-        std::vector<double>& runoff = m_runoff; // m3 per cell
-        const auto sums = blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) {
-            if (m_catch.owner(k) != 0) {
-                runoff[k] = 0.0;
-                return;
-            }
-            double r = 0;
-            if (m_opt.runoff == RunoffMethod::coefficients) {
-                r = m_coef.data()[k] * rain_m;
-            } else if (m_slope.data()[k] >= m_opt.flat_slope) {
-                r = scs_runoff_mm(w.rain_mm,
-                                  curve_number(m_veg.data()[k],
-                                               static_cast<Texture>(m_soil.texture.data()[k]))) /
-                    kMmPerM;
-            }
-            const double inf = rain_m - r;
-            sum[0] += inf * m_area;
-            double& th = m_theta.data()[k];
-            th += inf / depth;
-            const double fc = m_soil.field_capacity.data()[k];
-            double excess = std::max(0.0, (th - fc) * depth); // m
-            th = std::min(th, fc);
-            if (m_gw && excess > 0) {
-                const double perc =
-                    std::min(excess, m_soil.ksat_m_per_s.data()[k] * kSecondsPerDay);
-                recharge[k] += perc * m_area;
-                excess -= perc;
-            }
-            runoff[k] = (r + excess) * m_area;
-        });
-        f.infiltration += sums[0];
-
-        // 3. Run-on, every cell after the cells above it.
-        for (const std::int64_t k : m_order) {
-            double q = runoff[k];
-            if (q <= 0) continue;
-            if (fd.is_outlet(k)) {
-                m_catch.add_water(k, q); // counted as lost by the catchments
-                continue;
-            }
-            if (m_catch.owner(k) != 0) {
-                m_catch.add_water(k, q);
-                continue;
-            }
-            double& th = m_theta.data()[k];
-            const double fc = m_soil.field_capacity.data()[k];
-            const double absorb = std::min(q, std::max(0.0, (fc - th) * depth * m_area));
-            if (absorb > 0) {
-                th += absorb / (depth * m_area);
-                f.infiltration += absorb;
-                q -= absorb;
-            }
-            if (q <= 0) continue;
-            if (fd.is_pit(k)) {
-                m_catch.add_to_pit(k, q);
-                continue;
-            }
-            if (m_opt.routing != Routing::mfd) {
-                runoff[fd.receiver(k)] += q;
-                continue;
-            }
-            std::array<std::pair<std::int64_t, double>, 8> shares;
-            const int n = mfd_shares(fd, k, shares);
-            for (int r = 0; r < n; ++r) runoff[shares[r].first] += q * shares[r].second;
-        }
+        rain_on_lakes(m_catch, rain_m, m_area);
+        const RainPartition rain{
+            m_opt.runoff,   rain_m,           w.rain_mm,    m_coef.data(),
+            m_slope.data(), m_opt.flat_slope, m_veg.data(), m_soil.texture.data()};
+        partition_rain(m_catch, soil, rain, m_runoff, recharge, f.infiltration);
+        route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
-
-    // 4. Equilibrium of the standing water with the day's inflows.
     m_catch.equilibrate();
-
-    // 5. Evapotranspiration from the soil, cell by cell in parallel.
-    const auto et_sums = blocked_sums<2>(g.size(), [&](std::int64_t k, auto& sum) {
-        const double req = transp_mm ? std::max(0.0, transp_mm->data()[k]) / kMmPerM : 0.0; // m
-        const bool lake = m_catch.owner(k) != 0;
-        const double surface =
-            lake
-                ? 0.0
-                : (m_veg.data()[k] >= m_opt.grass_density_threshold ? grass_mm : bare_mm) / kMmPerM;
-        const double demand = std::max(surface, req);
-        double& th = m_theta.data()[k];
-        const double avail = std::max(0.0, (th - m_soil.wilting_point.data()[k]) * depth);
-        const double actual = std::min(demand, avail);
-        th -= actual / depth;
-        const double tr = std::min(actual, req);
-        m_transp_supplied.data()[k] = tr * kMmPerM;
-        sum[0] += tr * m_area;
-        sum[1] += (actual - tr) * m_area;
-    });
-    f.transpiration += et_sums[0];
-    f.evaporation += et_sums[1];
-
-    // 6. Groundwater.
+    evapotranspiration(m_catch, soil, cells, demand, transp_mm ? transp_mm->data() : nullptr,
+                       m_transp_supplied.data(), f.transpiration, f.evaporation);
     if (m_gw) {
         f.recharge =
-            blocked_sums<1>(g.size(), [&](std::int64_t k, auto& sum) { sum[0] += recharge[k]; })[0];
-        GroundwaterResult res;
-        try {
-            res = m_gw->step(kSecondsPerDay, recharge);
-        } catch (const Error& e) {
-            std::ostringstream msg;
-            msg << "on day " << m_day << " (year " << w.year << ", day " << w.doy
-                << "): " << e.what();
-            throw Error(msg.str());
-        }
-        f.groundwater_out = res.outflow_m3;
-        // Water table above the surface: it seeps out and joins the surface water.
-        bool seeped = false;
-        for (std::int64_t k = 0; k < g.size(); ++k)
-            if (res.seepage_m3[k] > 0) {
-                m_catch.add_water(k, res.seepage_m3[k]);
-                seeped = true;
-            }
-        if (seeped) m_catch.equilibrate();
+            blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) { sum[0] += m_recharge[k]; })[0];
+        f.groundwater_out = groundwater_exchange(*m_gw, m_catch, m_recharge, m_day, w.year, w.doy);
     }
+    close_budget(f, w, soil0, surf0, gw0, lost0);
+    return f;
+}
 
+void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0,
+                                  double gw0, double lost0) {
     f.runoff_out = m_catch.lost_m3() - lost0;
     f.d_soil = soil_storage_m3() - soil0;
     f.d_surface = m_catch.total_volume_m3() - surf0;
@@ -419,7 +304,6 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* tr
           << m_cum_throughput << " m3";
         throw Error(s.str());
     }
-    return f;
 }
 
 } // namespace ecoterra::hydro

@@ -235,7 +235,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     terrain::io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
     HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
     WeatherGenerator gen(sc.climate, sc.seed);
-    const int total = sc.observed ? static_cast<int>(sc.observed->days.size()) : 365 * sc.years;
+    const int total =
+        sc.observed ? static_cast<int>(sc.observed->days.size()) : kDaysPerYear * sc.years;
     const double domain_m2 = sc.dem.grid().width_m() * sc.dem.grid().height_m();
     std::vector<BudgetRow> series;
     HydroRunSummary sum;

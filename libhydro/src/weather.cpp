@@ -17,7 +17,6 @@ namespace ecoterra::hydro {
 
 namespace {
 
-constexpr double kDaysPerYear = 365.0;
 constexpr double kRadiationNoiseSd = 0.08; ///< of the clear-sky fraction
 constexpr double kWindGammaShape = 4.0;    ///< daily wind factor: mean 1, CV 0.5
 constexpr double kMinDiurnalRangeC = 0.5;
@@ -145,7 +144,7 @@ double WeatherGenerator::gamma(double shape) {
 }
 
 DayWeather WeatherGenerator::next() {
-    if (++m_doy > 365) {
+    if (++m_doy > kDaysPerYear) {
         m_doy = 1;
         ++m_year;
     }

@@ -50,6 +50,18 @@ public:
     void load_state(ArchiveReader& a);
 
 private:
+    // The daily processes, in the order step_day() runs them.
+    const hydro::DayWeather& next_weather();
+    /// Each plant's transpiration demand (leaf area x phenology x reference ET), spread over its
+    /// root cells into the hydrology's request (mm per cell).
+    void plant_water_demand(double et0_m, const std::vector<double>& phen);
+    /// The share of each plant's demand its root cells supplied.
+    void water_supply_fractions();
+    /// The day's carbohydrate balance of every plant; starvation.
+    void carbon_balance(const std::vector<double>& phen, const std::vector<double>& ftemp,
+                        double q10);
+    /// Days in the year of `w`: 365, or the calendar year's with observed weather.
+    int year_length(const hydro::DayWeather& w) const;
     void place_initial_plants();
     Plant new_plant(std::uint16_t species, double x, double y, double dbh_m);
     bool establishes(const Species& s, double x, double y, Rng& rng) const;

@@ -21,13 +21,14 @@
 //   reserve increment per m2 leaf over the year (kg m-2 yr-1), running mean e_bar <- e_bar +
 //   (e - e_bar)/3; death probability mu_max * clamp(1 - e_bar / e_min, 0, 1).
 #include "ecoterra/eco/plant.hpp"
+#include "ecoterra/hydro/weather.hpp"
 
 namespace ecoterra::eco {
 
 inline constexpr double kGrowthRespiration = 0.25; ///< fraction of new wood's carbohydrate
 inline constexpr double kQ10 = 2.0;                ///< maintenance respiration per 10 degC
 inline constexpr double kRespirationRefC = 20.0;   ///< reference temperature of r_m, degC
-inline constexpr double kDaysPerYear = 365.0;
+using hydro::kDaysPerYear;
 
 double shade_factor(const Preference& p, double shade_fraction);
 double water_factor(const Preference& p, double supply_fraction);

@@ -4,23 +4,24 @@
 //
 // State: volumetric soil water theta per cell over a root zone of depth d (m), between the wilting
 // point and field capacity; standing water in catchments; optionally a water table (groundwater).
-// One day:
-//  1. Rain P on a cell under standing water joins that catchment. Elsewhere it splits into runoff
-//     C P (runoff coefficient by vegetation x slope x texture, or SCS curve number) and
-//     infiltration (1 - C) P; flat cells (slope < flat_slope) absorb everything.
-//  2. Infiltration raises theta; water above field capacity percolates to the water table (at most
-//     Ksat x 1 day, groundwater on) and the rest joins the runoff (saturation excess).
-//  3. Runoff runs downhill cell by cell (D8 or MFD, highest cells first). A cell below field
-//     capacity absorbs run-on up to its deficit; what is left reaches a catchment (joining or
-//     creating one at a pit) or leaves through the domain edge (counted).
-//  4. Catchments lose open-water evaporation (Penman E0 over their wet cells) and infiltrate into
-//     the soil under them up to field capacity (and percolate to the water table), then are
-//     brought to equilibrium (they grow, shrink, spill, merge, split).
-//  5. Evapotranspiration from each dry cell: the larger of the Penman demand of its surface (bare
+// One day (HydrologyModel::step), composed of the process kernels of kernels.hpp in this order:
+//  1. lake losses: standing water (as yesterday's equilibrium left it) evaporates at the open-water
+//     rate (Penman E0 over its wet cells) and infiltrates into the soil under it up to field
+//     capacity (and percolates to the water table);
+//  2. rain on standing water joins it;
+//  3. rain elsewhere splits into runoff C P (runoff coefficient by vegetation x slope x texture, or
+//     SCS curve number) and infiltration (1 - C) P; water above field capacity percolates (at most
+//     Ksat x 1 day, groundwater on) or joins the runoff (saturation excess);
+//  4. run-on, highest cells first (D8 or MFD): a cell below field capacity absorbs up to its
+//     deficit, the rest reaches a catchment (joining or creating one at a pit) or leaves through
+//     the domain edge (counted);
+//  5. the standing water is brought to equilibrium (catchments grow, shrink, spill, merge, split);
+//  6. evapotranspiration from each dry cell: the larger of the Penman demand of its surface (bare
 //     soil 0.9 E0 below the grass density threshold, grass f E0 above) and the transpiration
-//     requested for the cell (from the ecosystem), never taking theta below the wilting point.
-//     What was removed is reported, split into transpiration (up to the request) and evaporation.
-//  6. Groundwater (optional): see groundwater.hpp.
+//     requested for the cell (from the ecosystem), never taking theta below the wilting point;
+//     reported as transpiration (up to the request) and evaporation;
+//  7. groundwater (optional, groundwater.hpp), seepage joining the standing water;
+//  8. the budget closes.
 // Budget (m3, whole domain): rain = evaporation + transpiration + runoff out + groundwater out
 // + d(soil) + d(surface) + d(groundwater) + residual.
 #include "ecoterra/catalog.hpp"
@@ -118,6 +119,9 @@ public:
 
 private:
     void update_runoff_coefficients();
+    /// Step 8: storage changes, the residual and the cumulative check.
+    void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
+                      double lost0);
     terrain::RasterD m_dem;
     SoilMap m_soil;
     terrain::RasterD m_veg;

@@ -39,6 +39,10 @@ struct DayWeather {
     double rs_mj = 15; ///< solar radiation (always filled)
 };
 
+/// Days in a simulated year: the weather generator's year has no leap days (observed weather
+/// follows the calendar, days_in_calendar_year). The one definition ecoterra uses.
+inline constexpr int kDaysPerYear = 365;
+
 struct Climate {
     std::string name = "custom";
     double latitude_deg = 33.5, elevation_m = 100;

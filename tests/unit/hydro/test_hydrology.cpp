@@ -1,4 +1,5 @@
 #include "ecoterra/hydro/hydrology.hpp"
+#include "ecoterra/hydro/kernels.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
 
 #include <catch2/catch.hpp>
@@ -136,4 +137,66 @@ TEST_CASE("A 30-year run keeps its budget residual below 1e-9 of the throughput"
     CHECK(m.day() == 10950);
     CHECK(std::abs(m.cumulative_residual_m3()) < 1e-9 * m.cumulative_throughput_m3());
     CHECK(m.cumulative_throughput_m3() > 0);
+}
+
+TEST_CASE("kernels alone: rain partition and evapotranspiration conserve water cell by cell",
+          "[hydrology][kernels]") {
+    // A tilted plane (no depression, so no standing water) with sandy and clay halves.
+    const GridSpec g{12, 12, 2.0, 0, 0};
+    RasterD dem(g);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) dem(i, j) = 10.0 + 0.05 * i + 0.02 * j;
+    const SoilMap soil = uniform_soil(g, SoilComposition{20, 60, 20, 6.5, {}});
+    Catchments lakes(dem);
+    const double depth = 0.8, area = g.cell_size_m * g.cell_size_m;
+    std::vector<double> theta(static_cast<std::size_t>(g.size()));
+    for (std::int64_t k = 0; k < g.size(); ++k) // from the wilting point to above field capacity
+        theta[k] = soil.wilting_point.data()[k] +
+                   (k % 7) / 5.0 * (soil.field_capacity.data()[k] - soil.wilting_point.data()[k]);
+    const SoilColumns cols{theta.data(),
+                           soil.field_capacity.data(),
+                           soil.wilting_point.data(),
+                           soil.ksat_m_per_s.data(),
+                           depth,
+                           area};
+    const std::vector<double> before = theta;
+    const std::vector<double> coef(static_cast<std::size_t>(g.size()), 0.3);
+    const RasterD slope(g, 0.05), veg(g, 0.5);
+    const RainPartition rain{
+        RunoffMethod::coefficients, 0.025, 25.0, coef.data(), slope.data(), 0.005, veg.data(),
+        soil.texture.data()};
+    std::vector<double> runoff(static_cast<std::size_t>(g.size())), recharge(runoff.size(), 0.0);
+    double infiltration = 0;
+    partition_rain(lakes, cols, rain, runoff, &recharge, infiltration);
+    double stored = 0, off = 0, perc = 0;
+    for (std::int64_t k = 0; k < g.size(); ++k) {
+        // Each cell: rain = soil gain + runoff + percolation, and theta never above capacity.
+        const double gain = (theta[k] - before[k]) * depth * area;
+        CHECK(gain + runoff[k] + recharge[k] == Approx(0.025 * area).epsilon(1e-12));
+        CHECK(theta[k] <= soil.field_capacity.data()[k] + 1e-15);
+        CHECK(runoff[k] >= 0.3 * 0.025 * area * (1 - 1e-12));
+        stored += gain, off += runoff[k], perc += recharge[k];
+    }
+    CHECK(infiltration == Approx(0.7 * 0.025 * area * static_cast<double>(g.size())));
+    CHECK(stored + off + perc == Approx(0.025 * area * static_cast<double>(g.size())));
+
+    // Evapotranspiration: requests on half the cells, more than the soil holds on some.
+    std::vector<double> request(runoff.size()), supplied(runoff.size());
+    for (std::size_t k = 0; k < request.size(); ++k) request[k] = k % 2 ? 0.0 : 3.0 * (k % 50);
+    const std::vector<double> mid = theta;
+    const SurfaceDemand demand{2.0, 4.0, veg.data(), 0.3};
+    double transpiration = 0, evaporation = 0;
+    evapotranspiration(lakes, cols, g.size(), demand, request.data(), supplied.data(),
+                       transpiration, evaporation);
+    double removed = 0, given = 0;
+    for (std::size_t k = 0; k < request.size(); ++k) {
+        removed += (mid[k] - theta[k]) * depth * area;
+        given += supplied[k] / 1000.0 * area;
+        CHECK(supplied[k] <= request[k] + 1e-12);                // never more than asked
+        CHECK(theta[k] >= soil.wilting_point.data()[k] - 1e-15); // never below wilting
+        CHECK((mid[k] - theta[k]) * depth * 1000.0 <= std::max(4.0, request[k]) + 1e-9);
+    }
+    CHECK(transpiration == Approx(given));
+    CHECK(transpiration + evaporation == Approx(removed));
+    CHECK(transpiration > 0);
 }

@@ -36,6 +36,15 @@ Section columns(std::string title, std::string note, const std::string& group,
     return s;
 }
 
+/// An ecosystem scene's simulation keys: the hydrology scene's years and seed, then its own.
+std::vector<ParamInfo> eco_simulation_params(const hydro::HydroScene& h, const EcoScene& e) {
+    std::vector<ParamInfo> out;
+    for (auto& i : describe(hydro::hydro_simulation_catalog(), h))
+        if (i.key != "simulation.snapshot_interval_days") out.push_back(std::move(i));
+    for (auto& i : describe(eco_simulation_catalog(), e)) out.push_back(std::move(i));
+    return out;
+}
+
 std::vector<Section> scene_sections() {
     hydro::HydroScene h;
     EcoScene e;
@@ -53,7 +62,7 @@ std::vector<Section> scene_sections() {
                describe(vegetation_catalog(), e)),
         params("Scene: vegetation.initial.random (ecoterra run)", "",
                describe(initial_random_catalog(), InitialPlants{})),
-        params("Scene: simulation (ecoterra run)", "", describe(eco_simulation_catalog(), e)),
+        params("Scene: simulation (ecoterra run)", "", eco_simulation_params(h, e)),
     };
 }
 
@@ -87,8 +96,7 @@ std::vector<Section> output_sections() {
                       {"name", "unit", "type", "meaning"},
                       {}};
             for (const auto& c : stem_csv_columns())
-                s.rows.push_back(
-                    {c.name, c.unit, c.name == "species" ? "text" : "float64", c.description});
+                s.rows.push_back({c.name, c.unit, column_type_name(c.type), c.description});
             return s;
         }(),
     };

@@ -98,22 +98,22 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
     using R = PlantRecord;
     using N = std::vector<std::string>;
     static const std::vector<StemCsvColumn> c = {
-        {"x_m", "m", "stem position, east",
+        {"x_m", "m", "stem position, east", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.x_m); }},
-        {"y_m", "m", "stem position, north",
+        {"y_m", "m", "stem position, north", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.y_m); }},
-        {"z_m", "m", "ground elevation at the stem",
+        {"z_m", "m", "ground elevation at the stem", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.z_m); }},
-        {"species", "", "species name (the ecosystem's Species Name)",
+        {"species", "", "species name (the ecosystem's Species Name)", ColumnType::text,
          [](const R& r, const N& names) {
              const auto sp = static_cast<std::size_t>(r.species);
              return sp < names.size() ? names[sp] : std::to_string(sp);
          }},
-        {"dbh_cm", "cm", "trunk diameter at breast height (0 below it)",
+        {"dbh_cm", "cm", "trunk diameter at breast height (0 below it)", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.dbh_m * 100.0); }},
-        {"height_m", "m", "plant height",
+        {"height_m", "m", "plant height", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.height_m); }},
-        {"crown_radius_m", "m", "crown radius",
+        {"crown_radius_m", "m", "crown radius", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.crown_radius_m); }},
     };
     return c;
@@ -131,12 +131,6 @@ std::string stem_csv(const std::vector<PlantRecord>& plants,
         out += '\n';
     }
     return out;
-}
-
-const std::vector<double>& Table::column(const std::string& name) const {
-    for (std::size_t k = 0; k < names.size(); ++k)
-        if (names[k] == name) return columns[k];
-    throw Error("table: no column '" + name + "'");
 }
 
 } // namespace ecoterra::eco

@@ -34,11 +34,6 @@ std::uint64_t raster_hash(const terrain::RasterD& r) {
     return fnv1a64(r.data(), static_cast<std::size_t>(r.size()) * sizeof(double));
 }
 
-void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t) {
-    for (std::size_t k = 0; k < t.names.size(); ++k)
-        h5.series(group + "/" + t.names[k], t.columns[k], t.units[k], t.descriptions[k]);
-}
-
 void write_snapshot(const Ecosystem& eco, const fs::path& path) {
     terrain::io::Hdf5Writer h5(path);
     const auto& w = eco.last_weather();
@@ -92,8 +87,8 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     h5.attribute("/species", "ecosystem", sc.ecosystem.name);
     h5.attribute("/provenance", "json", provenance.dump());
     h5.attribute("/provenance", "seed", static_cast<double>(sc.seed));
-    write_table(h5, "/series/yearly", eco.yearly());
-    write_table(h5, "/series/daily", eco.daily());
+    hydro::write_table(h5, "/series/yearly", eco.yearly());
+    hydro::write_table(h5, "/series/daily", eco.daily());
     ArchiveWriter a;
     eco.save_state(a);
     h5.series("/checkpoint/state", a.bytes(), "1",

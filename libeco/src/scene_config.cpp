@@ -33,9 +33,9 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
                    std::vector<std::pair<std::string, LightOnlyRadius>>{
                        {"crown", LightOnlyRadius::crown}, {"mavs", LightOnlyRadius::mavs}},
                    "light-only overlap circle: the crown radius or MAVS's 0.5 ratio H"),
-         std::move(number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 100,
-                             "crown and root grid cell; divides the terrain cell a whole number "
-                             "of times"))
+         number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 100,
+                   "crown and root grid cell; divides the terrain cell a whole number "
+                   "of times")
              .with_note("min(1, terrain cell)"),
          integer<E>("canopy_interval_days", &E::canopy_interval_days, "day", 1, 365,
                     "days between refreshes of structure, crowns and shading")});
@@ -46,10 +46,7 @@ const ParamCatalog<EcoScene>& eco_simulation_catalog() {
     using E = EcoScene;
     static const ParamCatalog<E> c(
         "simulation",
-        {integer<E>("years", &E::years, "yr", 1, 10000, "years to run"),
-         integer<E>("seed", &E::seed, "1", 0, 4.611686018427388e18,
-                    "seed of every random stream of the run"),
-         integer<E>("snapshot_interval_years", &E::snapshot_interval_years, "yr", 1, 100000,
+        {integer<E>("snapshot_interval_years", &E::snapshot_interval_years, "yr", 1, 100000,
                     "years between snapshots and checkpoints; the last year always gets one"),
          optional_number<E>("target_basal_area_m2_per_ha", &E::target_basal_area_m2_per_ha, "m2/ha",
                             0.001, 500, "stop at the first year end at or above this basal area")});
@@ -69,8 +66,11 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     h["simulation"] = json::object();
     for (const char* k : {"years", "seed"})
         if (sim.is_object() && sim.contains(k)) h["simulation"][k] = sim[k];
-    e = eco_simulation_catalog().read(sim, e);
+    e = eco_simulation_catalog().read(sim, e, {"years", "seed"});
+    // years and seed are the hydrology scene's keys (hydro_simulation_catalog).
     e.hydro = hydro::load_hydro_scene(h, base);
+    e.years = e.hydro.years;
+    e.seed = e.hydro.seed;
     if (e.hydro.observed) {
         // Replayed year by year in a cycle, so the series must hold whole calendar years.
         const auto& d = e.hydro.observed->days;
@@ -128,7 +128,9 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     e.resolved["vegetation"] = vegetation_catalog().to_json(e);
     e.resolved["vegetation"]["ecosystem"] = eco.string();
     e.resolved["vegetation"]["initial"] = init_resolved;
-    e.resolved["simulation"] = eco_simulation_catalog().to_json(e);
+    json& sim_resolved = e.resolved["simulation"]; // years and seed, from the hydrology half
+    sim_resolved.erase("snapshot_interval_days");
+    sim_resolved.update(eco_simulation_catalog().to_json(e));
     return e;
 }
 

@@ -213,8 +213,8 @@ const ParamCatalog<Species>& physiology_catalog() {
                        "distance in the texture triangle at which the factor falls to 1/e"),
              number<S>("transpiration_per_leaf_area", &S::transpiration_per_leaf_area, "m3/(m2 m)",
                        0, 5, "water per m2 of leaf per m of FAO-56 reference ET"),
-             std::move(number<S>("maturity_age_yr", &S::maturity_age_yr, "yr", 0, 5000,
-                                 "age of the first seeds"))
+             number<S>("maturity_age_yr", &S::maturity_age_yr, "yr", 0, 5000,
+                       "age of the first seeds")
                  .with_note("min(15, 0.2 Max Age)"),
              number<S>("seeds_per_yr_at_30cm", &S::seeds_per_yr_at_30cm, "1/yr", 0, 1e6,
                        "established-seedling potential of a 30 cm tree per year"),

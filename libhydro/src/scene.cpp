@@ -133,7 +133,8 @@ const ParamCatalog<HydroScene>& hydro_simulation_catalog() {
     static const ParamCatalog<H> c(
         "simulation",
         {integer<H>("years", &H::years, "yr", 1, 10000,
-                    "simulated years of 365 days (observed weather: its own length)"),
+                    "simulated years (hydro run with observed weather: the series' length; "
+                    "ecosystem runs replay it)"),
          integer<H>("seed", &H::seed, "1", 0, 4.611686018427388e18,
                     "seed of every random stream of the run"),
          integer<H>("snapshot_interval_days", &H::snapshot_interval_days, "day", 1, 3650000,
@@ -219,13 +220,9 @@ void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil) {
     h5.raster("/soil/ksat_m_per_s", soil.ksat_m_per_s, "m/s", "saturated hydraulic conductivity");
 }
 
-void write_budget_series(terrain::io::Hdf5Writer& h5, const std::vector<BudgetRow>& rows) {
-    for (const auto& c : daily_budget_columns()) {
-        std::vector<double> v;
-        v.reserve(rows.size());
-        for (const auto& r : rows) v.push_back(c.get(r));
-        h5.series("/series/daily/" + c.name, v, c.unit, c.description);
-    }
+void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t) {
+    for (std::size_t k = 0; k < t.names.size(); ++k)
+        h5.series(group + "/" + t.names[k], t.columns[k], t.units[k], t.descriptions[k]);
 }
 
 HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
@@ -238,7 +235,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     const int total =
         sc.observed ? static_cast<int>(sc.observed->days.size()) : kDaysPerYear * sc.years;
     const double domain_m2 = sc.dem.grid().width_m() * sc.dem.grid().height_m();
-    std::vector<BudgetRow> series;
+    Table series = Table::of(daily_budget_columns());
     HydroRunSummary sum;
     int snapshot = 0;
     auto write_snapshot = [&](const DayWeather& w, int day) {
@@ -262,7 +259,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
             sc.observed ? sc.observed->days[static_cast<std::size_t>(d - 1)] : gen.next();
         const DailyFluxes f = model.step(w);
         const BudgetRow row = daily_budget_row(d, w, f, domain_m2);
-        series.push_back(row);
+        series.push(row, daily_budget_columns());
         sum.rain_mm += row.rain_mm;
         sum.evaporation_mm += row.evaporation_mm;
         sum.transpiration_mm += row.transpiration_mm;
@@ -280,7 +277,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     h5.raster("/terrain/elevation", sc.dem, "m", "terrain elevation");
     write_soil_maps(h5, sc.soil);
     h5.raster("/vegetation/density", sc.vegetation_density, "1", "vegetation density (fraction)");
-    write_budget_series(h5, series);
+    write_table(h5, "/series/daily", series);
     h5.attribute("/series/daily", "cumulative_residual_relative", sum.residual_relative);
     json p = prov;
     p["scene"] = sc.resolved;

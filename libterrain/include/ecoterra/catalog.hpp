@@ -87,36 +87,49 @@ template <class S, class T>
 auto accessor(T& (*f)(S&)) {
     return f;
 }
+/// A parameter's identity and limits, without its accessors.
+template <class S>
+Param<S> param(std::string key, ParamKind kind, std::string unit, double min, double max,
+               std::string description) {
+    Param<S> p;
+    p.key = std::move(key);
+    p.kind = kind;
+    p.unit = std::move(unit);
+    p.min = min;
+    p.max = max;
+    p.description = std::move(description);
+    return p;
+}
+/// A parameter stored in the member `ref` reaches, read from JSON as type J.
+template <class J, class S, class Ref>
+Param<S> bound(Param<S> p, Ref ref) {
+    auto acc = accessor(ref);
+    p.get = [acc](const S& s) { return nlohmann::json(acc(const_cast<S&>(s))); };
+    p.set = [acc](S& s, const nlohmann::json& v) {
+        using T = std::remove_reference_t<decltype(acc(s))>;
+        acc(s) = static_cast<T>(v.get<J>());
+    };
+    return p;
+}
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 } // namespace catalog_detail
 
 /// A real number in [min, max].
 template <class S, class Ref>
 Param<S> number(std::string key, Ref ref, std::string unit, double min, double max,
                 std::string description) {
-    auto acc = catalog_detail::accessor(ref);
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::number;
-    p.unit = std::move(unit);
-    p.min = min;
-    p.max = max;
-    p.description = std::move(description);
-    p.get = [acc](const S& s) { return nlohmann::json(acc(const_cast<S&>(s))); };
-    p.set = [acc](S& s, const nlohmann::json& v) { acc(s) = v.get<double>(); };
-    return p;
+    return catalog_detail::bound<double>(catalog_detail::param<S>(std::move(key), ParamKind::number,
+                                                                  std::move(unit), min, max,
+                                                                  std::move(description)),
+                                         ref);
 }
 
 /// An optional real number: absent means "none".
 template <class S>
 Param<S> optional_number(std::string key, std::optional<double> S::*m, std::string unit, double min,
                          double max, std::string description) {
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::number;
-    p.unit = std::move(unit);
-    p.min = min;
-    p.max = max;
-    p.description = std::move(description);
+    auto p = catalog_detail::param<S>(std::move(key), ParamKind::number, std::move(unit), min, max,
+                                      std::move(description));
     p.optional = true;
     p.default_note = "none";
     p.get = [m](const S& s) { return s.*m ? nlohmann::json(*(s.*m)) : nlohmann::json(); };
@@ -128,55 +141,38 @@ Param<S> optional_number(std::string key, std::optional<double> S::*m, std::stri
 template <class S, class Ref>
 Param<S> integer(std::string key, Ref ref, std::string unit, double min, double max,
                  std::string description) {
-    auto acc = catalog_detail::accessor(ref);
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::integer;
-    p.unit = std::move(unit);
-    p.min = min;
-    p.max = max;
-    p.description = std::move(description);
-    p.get = [acc](const S& s) { return nlohmann::json(acc(const_cast<S&>(s))); };
-    p.set = [acc](S& s, const nlohmann::json& v) {
-        using T = std::remove_reference_t<decltype(acc(s))>;
-        acc(s) = static_cast<T>(v.get<long long>());
-    };
-    return p;
+    return catalog_detail::bound<long long>(
+        catalog_detail::param<S>(std::move(key), ParamKind::integer, std::move(unit), min, max,
+                                 std::move(description)),
+        ref);
 }
 
 template <class S, class Ref>
 Param<S> flag(std::string key, Ref ref, std::string description) {
-    auto acc = catalog_detail::accessor(ref);
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::flag;
-    p.description = std::move(description);
-    p.get = [acc](const S& s) { return nlohmann::json(acc(const_cast<S&>(s))); };
-    p.set = [acc](S& s, const nlohmann::json& v) { acc(s) = v.get<bool>(); };
-    return p;
+    using catalog_detail::kNoLimit;
+    return catalog_detail::bound<bool>(catalog_detail::param<S>(std::move(key), ParamKind::flag, "",
+                                                                -kNoLimit, kNoLimit,
+                                                                std::move(description)),
+                                       ref);
 }
 
 template <class S, class Ref>
 Param<S> text(std::string key, Ref ref, std::string description) {
-    auto acc = catalog_detail::accessor(ref);
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::text;
-    p.description = std::move(description);
-    p.get = [acc](const S& s) { return nlohmann::json(std::string(acc(const_cast<S&>(s)))); };
-    p.set = [acc](S& s, const nlohmann::json& v) { acc(s) = v.get<std::string>(); };
-    return p;
+    using catalog_detail::kNoLimit;
+    return catalog_detail::bound<std::string>(
+        catalog_detail::param<S>(std::move(key), ParamKind::text, "", -kNoLimit, kNoLimit,
+                                 std::move(description)),
+        ref);
 }
 
 /// One of named values (an enum, or any type with ==).
 template <class S, class Ref, class E>
 Param<S> choice(std::string key, Ref ref, std::vector<std::pair<std::string, E>> values,
                 std::string description) {
+    using catalog_detail::kNoLimit;
     auto acc = catalog_detail::accessor(ref);
-    Param<S> p;
-    p.key = std::move(key);
-    p.kind = ParamKind::choice;
-    p.description = std::move(description);
+    auto p = catalog_detail::param<S>(std::move(key), ParamKind::choice, "", -kNoLimit, kNoLimit,
+                                      std::move(description));
     for (const auto& v : values) p.choices.push_back(v.first);
     p.get = [acc, values](const S& s) {
         const auto& cur = acc(const_cast<S&>(s));
@@ -391,9 +387,8 @@ template <class R>
 struct Column {
     std::string name, unit, description;
     ColumnType type = ColumnType::float64;
-    std::function<double(const R&)> get;           ///< numeric columns
-    std::function<void(R&, double)> set;           ///< numeric columns, for readers
-    std::function<std::string(const R&)> get_text; ///< text columns
+    std::function<double(const R&)> get; ///< numeric columns
+    std::function<void(R&, double)> set; ///< numeric columns, for readers
 };
 
 /// A double member of a row struct as a column.
@@ -436,5 +431,37 @@ std::vector<ColumnInfo> describe(const std::string& group, const std::vector<Col
         out.push_back({group + c.name, c.unit, column_type_name(c.type), c.description});
     return out;
 }
+
+/// A table of equal-length double columns with names, units and descriptions, built from a
+/// column catalogue and filled a whole row at a time.
+struct Table {
+    std::vector<std::string> names, units, descriptions;
+    std::vector<std::vector<double>> columns;
+    template <class R>
+    static Table of(const std::vector<Column<R>>& cols) {
+        Table t;
+        for (const auto& c : cols) {
+            t.names.push_back(c.name);
+            t.units.push_back(c.unit);
+            t.descriptions.push_back(c.description);
+            t.columns.emplace_back();
+        }
+        return t;
+    }
+    template <class R>
+    void push(const R& row, const std::vector<Column<R>>& cols) {
+        if (cols.size() != columns.size())
+            throw Error("table: a row of " + std::to_string(cols.size()) + " columns pushed into " +
+                        std::to_string(columns.size()));
+        for (std::size_t k = 0; k < cols.size(); ++k) columns[k].push_back(cols[k].get(row));
+    }
+    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
+    /// The column called `name`; Error if there is none.
+    const std::vector<double>& column(const std::string& name) const {
+        for (std::size_t k = 0; k < names.size(); ++k)
+            if (names[k] == name) return columns[k];
+        throw Error("table: no column '" + name + "'");
+    }
+};
 
 } // namespace ecoterra

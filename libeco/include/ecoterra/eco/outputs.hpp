@@ -41,39 +41,12 @@ const std::vector<Column<YearRow>>& yearly_columns();
 /// A column of the stem CSV: its text for one plant, given the run's species names.
 struct StemCsvColumn {
     std::string name, unit, description;
+    ColumnType type;
     std::string (*text)(const PlantRecord&, const std::vector<std::string>& species);
 };
 const std::vector<StemCsvColumn>& stem_csv_columns();
 /// The stem CSV of a snapshot's plants (header line, then one row per plant).
 std::string stem_csv(const std::vector<PlantRecord>& plants,
                      const std::vector<std::string>& species);
-
-/// A table of equal-length double columns with names, units and descriptions, built from a
-/// column catalogue and filled a whole row at a time.
-struct Table {
-    std::vector<std::string> names, units, descriptions;
-    std::vector<std::vector<double>> columns;
-    template <class R>
-    static Table of(const std::vector<Column<R>>& cols) {
-        Table t;
-        for (const auto& c : cols) {
-            t.names.push_back(c.name);
-            t.units.push_back(c.unit);
-            t.descriptions.push_back(c.description);
-            t.columns.emplace_back();
-        }
-        return t;
-    }
-    template <class R>
-    void push(const R& row, const std::vector<Column<R>>& cols) {
-        if (cols.size() != columns.size())
-            throw Error("table: a row of " + std::to_string(cols.size()) + " columns pushed into " +
-                        std::to_string(columns.size()));
-        for (std::size_t k = 0; k < cols.size(); ++k) columns[k].push_back(cols[k].get(row));
-    }
-    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
-    /// The column called `name`; Error if there is none.
-    const std::vector<double>& column(const std::string& name) const;
-};
 
 } // namespace ecoterra::eco

@@ -44,7 +44,8 @@ struct EcoScene {
 };
 
 /// The scene keys of sections "vegetation" and "simulation" of an ecosystem scene (the
-/// hydrology sections are hydro::*_catalog()), and of vegetation.initial.random.
+/// hydrology sections are hydro::*_catalog(); simulation.years and .seed are
+/// hydro::hydro_simulation_catalog()'s), and of vegetation.initial.random.
 const ParamCatalog<EcoScene>& vegetation_catalog();
 const ParamCatalog<EcoScene>& eco_simulation_catalog();
 const ParamCatalog<InitialPlants>& initial_random_catalog();

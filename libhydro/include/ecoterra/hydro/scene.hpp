@@ -49,8 +49,8 @@ struct HydroRunSummary {
 /// Writes the soil maps under /soil/.
 void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil);
 
-/// Writes the daily budget series under /series/daily/.
-void write_budget_series(terrain::io::Hdf5Writer& h5, const std::vector<BudgetRow>& rows);
+/// Writes each column of a table as a dataset group/NAME with its units and description.
+void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t);
 
 HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
                                 const nlohmann::json& provenance,

@@ -3,7 +3,7 @@
 // hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year time it implies).
 // Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
     std::printf("ecoterra ecosystem benchmark (humid subtropical broadleaf, daily steps)\n\n");
-    json q = json::parse(terrain::io::read_text(data / "scenes/quickstart.json"));
+    json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
     for (const char* mode : {"coupled", "light_only"}) {
         if (!only.empty() && only != mode) continue;
         q["vegetation"]["competition"] = mode;

@@ -18,10 +18,10 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-terrain::RasterD terrain_of(int n) {
+RasterD terrain_of(int n) {
     terrain::MultifractalParams p = terrain::majhor2023_params(2.45);
     p.relief_m = 0.02 * n; // about 2 % mean relief over the grid
-    return terrain::multifractal_generate(terrain::GridSpec{n, n, 1.0, 0, 0}, p, 3).z;
+    return terrain::multifractal_generate(GridSpec{n, n, 1.0, 0, 0}, p, 3).z;
 }
 } // namespace
 
@@ -32,12 +32,12 @@ int main(int argc, char** argv) {
     std::vector<int> sizes = {256, 1024};
     if (!quick) sizes.push_back(2048);
     for (int n : sizes) {
-        const terrain::RasterD dem = terrain_of(n);
+        const RasterD dem = terrain_of(n);
         RandomSoilParams rs;
         rs.mean = SoilComposition{20, 60, 20, 6.0, {}};
         const SoilMap soil = random_soil(dem.grid(), rs, 1);
         const auto t_setup = std::chrono::steady_clock::now();
-        HydrologyModel m(dem, soil, terrain::RasterD(dem.grid(), 0.5), HydrologyOptions{},
+        HydrologyModel m(dem, soil, RasterD(dem.grid(), 0.5), HydrologyOptions{},
                          climate_preset("humid_subtropical"));
         const double setup_s = seconds_since(t_setup);
         std::printf("%-44s %5d x %-5d %8s %9.2f s %10.3e cells/s\n",
@@ -52,8 +52,8 @@ int main(int argc, char** argv) {
                     "daily update, no groundwater", n, n, days, s, double(n) * n * days / s);
     }
     for (int n : {32, 64, 128}) {
-        const terrain::RasterD dem = terrain_of(n);
-        const terrain::RasterF k(dem.grid(), 7e-6f);
+        const RasterD dem = terrain_of(n);
+        const RasterF k(dem.grid(), 7e-6f);
         Groundwater gw(dem, k, 0.2, 20.0, 3.0);
         std::vector<double> recharge(static_cast<std::size_t>(dem.size()), 0.0);
         const int days = 30;
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
                     gw.steps_taken());
     }
     std::printf("\n");
-    auto bench_pond = [](const char* what, const terrain::RasterD& dem) {
+    auto bench_pond = [](const char* what, const RasterD& dem) {
         const auto t0 = std::chrono::steady_clock::now();
         const Catchments c = pond(dem, 0.05, Routing::d8);
         const double s = seconds_since(t0);
@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
     };
     for (int n : {256, 1000, 2000})
         bench_pond("pond 0.05 m, d8, fBm D 2.3",
-                   terrain::fbm_surface(terrain::GridSpec{n, n, 1.0, 0, 0},
+                   terrain::fbm_surface(GridSpec{n, n, 1.0, 0, 0},
                                         terrain::FbmParams::from_dimension(2.3, 2.0), 3));
     bench_pond("pond 0.05 m, d8, multifractal D 2.45", terrain_of(1024));
     return 0;

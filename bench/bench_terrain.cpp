@@ -13,6 +13,7 @@
 #include <functional>
 #include <string>
 
+using namespace ecoterra;
 using namespace ecoterra::terrain;
 
 namespace {

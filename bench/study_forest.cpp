@@ -15,7 +15,7 @@
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--only-central | --only-thinning]
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
-    const json q = json::parse(terrain::io::read_text(data / "scenes/quickstart.json"));
+    const json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
     if (central) central_result(q, data / "scenes", seeds);
     if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
     return 0;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <vector>
 
+using namespace ecoterra;
 using namespace ecoterra::terrain;
 
 int main(int argc, char** argv) {

@@ -6,7 +6,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     namespace io = ecoterra::terrain::io;
     static const std::filesystem::path png = [] {
-        ecoterra::terrain::RasterD r(ecoterra::terrain::GridSpec{5, 4, 2.0, 10.0, 20.0});
+        ecoterra::RasterD r(ecoterra::GridSpec{5, 4, 2.0, 10.0, 20.0});
         for (std::int64_t k = 0; k < r.size(); ++k) r.data()[k] = 100.0 + 0.5 * double(k % 7);
         const auto p = ecoterra::fuzz::as_file(nullptr, 0, ".png");
         io::write_raster(r, p);

@@ -5,8 +5,8 @@
 #include "ecoterra/eco/describe.hpp"
 #include "ecoterra/eco/run_file.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <cstdio>
@@ -41,7 +41,7 @@ void run_run(const RunArgs& a) {
     std::vector<std::string> sets = a.sets;
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
     if (!a.scene.empty()) {
-        json j = parse_json(terrain::io::read_text(a.scene), a.scene);
+        json j = parse_json(io::read_text(a.scene), a.scene);
         if (a.years && a.resume.empty())
             sets.push_back("simulation.years=" + std::to_string(*a.years));
         hydro::apply_overrides(j, sets);
@@ -154,7 +154,7 @@ void run_stand(const StandArgs& a) {
     else
         std::printf("negative exponential: fewer than 3 non-empty classes, no fit\n");
     if (!a.json_out.empty()) {
-        terrain::io::write_text_atomic(a.json_out, out.dump(2) + "\n");
+        io::write_text_atomic(a.json_out, out.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
 }
@@ -168,7 +168,7 @@ void run_export_vegetation(const ExportArgs& a) {
     refuse_output_over_input("-o", a.output, {a.run});
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    terrain::io::write_text_atomic(a.output, eco::stem_csv(s.plants, info.species));
+    io::write_text_atomic(a.output, eco::stem_csv(s.plants, info.species));
     std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.plants.size(), s.index,
                 s.year, a.output.c_str());
 }

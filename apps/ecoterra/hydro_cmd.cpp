@@ -6,8 +6,8 @@
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
@@ -128,14 +128,14 @@ struct PondArgs {
 void run_pond(const PondArgs& a) {
     refuse_output_over_input("-o", a.output, {a.dem});
     const hydro::Routing routing = hydro::parse_routing(a.routing);
-    { terrain::io::AtomicOutput probe(a.output); }
+    { io::AtomicOutput probe(a.output); }
     std::vector<std::string> warnings;
-    const terrain::RasterD dem = terrain::io::read_raster(a.dem, &warnings);
+    const RasterD dem = terrain::io::read_raster(a.dem, &warnings);
     print_warnings(warnings);
     Stopwatch sw;
     const hydro::Catchments c = hydro::pond(dem, a.depth_m, routing);
     const double seconds = sw.seconds();
-    const terrain::RasterD depth = c.depth_map();
+    const RasterD depth = c.depth_map();
     const auto ids = c.id_map();
     std::int64_t valid = 0, wet = 0;
     for (std::int64_t k = 0; k < dem.size(); ++k) {
@@ -146,7 +146,7 @@ void run_pond(const PondArgs& a) {
     const double area = dem.cell_size() * dem.cell_size();
     const double input = a.depth_m * area * static_cast<double>(valid);
     const double stored = c.total_volume_m3(), lost = c.lost_m3();
-    terrain::io::Hdf5Writer h5(a.output);
+    io::Hdf5Writer h5(a.output);
     h5.raster("/surface_water_depth_m", depth, "m", "standing water depth at equilibrium");
     h5.raster("/catchment_id", ids, "1", "catchment holding the cell, 0 = dry");
     h5.raster("/elevation", dem, "m", "the DEM ponded");
@@ -168,7 +168,7 @@ void run_pond(const PondArgs& a) {
                 "(%.3g cells/s)\n",
                 c.catchments().size(), static_cast<long long>(wet),
                 valid ? 100.0 * static_cast<double>(wet) / static_cast<double>(valid) : 0.0,
-                terrain::stats(depth).max, seconds, static_cast<double>(dem.size()) / seconds);
+                stats(depth).max, seconds, static_cast<double>(dem.size()) / seconds);
     std::printf("wrote %s\n", a.output.c_str());
 }
 
@@ -180,7 +180,7 @@ struct RunArgs {
 
 void run_hydro_run(const RunArgs& a) {
     refuse_output_over_input("-o", a.output, {a.scene});
-    json scene = parse_json(terrain::io::read_text(a.scene), a.scene);
+    json scene = parse_json(io::read_text(a.scene), a.scene);
     std::vector<std::string> sets = a.sets;
     if (a.years) sets.push_back("simulation.years=" + std::to_string(*a.years));
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));

@@ -2,10 +2,10 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/generate.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
 
@@ -76,7 +76,7 @@ struct GenerateArgs {
 
 json build_spec(const GenerateArgs& a) {
     json spec = json::object();
-    if (!a.config.empty()) spec = parse_json(terrain::io::read_text(a.config), a.config);
+    if (!a.config.empty()) spec = parse_json(ecoterra::io::read_text(a.config), a.config);
     if (!spec.is_object()) throw InputError(a.config + ": must hold a JSON object");
     if (!a.preset.empty()) spec["preset"] = a.preset;
     if (!a.method.empty()) spec["method"] = a.method;
@@ -127,7 +127,7 @@ void run_generate(const GenerateArgs& a) {
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
                                          : terrain::io::format_from_name(a.format);
     // Check the output folder before the (possibly long) generation.
-    { terrain::io::AtomicOutput probe(a.output); }
+    { ecoterra::io::AtomicOutput probe(a.output); }
     GeneratedTerrain t = generate_terrain(spec);
     const double gen_s = sw.seconds();
     std::vector<std::string> warnings = t.warnings;
@@ -173,7 +173,7 @@ void run_analyze(AnalyzeArgs& a) {
         throw InputError("--fd-estimator must be variogram or madogram, got '" + a.estimator + "'");
     a.opt.validate();
     if (!a.json_out.empty()) {
-        terrain::io::AtomicOutput probe(a.json_out);
+        ecoterra::io::AtomicOutput probe(a.json_out);
     }
     Stopwatch sw;
     std::vector<std::string> warnings;
@@ -191,7 +191,7 @@ void run_analyze(AnalyzeArgs& a) {
                      {"origin_x_m", z.grid().origin_x_m},
                      {"origin_y_m", z.grid().origin_y_m}};
         j["provenance"] = provenance();
-        terrain::io::write_text_atomic(a.json_out, j.dump(2) + "\n");
+        ecoterra::io::write_text_atomic(a.json_out, j.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
     if (!a.png_dir.empty()) {
@@ -241,7 +241,8 @@ void run_missions(MissionArgs& a) {
                       {"provenance", provenance()}};
     auto write = [&](const std::string& path) {
         const bool as_json = path.size() >= 5 && path.substr(path.size() - 5) == ".json";
-        terrain::io::write_text_atomic(path, as_json ? doc.dump(2) + "\n" : missions_csv(missions));
+        ecoterra::io::write_text_atomic(path,
+                                        as_json ? doc.dump(2) + "\n" : missions_csv(missions));
         std::printf("wrote %zu missions to %s\n", missions.size(), path.c_str());
     };
     if (!a.output.empty()) write(a.output);

@@ -6,7 +6,7 @@
 
 namespace ecoterra::eco {
 
-void CrownSet::add(const terrain::GridSpec& g, double x, double y, double r) {
+void CrownSet::add(const GridSpec& g, double x, double y, double r) {
     if (offset.empty()) offset.push_back(0);
     const auto [ic, jc] = g.clamped_cell(x, y);
     const int j0 = std::max(0, static_cast<int>(std::ceil(g.row_of(y - r))));
@@ -33,10 +33,10 @@ void CrownSet::add(const terrain::GridSpec& g, double x, double y, double r) {
     cells.push_back(n);
 }
 
-std::vector<double> compute_shading(const terrain::GridSpec& g, const CrownSet& crowns,
+std::vector<double> compute_shading(const GridSpec& g, const CrownSet& crowns,
                                     const std::vector<double>& height,
                                     const std::vector<double>& lai, ShadingMode mode, double k,
-                                    terrain::RasterD* ground) {
+                                    RasterD* ground) {
     const std::size_t n = crowns.size();
     std::vector<double> shade(n, 0.0);
     std::vector<double> stack(static_cast<std::size_t>(g.size()), 0.0);
@@ -73,7 +73,7 @@ std::vector<double> compute_shading(const terrain::GridSpec& g, const CrownSet& 
         i = end;
     }
     if (ground) {
-        *ground = terrain::RasterD(g, 0.0);
+        *ground = RasterD(g, 0.0);
         for (std::int64_t c = 0; c < g.size(); ++c) {
             const double l = stack[static_cast<std::size_t>(c)];
             ground->data()[c] =

@@ -44,13 +44,13 @@ Ecosystem::Ecosystem(const EcoScene& scene)
     m_pgrid.cell_size_m = hg.cell_size_m / m_map.factor;
     m_pgrid.nx = hg.nx * m_map.factor;
     m_pgrid.ny = hg.ny * m_map.factor;
-    terrain::ensure_fits_in_memory(m_pgrid.size(), 24.0, "the plant grid");
+    ensure_fits_in_memory(m_pgrid.size(), 24.0, "the plant grid");
     m_hydro_cell_area = hg.cell_size_m * hg.cell_size_m;
-    m_hydro = std::make_unique<hydro::HydrologyModel>(scene.hydro.dem, scene.hydro.soil,
-                                                      terrain::RasterD(hg, 0.0),
-                                                      scene.hydro.options, scene.hydro.climate);
-    m_ground_shade = terrain::RasterD(m_pgrid, 0.0);
-    m_request_mm = terrain::RasterD(hg, 0.0);
+    m_hydro =
+        std::make_unique<hydro::HydrologyModel>(scene.hydro.dem, scene.hydro.soil, RasterD(hg, 0.0),
+                                                scene.hydro.options, scene.hydro.climate);
+    m_ground_shade = RasterD(m_pgrid, 0.0);
+    m_request_mm = RasterD(hg, 0.0);
     m_daily = Table::of(hydro::daily_budget_columns());
     m_yearly = Table::of(yearly_columns());
     place_initial_plants();
@@ -356,7 +356,7 @@ void Ecosystem::rebuild_crowns() {
 void Ecosystem::update_vegetation_density() {
     // Canopy cover on the hydrology grid drives the runoff coefficients and surface ET.
     const auto& hg = m_scene.hydro.dem.grid();
-    terrain::RasterD density(hg, 0.0);
+    RasterD density(hg, 0.0);
     const double inv = 1.0 / (m_map.factor * m_map.factor);
     for (int j = 0; j < m_pgrid.ny; ++j)
         for (int i = 0; i < m_pgrid.nx; ++i)

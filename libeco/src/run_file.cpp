@@ -1,6 +1,6 @@
 #include "ecoterra/eco/run_file.hpp"
 
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 
 #include <H5Cpp.h>
 
@@ -30,12 +30,12 @@ std::string snapshot_file_name(int index) {
     return name;
 }
 
-std::uint64_t raster_hash(const terrain::RasterD& r) {
+std::uint64_t raster_hash(const RasterD& r) {
     return fnv1a64(r.data(), static_cast<std::size_t>(r.size()) * sizeof(double));
 }
 
 void write_snapshot(const Ecosystem& eco, const fs::path& path) {
-    terrain::io::Hdf5Writer h5(path);
+    io::Hdf5Writer h5(path);
     const auto& w = eco.last_weather();
     std::vector<PlantRecord> rows;
     rows.reserve(eco.plants().size());
@@ -72,7 +72,7 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path) {
 }
 
 void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance, int snapshots) {
-    terrain::io::Hdf5Writer h5(path);
+    io::Hdf5Writer h5(path);
     const EcoScene& sc = eco.scene();
     h5.raster("/terrain/elevation", sc.hydro.dem, "m", "terrain elevation (hydrology grid)");
     hydro::write_soil_maps(h5, sc.hydro.soil);

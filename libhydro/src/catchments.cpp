@@ -16,7 +16,7 @@ double tolerance_m3(double reference_m3) {
 }
 } // namespace
 
-Catchments::Catchments(const terrain::RasterD& dem, D8Rule rule)
+Catchments::Catchments(const RasterD& dem, D8Rule rule)
     : m_dem(dem), m_fd(dem, rule), m_dh(m_fd), m_area(dem.cell_size() * dem.cell_size()),
       m_pos(static_cast<std::size_t>(m_dh.node_count()), -1),
       m_cover(static_cast<std::size_t>(m_dh.node_count()), 0) {}
@@ -81,7 +81,7 @@ void Catchments::add_routed(const RoutedWater& r) {
         if (r.at_pit_m3[c] > 0) add_to_pit(c, r.at_pit_m3[c]);
 }
 
-Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing) {
+Catchments pond(const RasterD& dem, double depth_m, Routing routing) {
     if (!(depth_m >= 0) || !std::isfinite(depth_m))
         throw InputError("--depth-m must be >= 0 m, got " + std::to_string(depth_m));
     Catchments c(dem, d8_rule(routing));
@@ -292,8 +292,8 @@ std::vector<std::int64_t> Catchments::seeds(const Catchment& k) const {
     return out;
 }
 
-terrain::Raster<std::int32_t> Catchments::id_map() const {
-    terrain::Raster<std::int32_t> m(m_dem.grid(), 0);
+Raster<std::int32_t> Catchments::id_map() const {
+    Raster<std::int32_t> m(m_dem.grid(), 0);
     for (const auto& k : m_list)
         for_each_wet_cell(k, [&](std::int64_t c) {
             if (k.level_m - m_fd.elevation(c) > 0) m.data()[c] = k.id;
@@ -301,8 +301,8 @@ terrain::Raster<std::int32_t> Catchments::id_map() const {
     return m;
 }
 
-terrain::RasterD Catchments::depth_map() const {
-    terrain::RasterD d(m_dem.grid(), 0.0);
+RasterD Catchments::depth_map() const {
+    RasterD d(m_dem.grid(), 0.0);
     for (const auto& k : m_list)
         for_each_wet_cell(
             k, [&](std::int64_t c) { d.data()[c] = std::max(0.0, k.level_m - m_fd.elevation(c)); });

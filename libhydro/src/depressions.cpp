@@ -61,7 +61,7 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
             const std::int64_t x = queue[q];
             m_pits.push_back(x);
             const int i = static_cast<int>(x % g.nx), j = static_cast<int>(x / g.nx);
-            for (const auto& o : terrain::kMooreOffsets) {
+            for (const auto& o : kMooreOffsets) {
                 if (!g.contains(i + o[0], j + o[1])) continue;
                 const std::int64_t y = cell_index(g, i + o[0], j + o[1]);
                 if (m_leaf[y] == kUnknown && fd.is_pit(y) && fd.elevation(y) == z) {

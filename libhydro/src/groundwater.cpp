@@ -72,7 +72,7 @@ struct CvodeOwner {
 } // namespace
 
 struct Groundwater::Impl {
-    terrain::GridSpec grid;
+    GridSpec grid;
     std::vector<double> surface, base, head_fixed, k;
     double sy = 0.2, area = 1.0;
     std::vector<std::int64_t> cell_of_var; ///< evolving cells
@@ -96,7 +96,7 @@ struct Groundwater::Impl {
     template <class F>
     void neighbours(std::int64_t c, F&& f) const {
         const int i = static_cast<int>(c % grid.nx), j = static_cast<int>(c / grid.nx);
-        for (const auto& o : terrain::kVonNeumannOffsets) {
+        for (const auto& o : kVonNeumannOffsets) {
             const int a = i + o[0], b = j + o[1];
             if (grid.contains(a, b)) f(static_cast<std::int64_t>(b) * grid.nx + a);
         }
@@ -170,9 +170,8 @@ struct Groundwater::Impl {
         return 0;
     }
 
-    void build(const terrain::RasterD& surf, const terrain::RasterD& b, const terrain::RasterD& h0,
-               const terrain::RasterF& ks, double specific_yield,
-               std::array<GroundwaterBoundary, 4> sides) {
+    void build(const RasterD& surf, const RasterD& b, const RasterD& h0, const RasterF& ks,
+               double specific_yield, std::array<GroundwaterBoundary, 4> sides) {
         grid = surf.grid();
         if (!(b.grid() == grid) || !(h0.grid() == grid) || !(ks.grid() == grid))
             throw InputError("groundwater: base, head and conductivity rasters must share the "
@@ -257,10 +256,10 @@ struct Groundwater::Impl {
     }
 };
 
-Groundwater::Groundwater(const terrain::RasterD& surface, const terrain::RasterF& ksat,
-                         double specific_yield, double thickness_m, double initial_depth_m)
+Groundwater::Groundwater(const RasterD& surface, const RasterF& ksat, double specific_yield,
+                         double thickness_m, double initial_depth_m)
     : m(std::make_unique<Impl>()) {
-    terrain::RasterD b = surface, h0 = surface;
+    RasterD b = surface, h0 = surface;
     b.array() -= thickness_m;
     h0.array() -= initial_depth_m;
     using GB = GroundwaterBoundary;
@@ -268,9 +267,9 @@ Groundwater::Groundwater(const terrain::RasterD& surface, const terrain::RasterF
              {GB::fixed_head, GB::fixed_head, GB::fixed_head, GB::fixed_head});
 }
 
-Groundwater::Groundwater(const terrain::RasterD& surface, const terrain::RasterD& base,
-                         const terrain::RasterD& initial_head, const terrain::RasterF& ksat,
-                         double specific_yield, std::array<GroundwaterBoundary, 4> sides)
+Groundwater::Groundwater(const RasterD& surface, const RasterD& base, const RasterD& initial_head,
+                         const RasterF& ksat, double specific_yield,
+                         std::array<GroundwaterBoundary, 4> sides)
     : m(std::make_unique<Impl>()) {
     m->build(surface, base, initial_head, ksat, specific_yield, sides);
 }
@@ -341,8 +340,8 @@ GroundwaterResult Groundwater::step(double dt_s, const std::vector<double>& rech
     return r;
 }
 
-terrain::RasterD Groundwater::head() const {
-    terrain::RasterD h(m->grid);
+RasterD Groundwater::head() const {
+    RasterD h(m->grid);
     const double* yy = N_VGetArrayPointer(m->y.v);
     for (std::int64_t c = 0; c < m->grid.size(); ++c) {
         const std::int32_t v = m->var_of_cell[c];

@@ -18,7 +18,7 @@ constexpr double kMmPerM = 1000.0;
 /// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
 /// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close
 /// in memory.
-std::vector<std::int64_t> upstream_first_order(const terrain::RasterD& dem) {
+std::vector<std::int64_t> upstream_first_order(const RasterD& dem) {
     const auto& g = dem.grid();
     const double* z = dem.data();
     constexpr std::uint8_t kDone = 255;
@@ -163,9 +163,8 @@ void HydrologyOptions::validate() const {
                          " is outside [0, 1]");
 }
 
-HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
-                               const terrain::RasterD& veg, const HydrologyOptions& opt,
-                               const Climate& climate)
+HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const RasterD& veg,
+                               const HydrologyOptions& opt, const Climate& climate)
     : m_dem(dem), m_soil(soil), m_veg(veg), m_opt(opt), m_climate(climate),
       m_catch(dem, d8_rule(opt.routing)), m_table(RunoffTable::standard()),
       m_area(dem.cell_size() * dem.cell_size()) {
@@ -180,9 +179,9 @@ HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
             throw InputError("the terrain has NODATA cells; fill or crop them before a hydrology "
                              "run");
     const auto& g = dem.grid();
-    m_theta = terrain::RasterD(g);
-    m_coef = terrain::RasterD(g);
-    m_transp_supplied = terrain::RasterD(g, 0.0);
+    m_theta = RasterD(g);
+    m_coef = RasterD(g);
+    m_transp_supplied = RasterD(g, 0.0);
     m_slope = terrain::slope_aspect(dem).slope;
     for (std::int64_t k = 0; k < dem.size(); ++k) {
         const double wp = soil.wilting_point.data()[k], fc = soil.field_capacity.data()[k];
@@ -200,7 +199,7 @@ HydrologyModel::HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
 
 HydrologyModel::~HydrologyModel() = default;
 
-void HydrologyModel::set_vegetation_density(const terrain::RasterD& veg) {
+void HydrologyModel::set_vegetation_density(const RasterD& veg) {
     if (!(veg.grid() == m_dem.grid()))
         throw InputError("the vegetation-density raster's grid does not match the terrain's");
     for (std::int64_t k = 0; k < veg.size(); ++k) {
@@ -232,14 +231,14 @@ double HydrologyModel::groundwater_storage_m3() const {
     return m_gw ? m_gw->storage_m3() : 0.0;
 }
 
-terrain::RasterD HydrologyModel::water_table_depth() const {
-    if (!m_gw) return terrain::RasterD(m_dem.grid(), std::nan(""));
-    terrain::RasterD d = m_gw->head();
+RasterD HydrologyModel::water_table_depth() const {
+    if (!m_gw) return RasterD(m_dem.grid(), std::nan(""));
+    RasterD d = m_gw->head();
     d.array() = m_dem.array() - d.array();
     return d;
 }
 
-DailyFluxes HydrologyModel::step(const DayWeather& w, const terrain::RasterD* transp_mm) {
+DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm) {
     if (transp_mm && !(transp_mm->grid() == m_dem.grid()))
         throw InputError("the transpiration demand raster's grid does not match the terrain's");
     ++m_day;

@@ -15,9 +15,8 @@ constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerDay = 86400.0;
 } // namespace
 
-void lake_losses(Catchments& lakes, const terrain::RasterD& dem, const SoilColumns& soil,
-                 double e0_mm, std::vector<double>* recharge, double& evaporation_m3,
-                 double& infiltration_m3) {
+void lake_losses(Catchments& lakes, const RasterD& dem, const SoilColumns& soil, double e0_mm,
+                 std::vector<double>* recharge, double& evaporation_m3, double& infiltration_m3) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
     for (const auto& k : lakes.catchments()) {
         const std::int32_t id = k.id;

@@ -33,7 +33,7 @@ std::string routing_name(Routing r) {
     return "?";
 }
 
-FlowDirections::FlowDirections(const terrain::RasterD& dem, D8Rule rule)
+FlowDirections::FlowDirections(const RasterD& dem, D8Rule rule)
     : m_grid(dem.grid()), m_z(dem.data(), dem.data() + dem.size()),
       m_receiver(static_cast<std::size_t>(dem.size()), kNoReceiver),
       m_outlet(static_cast<std::size_t>(dem.size()), 0) {
@@ -47,7 +47,7 @@ FlowDirections::FlowDirections(const terrain::RasterD& dem, D8Rule rule)
                 continue;
             }
             double best = 0.0;
-            for (const auto& o : terrain::kMooreOffsets) {
+            for (const auto& o : kMooreOffsets) {
                 const std::int64_t n = cell_index(m_grid, i + o[0], j + o[1]);
                 const double zn =
                     std::isnan(m_z[n]) ? -std::numeric_limits<double>::infinity() : m_z[n];
@@ -75,7 +75,7 @@ int mfd_shares(const FlowDirections& fd, std::int64_t c,
     const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
     int count = 0;
     double sum = 0;
-    for (const auto& o : terrain::kMooreOffsets) {
+    for (const auto& o : kMooreOffsets) {
         if (!g.contains(i + o[0], j + o[1])) continue;
         const std::int64_t n = cell_index(g, i + o[0], j + o[1]);
         const double zn = fd.elevation(n);

@@ -1,8 +1,8 @@
 #include "ecoterra/hydro/runoff.hpp"
 
 #include "ecoterra/data_dir.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -21,7 +21,7 @@ RunoffTable RunoffTable::standard() {
 
 RunoffTable RunoffTable::load(const std::filesystem::path& path) {
     const std::string where = path.string();
-    const auto j = parse_json(terrain::io::read_text(path), where);
+    const auto j = parse_json(io::read_text(path), where);
     RunoffTable t;
     try {
         t.m_source = j.value("source", "");

@@ -1,8 +1,8 @@
 #include "ecoterra/hydro/scene.hpp"
 
+#include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/generate.hpp"
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
@@ -21,7 +21,7 @@ fs::path resolve(const fs::path& base, const std::string& p) {
     return q.is_absolute() ? q : base / q;
 }
 
-terrain::RasterD load_terrain(const json& t, const fs::path& base, json& resolved) {
+RasterD load_terrain(const json& t, const fs::path& base, json& resolved) {
     require_known_keys(t, {"generate", "file"}, "terrain");
     if (t.contains("generate") == t.contains("file"))
         throw InputError("terrain: give exactly one of 'generate' (a terrain specification) or "
@@ -48,8 +48,8 @@ SoilComposition composition(const json& j, const std::string& where) {
     return c;
 }
 
-SoilMap load_soil(const json& s, const fs::path& base, const terrain::GridSpec& g,
-                  std::uint64_t seed, json& resolved) {
+SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::uint64_t seed,
+                  json& resolved) {
     require_known_keys(s, {"uniform", "random", "rasters"}, "soil");
     if (s.size() != 1) throw InputError("soil: give exactly one of 'uniform', 'random', 'rasters'");
     const std::vector<std::string> comp_keys = {"sand_pct", "silt_pct", "clay_pct", "ph",
@@ -88,7 +88,7 @@ SoilMap load_soil(const json& s, const fs::path& base, const terrain::GridSpec& 
     require_known_keys(r, {"sand_pct", "silt_pct", "clay_pct", "ph"}, "soil.rasters");
     auto read = [&](const char* k) {
         const auto path = resolve(base, get_string(r, k, "", "soil.rasters"));
-        terrain::RasterD x = terrain::io::read_raster(path);
+        RasterD x = terrain::io::read_raster(path);
         if (!(x.grid() == g))
             throw InputError("soil.rasters." + std::string(k) + ": " + path.string() + " is " +
                              std::to_string(x.nx()) + "x" + std::to_string(x.ny()) +
@@ -99,7 +99,7 @@ SoilMap load_soil(const json& s, const fs::path& base, const terrain::GridSpec& 
     for (const char* k : {"sand_pct", "silt_pct", "clay_pct"})
         if (!r.contains(k)) throw InputError("soil.rasters: missing key '" + std::string(k) + "'");
     const auto sand = read("sand_pct"), silt = read("silt_pct"), clay = read("clay_pct");
-    std::optional<terrain::RasterD> ph;
+    std::optional<RasterD> ph;
     if (r.contains("ph")) ph = read("ph");
     resolved["soil"] = s;
     return soil_from_rasters(sand, silt, clay, ph ? &*ph : nullptr, "soil.rasters");
@@ -197,7 +197,7 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
         r["vegetation"] = {{"density_file", path.string()}};
     } else {
         const double d = get_number(veg, "density", 0.5, "vegetation", 0, 1);
-        scene.vegetation_density = terrain::RasterD(g, d);
+        scene.vegetation_density = RasterD(g, d);
         r["vegetation"] = {{"density", d}};
     }
     scene.climate = load_climate(s.value("climate", json::object()), base, scene, r);
@@ -205,7 +205,7 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     return scene;
 }
 
-void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil) {
+void write_soil_maps(io::Hdf5Writer& h5, const SoilMap& soil) {
     h5.raster("/soil/sand_pct", soil.sand_pct, "%", "sand");
     h5.raster("/soil/silt_pct", soil.silt_pct, "%", "silt");
     h5.raster("/soil/clay_pct", soil.clay_pct, "%", "clay");
@@ -220,7 +220,7 @@ void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil) {
     h5.raster("/soil/ksat_m_per_s", soil.ksat_m_per_s, "m/s", "saturated hydraulic conductivity");
 }
 
-void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t) {
+void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t) {
     for (std::size_t k = 0; k < t.names.size(); ++k)
         h5.series(group + "/" + t.names[k], t.columns[k], t.units[k], t.descriptions[k]);
 }
@@ -229,7 +229,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
                                 const fs::path& png_dir,
                                 const std::function<void(int, int, double)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
-    terrain::io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
+    io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
     HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
     WeatherGenerator gen(sc.climate, sc.seed);
     const int total =

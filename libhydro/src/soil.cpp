@@ -10,7 +10,7 @@ namespace ecoterra::hydro {
 
 namespace {
 
-using terrain::GridSpec;
+using ecoterra::GridSpec;
 
 /// cm/h to m/s.
 constexpr double kCmPerHourToMPerS = 0.01 / 3600.0;
@@ -137,9 +137,8 @@ SoilProperties soil_properties(const SoilComposition& c) {
 namespace {
 
 SoilMap empty_map(const GridSpec& g) {
-    return SoilMap{terrain::RasterF(g), terrain::RasterF(g),  terrain::RasterF(g),
-                   terrain::RasterF(g), terrain::RasterU8(g), terrain::RasterF(g),
-                   terrain::RasterF(g), terrain::RasterF(g),  terrain::RasterF(g)};
+    return SoilMap{RasterF(g), RasterF(g), RasterF(g), RasterF(g), RasterU8(g),
+                   RasterF(g), RasterF(g), RasterF(g), RasterF(g)};
 }
 
 void set_cell(SoilMap& m, int i, int j, const SoilComposition& c) {
@@ -200,9 +199,8 @@ SoilMap random_soil(const GridSpec& grid, const RandomSoilParams& p, std::uint64
     return m;
 }
 
-SoilMap soil_from_rasters(const terrain::RasterD& sand, const terrain::RasterD& silt,
-                          const terrain::RasterD& clay, const terrain::RasterD* ph,
-                          const std::string& source_name) {
+SoilMap soil_from_rasters(const RasterD& sand, const RasterD& silt, const RasterD& clay,
+                          const RasterD* ph, const std::string& source_name) {
     if (!(sand.grid() == silt.grid()) || !(sand.grid() == clay.grid()) ||
         (ph && !(ph->grid() == sand.grid())))
         throw InputError(source_name + ": the sand, silt, clay (and pH) rasters differ in grid");

@@ -3,8 +3,8 @@
 #include "ecoterra/data_dir.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -113,7 +113,7 @@ Climate climate_preset(const std::string& name) {
 }
 
 Climate load_climate_file(const std::filesystem::path& path) {
-    const auto j = parse_json(terrain::io::read_text(path), path.string());
+    const auto j = parse_json(io::read_text(path), path.string());
     Climate c;
     c.name = path.stem().string();
     c = climate_catalog().read(j, c, {"description"}, path.string());
@@ -261,7 +261,7 @@ std::vector<std::string> split_csv(const std::string& line) {
 
 WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, double elev) {
     const std::string where = path.string();
-    std::istringstream in(terrain::io::read_text(path));
+    std::istringstream in(io::read_text(path));
     std::string line;
     if (!std::getline(in, line)) throw InputError(where + ": empty file");
     const auto header = split_csv(line);

@@ -4,7 +4,7 @@
 #include "support/scenes.hpp"
 
 #include "ecoterra/eco/run_file.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -25,7 +25,7 @@ void write(const fs::path& p, const std::string& text) {
 }
 
 std::string read(const fs::path& p) {
-    return terrain::io::read_text(p);
+    return io::read_text(p);
 }
 
 /// The shared small scene with a snapshot every year.

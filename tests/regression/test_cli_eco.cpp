@@ -5,7 +5,7 @@
 
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/run_file.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -245,7 +245,7 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
     CHECK_THAT(r.out, Catch::Contains("5 in total"));
     r = test::run(dir, "stand run.h5 --json stand.json");
     REQUIRE(r.code == 0);
-    const json st = json::parse(terrain::io::read_text(dir / "stand.json"));
+    const json st = json::parse(io::read_text(dir / "stand.json"));
     CHECK(st["year"] == 5);
     for (const char* k : {"basal_area_m2_per_ha", "stems_per_ha", "dbh_histogram"})
         CHECK(st.contains(k));
@@ -265,7 +265,7 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
 TEST_CASE("run: bad input names the file, species and key", "[eco][cli][errors]") {
     test::TempDir dir;
     json eco = json::parse(
-        terrain::io::read_text(test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json"));
+        io::read_text(test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json"));
     eco["Species"][2]["physiology"]["shade"]["tolerance"] = 0;
     write(dir / "bad_eco.json", eco.dump());
     json s = small_scene(1);

@@ -2,8 +2,8 @@
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <catch2/catch.hpp>
@@ -21,7 +21,7 @@ using ecoterra::test::TempDir;
 namespace {
 
 std::string slurp(const std::filesystem::path& p) {
-    return terrain::io::read_text(p);
+    return io::read_text(p);
 }
 } // namespace
 

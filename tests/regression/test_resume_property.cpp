@@ -42,7 +42,7 @@ std::string first_different_part(const eco::Ecosystem& a, const eco::Ecosystem& 
     if (a.days_done() != b.days_done()) return "days done";
     const auto& ha = a.hydrology();
     const auto& hb = b.hydrology();
-    const auto same_raster = [](const terrain::RasterD& x, const terrain::RasterD& y) {
+    const auto same_raster = [](const RasterD& x, const RasterD& y) {
         return x.size() == y.size() &&
                std::memcmp(x.data(), y.data(), static_cast<std::size_t>(x.size()) * 8) == 0;
     };

@@ -20,7 +20,7 @@ struct BruteForcePond {
     double stored_m3 = 0;
 };
 
-inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth_m,
+inline BruteForcePond brute_force_pond(const RasterD& dem, double depth_m,
                                        hydro::D8Rule rule = hydro::D8Rule::steepest) {
     using hydro::cell_index;
     const hydro::FlowDirections fd(dem, rule);
@@ -56,7 +56,7 @@ inline BruteForcePond brute_force_pond(const terrain::RasterD& dem, double depth
     }
     auto neighbours = [&](std::int64_t c, auto&& f) {
         const int i = static_cast<int>(c % g.nx), j = static_cast<int>(c / g.nx);
-        for (const auto& o : terrain::kMooreOffsets)
+        for (const auto& o : kMooreOffsets)
             if (g.contains(i + o[0], j + o[1])) f(cell_index(g, i + o[0], j + o[1]));
     };
     // minimax[c]: lowest possible highest elevation on a path from the seeds to c (a bottleneck

@@ -17,8 +17,8 @@
 
 using namespace ecoterra;
 using namespace ecoterra::hydro;
-using terrain::GridSpec;
-using terrain::RasterD;
+using ecoterra::GridSpec;
+using ecoterra::RasterD;
 
 namespace {
 

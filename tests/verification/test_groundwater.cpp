@@ -8,8 +8,8 @@
 
 using namespace ecoterra;
 using namespace ecoterra::hydro;
-using terrain::GridSpec;
-using terrain::RasterD;
+using ecoterra::GridSpec;
+using ecoterra::RasterD;
 using GB = GroundwaterBoundary;
 
 TEST_CASE("Steady Dupuit mound under uniform recharge between fixed heads",
@@ -19,7 +19,7 @@ TEST_CASE("Steady Dupuit mound under uniform recharge between fixed heads",
     const double dx = 10, K = 1e-4, W = 1e-8, h0 = 10, sy = 0.2;
     const GridSpec g{nx, ny, dx, 0, 0};
     RasterD surface(g, 100.0), base(g, 0.0), head(g, h0);
-    terrain::RasterF ks(g, static_cast<float>(K));
+    RasterF ks(g, static_cast<float>(K));
     Groundwater gw(surface, base, head, ks, sy,
                    {GB::fixed_head, GB::fixed_head, GB::no_flow, GB::no_flow});
     const double dt = 1e6; // s
@@ -63,7 +63,7 @@ TEST_CASE("A sine mode of the water table decays at the discrete diffusion rate"
     RasterD surface(g, 50.0), base(g, -H), head(g, 0.0);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) head(i, j) = a * std::sin(std::numbers::pi * i * dx / L);
-    terrain::RasterF ks(g, static_cast<float>(K));
+    RasterF ks(g, static_cast<float>(K));
     Groundwater gw(surface, base, head, ks, sy,
                    {GB::fixed_head, GB::fixed_head, GB::no_flow, GB::no_flow});
     const double D = K * H / sy;
@@ -81,7 +81,7 @@ TEST_CASE("A sine mode of the water table decays at the discrete diffusion rate"
 TEST_CASE("A water table pushed above the surface seeps out", "[groundwater]") {
     const GridSpec g{5, 5, 1.0, 0, 0};
     RasterD surface(g, 10.0);
-    terrain::RasterF ks(g, 1e-5f);
+    RasterF ks(g, 1e-5f);
     Groundwater gw(surface, ks, 0.2, 20.0, 0.5);
     std::vector<double> recharge(static_cast<std::size_t>(g.size()), 0.0);
     recharge[12] = 1.0; // 1 m3 into the centre cell: 5 m of rise at S_y 0.2

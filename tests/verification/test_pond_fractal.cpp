@@ -16,8 +16,8 @@
 
 using namespace ecoterra;
 using namespace ecoterra::hydro;
-using terrain::GridSpec;
-using terrain::RasterD;
+using ecoterra::GridSpec;
+using ecoterra::RasterD;
 
 namespace {
 

@@ -1,5 +1,5 @@
 // ESRI ASCII grid (ArcGIS "ASCII to Raster"): a six-line header, then rows north to south.
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <algorithm>
@@ -44,7 +44,7 @@ int parse_count(const std::string& tok, const std::string& where, const std::str
 
 RasterD read_esri_ascii(const std::filesystem::path& path) {
     const std::string where = path.string();
-    const std::string text = read_text(path);
+    const std::string text = ecoterra::io::read_text(path);
     std::istringstream in(text);
     std::map<std::string, std::string> h;
     std::string key;
@@ -116,7 +116,7 @@ RasterD read_esri_ascii(const std::filesystem::path& path) {
 }
 
 void write_esri_ascii(const RasterD& z, const std::filesystem::path& path) {
-    AtomicOutput out(path);
+    ecoterra::io::AtomicOutput out(path);
     {
         std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
         if (!f) throw IoError(path.string() + ": cannot open for writing");

@@ -1,5 +1,5 @@
 // GeoTIFF (and any raster GDAL can open) through GDAL's C API.
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <cpl_conv.h>
@@ -125,7 +125,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
 void write_geotiff(const RasterD& z, const std::filesystem::path& path) {
     init_gdal();
     QuietGdal quiet;
-    AtomicOutput out(path);
+    ecoterra::io::AtomicOutput out(path);
     GDALDriverH drv = GDALGetDriverByName("GTiff");
     if (!drv) throw IoError("GDAL has no GTiff driver");
     char** opts = nullptr;

@@ -1,5 +1,5 @@
 // HDF5 elevation rasters through the HDF5 C++ API.
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <H5Cpp.h>
@@ -70,7 +70,7 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
 }
 
 void write_hdf5(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt) {
-    Hdf5Writer h5(path);
+    ecoterra::io::Hdf5Writer h5(path);
     h5.raster("/elevation", z, "m", "elevation above the datum at cell centres; NaN = NODATA");
     h5.attribute("/provenance", "json", opt.provenance.dump());
     h5.commit();

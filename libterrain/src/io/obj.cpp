@@ -1,6 +1,6 @@
 // Wavefront OBJ meshes of rasters: one vertex per valid cell centre (x east, y north, z up, m),
 // two triangles per 2x2 block of valid cells, counter-clockwise seen from above.
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <cstdio>
@@ -12,7 +12,7 @@
 namespace ecoterra::terrain::io {
 
 void write_obj(const RasterD& z, const std::filesystem::path& path) {
-    AtomicOutput out(path);
+    ecoterra::io::AtomicOutput out(path);
     {
         std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
         if (!f) throw IoError(path.string() + ": cannot open for writing");

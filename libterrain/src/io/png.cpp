@@ -1,6 +1,6 @@
 // PNG reading and writing with libpng: 16-bit grayscale heightmaps (with a JSON sidecar holding
 // the vertical scale) and 8-bit RGB pictures.
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
@@ -163,8 +163,8 @@ void encode_png16(const RasterD& z, const std::filesystem::path& path, const Wri
         opt.warnings->push_back(path.string() + ": " + std::to_string(z.nx()) + "x" +
                                 std::to_string(z.ny()) +
                                 " is not an Unreal Engine landscape size (e.g. 1009, 2017, 4033)");
-    AtomicOutput png_out(path);
-    AtomicOutput json_out(png_sidecar_path(path));
+    ecoterra::io::AtomicOutput png_out(path);
+    ecoterra::io::AtomicOutput json_out(png_sidecar_path(path));
     const std::string e =
         write_png_raw(png_out.temp_path().c_str(), z.nx(), z.ny(), 16, PNG_COLOR_TYPE_GRAY, rows,
                       static_cast<std::size_t>(z.nx()) * 2);
@@ -253,7 +253,7 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
     if (std::filesystem::exists(side)) {
         nlohmann::json j;
         try {
-            j = nlohmann::json::parse(read_text(side));
+            j = nlohmann::json::parse(ecoterra::io::read_text(side));
             scale = j.at("vertical_scale_m").get<double>();
             offset = j.at("vertical_offset_m").get<double>();
             g.cell_size_m = j.at("cell_size_m").get<double>();
@@ -291,7 +291,7 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
 namespace ecoterra::terrain {
 
 void write_png_rgb(const Image& img, const std::filesystem::path& path) {
-    io::AtomicOutput out(path);
+    ecoterra::io::AtomicOutput out(path);
     std::vector<std::uint8_t> rows(img.pixels.size() * 3);
     for (std::size_t k = 0; k < img.pixels.size(); ++k) {
         rows[3 * k] = img.pixels[k].r;

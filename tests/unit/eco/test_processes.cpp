@@ -15,8 +15,8 @@ using namespace ecoterra;
 using namespace ecoterra::eco;
 
 namespace {
-terrain::GridSpec grid(int n) {
-    terrain::GridSpec g;
+GridSpec grid(int n) {
+    GridSpec g;
     g.nx = g.ny = n;
     g.cell_size_m = 1.0;
     return g;
@@ -36,7 +36,7 @@ TEST_CASE("shading: the paper's Fig 2 (A has one of four cells under taller B)",
     c.clear();
     add_cells(c, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}); // A, 2x2
     add_cells(c, {{1, 1}, {2, 1}, {1, 2}, {2, 2}}); // B, 2x2, shares (1,1)
-    terrain::RasterD ground;
+    RasterD ground;
     const auto s =
         compute_shading(g, c, {5.0, 12.0}, {4.0, 4.0}, ShadingMode::blocking, 0.5, &ground);
     CHECK(s[0] == Approx(0.25));

@@ -110,7 +110,7 @@ TEST_CASE("Soil input is checked", "[soil][errors]") {
 }
 
 TEST_CASE("Random soil maps are smooth, valid and reproducible", "[soil]") {
-    const terrain::GridSpec g{64, 48, 2.0, 0, 0};
+    const GridSpec g{64, 48, 2.0, 0, 0};
     RandomSoilParams p;
     p.mean = SoilComposition{20, 60, 20, 6.0, {}};
     const SoilMap a = random_soil(g, p, 5), b = random_soil(g, p, 5), c = random_soil(g, p, 6);

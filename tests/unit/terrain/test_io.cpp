@@ -1,7 +1,7 @@
 #include "support/temp_dir.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/terrain/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <catch2/catch.hpp>
@@ -65,7 +65,7 @@ TEST_CASE("Raster formats round-trip with georeference and NODATA", "[io]") {
         REQUIRE(std::filesystem::exists(dir / "a.png.json"));
         const auto s = stats(z);
         check_same(z, tio::read_raster(dir / "a.png"), (s.max - s.min) / 65534.0);
-        const auto side = parse_json(tio::read_text(dir / "a.png.json"), "sidecar");
+        const auto side = parse_json(ecoterra::io::read_text(dir / "a.png.json"), "sidecar");
         CHECK(side["unreal"]["z_scale_percent"].get<double>() == Approx((s.max - s.min) / 5.12));
         CHECK(side["unreal"]["xy_scale_percent"].get<double>() == Approx(50.0));
     }
@@ -80,7 +80,7 @@ TEST_CASE("The paper's Unreal Z scale follows from the PNG sidecar", "[io]") {
     RasterD z(GridSpec{1009, 2, 0.05, 0, 0}, 0.0);
     z(3, 1) = 3.84; // 3.84 m of relief at Z scale 0.75 %
     tio::write_png16(z, dir / "p.png", {});
-    const auto side = parse_json(tio::read_text(dir / "p.png.json"), "sidecar");
+    const auto side = parse_json(ecoterra::io::read_text(dir / "p.png.json"), "sidecar");
     CHECK(side["unreal"]["z_scale_percent"].get<double>() == Approx(0.75));
     CHECK(side["unreal"]["xy_scale_percent"].get<double>() == Approx(5.0));
     CHECK(tio::is_unreal_landscape_size(1009));

@@ -10,7 +10,7 @@
 //   beer_lambert  shade_p = 1 - mean over cells of exp(-k L(c))       (Monsi & Saeki 1953; k = 0.5,
 //                 iLand and 3-PG)
 // The ground shade raster is 1 where any crown covers a cell (blocking) or 1 - exp(-k L_total).
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -33,7 +33,7 @@ struct CrownSet {
         cells.clear();
     }
     /// Appends the crown of radius r (m) centred at (x, y) (m).
-    void add(const terrain::GridSpec& g, double x, double y, double r);
+    void add(const GridSpec& g, double x, double y, double r);
     std::size_t size() const { return cells.size(); }
 };
 
@@ -41,9 +41,9 @@ enum class ShadingMode { blocking, beer_lambert };
 
 /// Shade fraction per plant (in the order of `crowns`) and the ground shade raster.
 /// `height_m` and `lai` (leaf area per crown area) are per plant.
-std::vector<double> compute_shading(const terrain::GridSpec& g, const CrownSet& crowns,
+std::vector<double> compute_shading(const GridSpec& g, const CrownSet& crowns,
                                     const std::vector<double>& height_m,
                                     const std::vector<double>& lai, ShadingMode mode,
-                                    double extinction, terrain::RasterD* ground_shade);
+                                    double extinction, RasterD* ground_shade);
 
 } // namespace ecoterra::eco

@@ -38,9 +38,9 @@ public:
     const std::vector<Plant>& plants() const { return m_plants; }
     const EcoScene& scene() const { return m_scene; }
     const hydro::HydrologyModel& hydrology() const { return *m_hydro; }
-    const terrain::GridSpec& plant_grid() const { return m_pgrid; }
+    const GridSpec& plant_grid() const { return m_pgrid; }
     /// Ground shade on the plant grid (see canopy.hpp).
-    const terrain::RasterD& ground_shade() const { return m_ground_shade; }
+    const RasterD& ground_shade() const { return m_ground_shade; }
     StandMetrics stand() const;
     const Table& yearly() const { return m_yearly; }
     const Table& daily() const { return m_daily; }
@@ -76,7 +76,7 @@ private:
     std::uint64_t observed_weather_hash() const;
 
     EcoScene m_scene;
-    terrain::GridSpec m_pgrid;
+    GridSpec m_pgrid;
     CellMap m_map{};
     double m_hydro_cell_area = 1;
     std::unique_ptr<hydro::HydrologyModel> m_hydro;
@@ -87,10 +87,10 @@ private:
     std::int64_t m_next_id = 1;
     CrownSet m_crowns;
     RootCells m_roots; ///< the crowns' root cells per hydrology cell
-    terrain::RasterD m_ground_shade;
+    RasterD m_ground_shade;
     // Daily scratch (kept to avoid allocations in the daily loop).
     std::vector<double> m_request, m_ratio, m_fraction, m_demand;
-    terrain::RasterD m_request_mm;
+    RasterD m_request_mm;
     std::vector<CarbonDay> m_carbon;
     int m_years_done = 0, m_days_done = 0;
     Table m_yearly, m_daily;

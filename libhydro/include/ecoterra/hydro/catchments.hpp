@@ -24,7 +24,7 @@
 #include "ecoterra/archive.hpp"
 #include "ecoterra/hydro/depressions.hpp"
 #include "ecoterra/hydro/routing.hpp"
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -45,7 +45,7 @@ struct Catchment {
 
 class Catchments {
 public:
-    explicit Catchments(const terrain::RasterD& dem, D8Rule rule = D8Rule::steepest);
+    explicit Catchments(const RasterD& dem, D8Rule rule = D8Rule::steepest);
 
     const FlowDirections& flow() const { return m_fd; }
     const DepressionHierarchy& hierarchy() const { return m_dh; }
@@ -83,8 +83,8 @@ public:
             });
     }
     /// Catchment id per cell (0 = dry) and water depth per cell, m.
-    terrain::Raster<std::int32_t> id_map() const;
-    terrain::RasterD depth_map() const;
+    Raster<std::int32_t> id_map() const;
+    RasterD depth_map() const;
     /// Id of the catchment whose water covers a cell, 0 if none (valid after equilibrate()).
     std::int32_t owner(std::int64_t cell) const {
         const std::int32_t n = m_dh.node_of(cell);
@@ -119,7 +119,7 @@ private:
     /// After an equilibrium: list order, positions, cover map and wet counts.
     void finish();
 
-    terrain::RasterD m_dem;
+    RasterD m_dem;
     FlowDirections m_fd;
     DepressionHierarchy m_dh;
     double m_area;
@@ -133,6 +133,6 @@ private:
 /// Spreads a uniform depth (m) over every valid cell, routes it to the pits (D8, D8 to the lowest
 /// neighbour, or MFD; the hierarchy's pits follow the same D8 rule), and
 /// resolves the catchments to equilibrium, with no infiltration or evaporation.
-Catchments pond(const terrain::RasterD& dem, double depth_m, Routing routing);
+Catchments pond(const RasterD& dem, double depth_m, Routing routing);
 
 } // namespace ecoterra::hydro

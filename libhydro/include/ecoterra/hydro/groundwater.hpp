@@ -15,7 +15,7 @@
 // variable, so the budget uses the integrated boundary flux. Every SUNDIALS call is checked; the
 // context, integrator, vectors, matrix and solver are owned by RAII wrappers.
 #include "ecoterra/archive.hpp"
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <memory>
 #include <vector>
@@ -32,19 +32,19 @@ struct GroundwaterResult {
 class Groundwater {
 public:
     /// Head starts at surface - initial_depth_m; base at surface - thickness_m.
-    Groundwater(const terrain::RasterD& surface, const terrain::RasterF& ksat_m_per_s,
-                double specific_yield, double thickness_m, double initial_depth_m);
+    Groundwater(const RasterD& surface, const RasterF& ksat_m_per_s, double specific_yield,
+                double thickness_m, double initial_depth_m);
     /// General form: base elevation and initial head rasters, per-side boundaries
     /// (west, east, south, north).
-    Groundwater(const terrain::RasterD& surface, const terrain::RasterD& base,
-                const terrain::RasterD& initial_head, const terrain::RasterF& ksat_m_per_s,
-                double specific_yield, std::array<GroundwaterBoundary, 4> sides);
+    Groundwater(const RasterD& surface, const RasterD& base, const RasterD& initial_head,
+                const RasterF& ksat_m_per_s, double specific_yield,
+                std::array<GroundwaterBoundary, 4> sides);
     ~Groundwater();
 
     /// Integrates dt seconds with recharge per cell (m3 over the step, spread evenly in time).
     GroundwaterResult step(double dt_s, const std::vector<double>& recharge_m3);
 
-    terrain::RasterD head() const;
+    RasterD head() const;
     /// S_y (h - b) A summed over the cells that evolve, m3.
     double storage_m3() const;
     /// Steps CVODE took so far (for benchmarks).

@@ -84,22 +84,21 @@ et::DailyWeather et_weather(const DayWeather& w, const Climate& c);
 
 class HydrologyModel {
 public:
-    HydrologyModel(const terrain::RasterD& dem, const SoilMap& soil,
-                   const terrain::RasterD& vegetation_density, const HydrologyOptions& opt,
-                   const Climate& climate);
+    HydrologyModel(const RasterD& dem, const SoilMap& soil, const RasterD& vegetation_density,
+                   const HydrologyOptions& opt, const Climate& climate);
     ~HydrologyModel();
 
     /// Advances one day. `transpiration_mm` (per cell, may be null) is the water the plants ask
     /// for. Throws Error if the budget breaks.
-    DailyFluxes step(const DayWeather& w, const terrain::RasterD* transpiration_mm = nullptr);
+    DailyFluxes step(const DayWeather& w, const RasterD* transpiration_mm = nullptr);
 
-    const terrain::RasterD& soil_moisture() const { return m_theta; }
-    terrain::RasterD surface_water_depth() const { return m_catch.depth_map(); }
-    terrain::Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }
+    const RasterD& soil_moisture() const { return m_theta; }
+    RasterD surface_water_depth() const { return m_catch.depth_map(); }
+    Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }
     /// Depth of the water table below the surface, m (NaN without groundwater).
-    terrain::RasterD water_table_depth() const;
+    RasterD water_table_depth() const;
     /// Water removed from each cell's soil by the last step's transpiration, mm.
-    const terrain::RasterD& transpiration_supplied_mm() const { return m_transp_supplied; }
+    const RasterD& transpiration_supplied_mm() const { return m_transp_supplied; }
     const Catchments& catchments() const { return m_catch; }
     double cumulative_residual_m3() const { return m_cum_residual; }
     double cumulative_throughput_m3() const { return m_cum_throughput; }
@@ -109,8 +108,8 @@ public:
 
     /// Replaces the vegetation-density raster (0..1) and recomputes the runoff coefficients; the
     /// ecosystem calls it as canopies change.
-    void set_vegetation_density(const terrain::RasterD& density);
-    const terrain::RasterD& vegetation_density() const { return m_veg; }
+    void set_vegetation_density(const RasterD& density);
+    const RasterD& vegetation_density() const { return m_veg; }
 
     /// Checkpoint of the evolving state (soil water, catchments, groundwater, budget totals).
     /// load_state() expects a model built from the same terrain, soil and options.
@@ -122,14 +121,14 @@ private:
     /// Step 8: storage changes, the residual and the cumulative check.
     void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
                       double lost0);
-    terrain::RasterD m_dem;
+    RasterD m_dem;
     SoilMap m_soil;
-    terrain::RasterD m_veg;
+    RasterD m_veg;
     HydrologyOptions m_opt;
     Climate m_climate;
     Catchments m_catch;
     RunoffTable m_table;
-    terrain::RasterD m_theta, m_slope, m_coef, m_transp_supplied;
+    RasterD m_theta, m_slope, m_coef, m_transp_supplied;
     std::vector<std::int64_t> m_order;        ///< every cell after its higher neighbours
     std::vector<double> m_runoff, m_recharge; ///< per-cell scratch of a step, m3
     std::unique_ptr<Groundwater> m_gw;

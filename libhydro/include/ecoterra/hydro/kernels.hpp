@@ -45,9 +45,8 @@ struct SoilColumns {
 /// 1. Open-water evaporation (e0_mm over each catchment's wet cells) and infiltration under
 ///    standing water; with `recharge` (m3 per cell), percolation at Ksat x 1 day. Adds to the
 ///    accumulators, m3.
-void lake_losses(Catchments& lakes, const terrain::RasterD& dem, const SoilColumns& soil,
-                 double e0_mm, std::vector<double>* recharge, double& evaporation_m3,
-                 double& infiltration_m3);
+void lake_losses(Catchments& lakes, const RasterD& dem, const SoilColumns& soil, double e0_mm,
+                 std::vector<double>* recharge, double& evaporation_m3, double& infiltration_m3);
 
 /// 2. Rain (m) on every catchment's wet cells joins it.
 void rain_on_lakes(Catchments& lakes, double rain_m, double cell_area_m2);

@@ -3,7 +3,7 @@
 //
 // D8 (O'Callaghan & Mark 1984): each cell drains to the Moore neighbour with the steepest downward
 // slope (z_c - z_n) / distance; ties go to the first neighbour in the fixed order of
-// terrain::kMooreOffsets. A cell with no lower neighbour is a pit.
+// kMooreOffsets. A cell with no lower neighbour is a pit.
 // D8, lowest neighbour (`d8-lowest`): each cell drains to its lowest Moore neighbour, whatever the
 // distance, as the flow directions of Barnes et al.'s depression hierarchy and Fill-Spill-Merge
 // (a priority flood from the pits reaches a cell first from its lowest neighbour). The two rules
@@ -13,7 +13,7 @@
 // lengths in cells).
 // Edge cells are outlets (as the ocean in Barnes et al.'s Fill-Spill-Merge): water that reaches one
 // leaves the domain. NODATA cells are outlets too.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <array>
 #include <cstdint>
@@ -35,14 +35,14 @@ std::string routing_name(Routing r);
 inline constexpr std::int32_t kNoReceiver = -1;
 
 /// Flat index j * nx + i.
-inline std::int64_t cell_index(const terrain::GridSpec& g, int i, int j) {
+inline std::int64_t cell_index(const GridSpec& g, int i, int j) {
     return static_cast<std::int64_t>(j) * g.nx + i;
 }
 
 class FlowDirections {
 public:
-    explicit FlowDirections(const terrain::RasterD& dem, D8Rule rule = D8Rule::steepest);
-    const terrain::GridSpec& grid() const { return m_grid; }
+    explicit FlowDirections(const RasterD& dem, D8Rule rule = D8Rule::steepest);
+    const GridSpec& grid() const { return m_grid; }
     /// True for edge and NODATA cells: water there leaves the domain.
     bool is_outlet(std::int64_t c) const { return m_outlet[c] != 0; }
     /// The D8 receiver of an interior cell, or kNoReceiver for a pit (and for outlets).
@@ -54,7 +54,7 @@ public:
     std::int64_t size() const { return m_grid.size(); }
 
 private:
-    terrain::GridSpec m_grid;
+    GridSpec m_grid;
     std::vector<double> m_z;
     std::vector<std::int32_t> m_receiver;
     std::vector<std::uint8_t> m_outlet;

@@ -3,7 +3,7 @@
 // Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
 #include "ecoterra/hydro/hydrology.hpp"
 
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -14,9 +14,9 @@
 namespace ecoterra::hydro {
 
 struct HydroScene {
-    terrain::RasterD dem;
+    RasterD dem;
     SoilMap soil;
-    terrain::RasterD vegetation_density;
+    RasterD vegetation_density;
     Climate climate;
     std::optional<WeatherSeries> observed; ///< a CSV series instead of the generator
     HydrologyOptions options;
@@ -47,10 +47,10 @@ struct HydroRunSummary {
 /// is called once per simulated month. With `png_dir`, pictures of the final state go there:
 /// hillshade.png, soil_moisture.png, surface_water_depth.png.
 /// Writes the soil maps under /soil/.
-void write_soil_maps(terrain::io::Hdf5Writer& h5, const SoilMap& soil);
+void write_soil_maps(io::Hdf5Writer& h5, const SoilMap& soil);
 
 /// Writes each column of a table as a dataset group/NAME with its units and description.
-void write_table(terrain::io::Hdf5Writer& h5, const std::string& group, const Table& t);
+void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t);
 
 HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
                                 const nlohmann::json& provenance,

@@ -21,7 +21,7 @@
 //   thetaS33 = thetaS33t + (0.636 thetaS33t - 0.107)
 //   thetaS = FC + thetaS33 - 0.097S + 0.043
 //   lambda = (ln FC - ln WP) / (ln 1500 - ln 33);  Ks = 1930 (thetaS - FC)^(3 - lambda) mm/h
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <array>
 #include <cstdint>
@@ -83,13 +83,13 @@ SoilProperties soil_properties(const SoilComposition& c);
 
 /// A soil map: per-cell composition and derived properties on a grid.
 struct SoilMap {
-    terrain::RasterF sand_pct, silt_pct, clay_pct, ph;
-    terrain::RasterU8 texture;
-    terrain::RasterF porosity, field_capacity, wilting_point, ksat_m_per_s;
-    const terrain::GridSpec& grid() const { return texture.grid(); }
+    RasterF sand_pct, silt_pct, clay_pct, ph;
+    RasterU8 texture;
+    RasterF porosity, field_capacity, wilting_point, ksat_m_per_s;
+    const GridSpec& grid() const { return texture.grid(); }
 };
 
-SoilMap uniform_soil(const terrain::GridSpec& grid, const SoilComposition& c);
+SoilMap uniform_soil(const GridSpec& grid, const SoilComposition& c);
 
 /// Seeded random soil: smooth Perlin fields (feature size patch_size_m) perturb the sand and clay
 /// fractions around `mean` by up to +-amplitude_pct, and pH by +-ph_amplitude; silt takes the rest.
@@ -100,11 +100,10 @@ struct RandomSoilParams {
     double patch_size_m = 50.0;
     void validate() const;
 };
-SoilMap random_soil(const terrain::GridSpec& grid, const RandomSoilParams& p, std::uint64_t seed);
+SoilMap random_soil(const GridSpec& grid, const RandomSoilParams& p, std::uint64_t seed);
 
 /// A soil map from per-cell rasters (percent sand, silt, clay; optional pH) on the same grid.
-SoilMap soil_from_rasters(const terrain::RasterD& sand, const terrain::RasterD& silt,
-                          const terrain::RasterD& clay, const terrain::RasterD* ph,
-                          const std::string& source_name);
+SoilMap soil_from_rasters(const RasterD& sand, const RasterD& silt, const RasterD& clay,
+                          const RasterD* ph, const std::string& source_name);
 
 } // namespace ecoterra::hydro

@@ -1,7 +1,7 @@
 #pragma once
 // Thin RAII wrapper over FFTW 3 (Frigo & Johnson 2005) for real 2D transforms of rasters.
 // Plans use FFTW_ESTIMATE, so the same input gives the same output on every run.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <complex>
 #include <vector>

@@ -2,7 +2,7 @@
 // Neighbourhood filters on rasters. NODATA (NaN) cells are left out of every average by normalised
 // convolution (Knutsson & Westin 1993): the filter is applied to the data and to the valid-cell
 // mask and the two are divided, which also renormalises the kernel at the grid edges.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 

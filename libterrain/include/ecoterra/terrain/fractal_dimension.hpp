@@ -17,7 +17,7 @@
 // Stat. Sci. 27(2) 247, compare the two). The linear part of the log-log curve is found by
 // iterative least squares: the longest run of consecutive lags whose points all lie within a
 // tolerance of their own fitted line.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <vector>
 

@@ -9,7 +9,7 @@
 //   "seed": 7,
 //   "params": { method-specific keys, see docs/terrain.md }
 // }
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include "ecoterra/catalog.hpp"
 

@@ -3,7 +3,7 @@
 // class, the heading uniform in [0, 360) degrees (counter-clockwise from east, +x), the goal lies
 // `length_m` away along it; both must be at least `border_m` from the map edge and the goal must be
 // low or semi, all on the closed class map. Draws are retried until `count` missions are found.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 #include <string>

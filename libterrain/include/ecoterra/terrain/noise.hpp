@@ -19,7 +19,7 @@
 //   Omega^{-alpha}: alpha = 2 is Van Deussen's natural-terrain law P(Omega) = C Omega^-2 (the
 //   default); MAVS's own code doubles the magnitude per octave (a_n proportional to lambda_n), i.e.
 //   alpha = 3, which mavs_compat reproduces.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <array>
 #include <cstdint>

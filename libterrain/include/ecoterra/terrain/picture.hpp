@@ -1,6 +1,6 @@
 #pragma once
 // Pictures of rasters as 8-bit RGB PNG files (libpng). Image row 0 is the top (north) edge.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 #include <filesystem>

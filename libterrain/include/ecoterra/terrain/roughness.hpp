@@ -14,7 +14,7 @@
 //   cm, i.e. slopes 50 * 0.75 / 128 = 0.29297 and 140 * 0.75 / 128 = 0.82031.
 // - Slope (rise over run, and degrees) and aspect (degrees clockwise from north, downslope
 //   direction) by Horn's (1981) 3x3 finite differences.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 namespace ecoterra::terrain {
 

@@ -6,7 +6,7 @@
 // and an inverse FFT: the 2D power spectrum goes as |k|^{-2(H+1)} = |k|^{-(8 - 2D)}, the variogram
 // as r^{2H}, and the surface has fractal dimension D = 3 - H. The result is periodic (it tiles)
 // and is rescaled to the requested RMS height.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 

@@ -17,7 +17,7 @@
 // cos(a x + b y + phi) = cos(a x + phi) cos(b y) - sin(a x + phi) sin(b y), so the whole grid is
 // Z = C - V U^T with U (nx x 2T) and V (ny x 2T) tables of per-term trigonometry: one matrix
 // product, no per-pixel trigonometry. Phases are evaluated in double precision.
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <Eigen/Core>
 

@@ -12,7 +12,7 @@
 //                   import settings
 //   .gazebo.png     as .png, resampled to a square of side 2^n + 1 cells as Gazebo requires
 //   .obj            Wavefront OBJ mesh, Z up, metres, two triangles per 2x2 block of cell centres
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <nlohmann/json.hpp>
 

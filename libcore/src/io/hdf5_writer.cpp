@@ -1,4 +1,4 @@
-#include "ecoterra/terrain/io/hdf5_writer.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 
 #include <hdf5.h>
 
@@ -16,7 +16,7 @@
 // closes it again and crashes. In memory nothing HDF5 does can fail for want of disk, so every
 // disk error is ours to report. Written on the C API so that each handle is closed exactly once
 // and nothing prints from a destructor.
-namespace ecoterra::terrain::io {
+namespace ecoterra::io {
 
 namespace {
 constexpr hsize_t kChunk = 256;
@@ -340,4 +340,4 @@ void Hdf5Writer::commit() {
     m_out.commit();
 }
 
-} // namespace ecoterra::terrain::io
+} // namespace ecoterra::io

@@ -20,7 +20,7 @@
 #include <limits>
 #include <string>
 
-namespace ecoterra::terrain {
+namespace ecoterra {
 
 struct GridSpec {
     int nx = 0;               ///< columns (x, east)
@@ -186,4 +186,4 @@ RasterStats stats(const RasterD& r);
 /// Throws InputError naming `what` if the raster has no valid cell.
 void require_valid_cells(const RasterD& r, const std::string& what);
 
-} // namespace ecoterra::terrain
+} // namespace ecoterra

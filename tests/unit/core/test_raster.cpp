@@ -1,10 +1,9 @@
 #include "ecoterra/random.hpp"
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <catch2/catch.hpp>
 
 using namespace ecoterra;
-using namespace ecoterra::terrain;
 
 TEST_CASE("GridSpec converts between cells and world coordinates", "[raster]") {
     const GridSpec g{10, 5, 2.0, 100.0, -50.0};

@@ -2,8 +2,8 @@
 // A self-describing HDF5 output file, written atomically: datasets go into a temporary file that
 // replaces the target only on commit(). Every dataset carries `units` and `description`
 // attributes; rasters also carry the grid (cell_size_m, origin_x_m, origin_y_m, row_order).
-#include "ecoterra/terrain/io/atomic_file.hpp"
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::terrain::io {
+namespace ecoterra::io {
 
 class Hdf5Writer {
 public:
@@ -55,4 +55,4 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
-} // namespace ecoterra::terrain::io
+} // namespace ecoterra::io

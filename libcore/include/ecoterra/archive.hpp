@@ -3,7 +3,7 @@
 // rasters, stored bit-exact in native byte order. The checkpoint blob of a run starts with a magic
 // tag and a format version; reading past the end, or a wrong tag, throws ecoterra::Error.
 #include "ecoterra/error.hpp"
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <cstdint>
 #include <cstring>
@@ -42,7 +42,7 @@ public:
         m_buf.insert(m_buf.end(), s.begin(), s.end());
     }
     template <class T>
-    void put_raster(const terrain::Raster<T>& r) {
+    void put_raster(const Raster<T>& r) {
         const auto& g = r.grid();
         put(g.nx);
         put(g.ny);
@@ -88,14 +88,14 @@ public:
         return s;
     }
     template <class T>
-    terrain::Raster<T> get_raster() {
-        terrain::GridSpec g;
+    Raster<T> get_raster() {
+        GridSpec g;
         g.nx = get<decltype(g.nx)>();
         g.ny = get<decltype(g.ny)>();
         g.cell_size_m = get<double>();
         g.origin_x_m = get<double>();
         g.origin_y_m = get<double>();
-        terrain::Raster<T> r(g);
+        Raster<T> r(g);
         const std::size_t bytes = static_cast<std::size_t>(r.size()) * sizeof(T);
         need(bytes);
         std::memcpy(r.data(), m_p, bytes);

@@ -1,9 +1,9 @@
-#include "ecoterra/terrain/raster.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <fstream>
 #include <sstream>
 
-namespace ecoterra::terrain {
+namespace ecoterra {
 
 namespace {
 std::string fmt(double v) {
@@ -84,4 +84,4 @@ void require_valid_cells(const RasterD& r, const std::string& what) {
     if (!any) throw InputError(what + ": the raster holds no valid cell (all NODATA)");
 }
 
-} // namespace ecoterra::terrain
+} // namespace ecoterra

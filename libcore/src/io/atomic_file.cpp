@@ -1,4 +1,4 @@
-#include "ecoterra/terrain/io/atomic_file.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include "ecoterra/error.hpp"
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace ecoterra::terrain::io {
+namespace ecoterra::io {
 
 namespace fs = std::filesystem;
 
@@ -87,4 +87,4 @@ std::string read_text(const fs::path& path) {
     return s.str();
 }
 
-} // namespace ecoterra::terrain::io
+} // namespace ecoterra::io

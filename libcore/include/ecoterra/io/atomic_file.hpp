@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::terrain::io {
+namespace ecoterra::io {
 
 class AtomicOutput {
 public:
@@ -32,4 +32,4 @@ void write_text_atomic(const std::filesystem::path& target, const std::string& t
 /// Reads a whole file; throws IoError naming it.
 std::string read_text(const std::filesystem::path& path);
 
-} // namespace ecoterra::terrain::io
+} // namespace ecoterra::io

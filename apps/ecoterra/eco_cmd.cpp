@@ -133,24 +133,25 @@ void run_stand(const StandArgs& a) {
     };
     print("all species", all);
     json per = json::object();
+    std::vector<int> species;
+    for (const auto& p : s.plants) species.push_back(p.species);
+    const auto by_species =
+        eco::stand_metrics_by_species(dbh, species, info.species.size(), info.area_m2);
     for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
-        std::vector<double> d;
-        for (std::size_t k = 0; k < dbh.size(); ++k)
-            if (static_cast<std::size_t>(s.plants[k].species) == sp) d.push_back(dbh[k]);
-        const auto m = eco::stand_metrics(d, info.area_m2);
-        print(info.species[sp], m);
-        per[info.species[sp]] = eco::to_json(m);
+        print(info.species[sp], by_species[sp]);
+        per[info.species[sp]] = eco::to_json(by_species[sp]);
     }
     out["species"] = per;
     std::printf("DBH classes (cm)   stems/ha\n");
     for (std::size_t i = 0; i < all.histogram.size(); ++i)
-        std::printf("  %3zu-%-3zu        %9.1f\n", i * 5, i * 5 + 5,
+        std::printf("  %3g-%-3g        %9.1f\n", static_cast<double>(i) * all.class_width_cm,
+                    static_cast<double>(i + 1) * all.class_width_cm,
                     static_cast<double>(all.histogram[i]) / all.area_ha);
     if (all.fit_valid)
-        std::printf("negative exponential: N = %.4g exp(-%.4f d_cm), q = %.3f per 5 cm, R2 = "
+        std::printf("negative exponential: N = %.4g exp(-%.4f d_cm), q = %.3f per %g cm, R2 = "
                     "%.3f\n",
-                    std::exp(all.intercept) / all.area_ha, all.rate_per_cm,
-                    std::exp(5 * all.rate_per_cm), all.r2);
+                    std::exp(all.intercept) / all.area_ha, all.rate_per_cm, all.q_per_class,
+                    all.class_width_cm, all.r2);
     else
         std::printf("negative exponential: fewer than 3 non-empty classes, no fit\n");
     if (!a.json_out.empty()) {

@@ -2,11 +2,10 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
-#include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/hydro/pond.hpp"
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/hydro/soil.hpp"
-#include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/picture.hpp"
@@ -66,21 +65,8 @@ struct EtArgs {
 
 void run_et(EtArgs& a) {
     namespace et = hydro::et;
-    const auto m = et::parse_method(a.method);
-    if (!m)
-        throw InputError("--method must be fao56, penman-open-water, penman-bare-soil or "
-                         "penman-grass, got '" +
-                         a.method + "'");
-    et::WindFunction wf;
-    if (a.wind == "1948")
-        wf = et::WindFunction::penman1948;
-    else if (a.wind == "1956")
-        wf = et::WindFunction::penman1956;
-    else if (a.wind == "shuttleworth")
-        wf = et::WindFunction::shuttleworth1993;
-    else
-        throw InputError("--wind-function must be 1948, 1956 or shuttleworth, got '" + a.wind +
-                         "'");
+    const et::Method m = et::parse_method(a.method, "--method");
+    const et::WindFunction wf = et::parse_wind_function(a.wind, "--wind-function");
     a.w.rh_min_pct = a.rhmin;
     a.w.rh_max_pct = a.rhmax;
     a.w.rh_mean_pct = a.rhmean;
@@ -89,9 +75,9 @@ void run_et(EtArgs& a) {
     a.w.rs_mj = a.rs;
     a.w.sunshine_h = a.sunshine;
     et::DailyTerms t{};
-    const double e = et::evapotranspiration(*m, a.w, wf, &t);
+    const double e = et::evapotranspiration(m, a.w, wf, &t);
     if (a.as_json) {
-        json j = {{"method", et::method_name(*m)},
+        json j = {{"method", et::method_name(m)},
                   {"et_mm_per_day", e},
                   {"es_kpa", t.es},
                   {"ea_kpa", t.ea},
@@ -106,7 +92,7 @@ void run_et(EtArgs& a) {
                   {"albedo", t.albedo},
                   {"humidity_from", t.humidity_from},
                   {"radiation_from", t.radiation_from}};
-        if (*m != et::Method::fao56) j["wind_function"] = et::wind_function_name(wf);
+        if (m != et::Method::fao56) j["wind_function"] = et::wind_function_name(wf);
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
@@ -115,9 +101,9 @@ void run_et(EtArgs& a) {
     std::printf("Ra %.3f, Rso %.3f, Rs %.3f (from %s), Rnl %.3f, Rn %.3f MJ m-2 day-1 "
                 "(albedo %.2f)\n",
                 t.ra, t.rso, t.rs, t.radiation_from, t.rnl, t.rn, t.albedo);
-    if (*m != et::Method::fao56)
+    if (m != et::Method::fao56)
         std::printf("wind function %s\n", et::wind_function_name(wf).c_str());
-    std::printf("%.2f mm/day %s\n", e, et::method_name(*m).c_str());
+    std::printf("%.2f mm/day %s\n", e, et::method_name(m).c_str());
 }
 
 struct PondArgs {
@@ -133,42 +119,23 @@ void run_pond(const PondArgs& a) {
     const RasterD dem = terrain::io::read_raster(a.dem, &warnings);
     print_warnings(warnings);
     Stopwatch sw;
-    const hydro::Catchments c = hydro::pond(dem, a.depth_m, routing);
+    const hydro::PondResult p = hydro::pond_with_budget(dem, a.depth_m, routing);
     const double seconds = sw.seconds();
-    const RasterD depth = c.depth_map();
-    const auto ids = c.id_map();
-    std::int64_t valid = 0, wet = 0;
-    for (std::int64_t k = 0; k < dem.size(); ++k) {
-        if (std::isnan(dem.data()[k])) continue;
-        ++valid;
-        wet += depth.data()[k] > 0;
-    }
-    const double area = dem.cell_size() * dem.cell_size();
-    const double input = a.depth_m * area * static_cast<double>(valid);
-    const double stored = c.total_volume_m3(), lost = c.lost_m3();
-    io::Hdf5Writer h5(a.output);
-    h5.raster("/surface_water_depth_m", depth, "m", "standing water depth at equilibrium");
-    h5.raster("/catchment_id", ids, "1", "catchment holding the cell, 0 = dry");
-    h5.raster("/elevation", dem, "m", "the DEM ponded");
-    h5.attribute("/", "depth_m", a.depth_m);
-    h5.attribute("/", "routing", hydro::routing_name(routing));
-    h5.attribute("/budget", "input_m3", input);
-    h5.attribute("/budget", "stored_m3", stored);
-    h5.attribute("/budget", "left_through_edges_m3", lost);
-    h5.attribute("/budget", "residual_m3", input - stored - lost);
-    h5.attribute("/provenance", "json", provenance({{"dem", a.dem}}).dump());
-    h5.commit();
+    hydro::write_pond(a.output, dem, p, provenance({{"dem", a.dem}}).dump());
+    const hydro::PondBudget& b = p.budget;
     std::printf("ponded %.4g m over %s (%d x %d cells of %.4g m), %s routing\n", a.depth_m,
                 a.dem.c_str(), dem.nx(), dem.ny(), dem.cell_size(),
                 hydro::routing_name(routing).c_str());
     std::printf("budget: input %.6g m3 = stored %.6g m3 + left through edges %.6g m3 "
                 "(residual %.3g m3)\n",
-                input, stored, lost, input - stored - lost);
+                b.input_m3, b.stored_m3, b.left_through_edges_m3, b.residual_m3());
     std::printf("%zu catchments, %lld wet cells (%.2f %%), max depth %.4g m; %.3f s "
                 "(%.3g cells/s)\n",
-                c.catchments().size(), static_cast<long long>(wet),
-                valid ? 100.0 * static_cast<double>(wet) / static_cast<double>(valid) : 0.0,
-                stats(depth).max, seconds, static_cast<double>(dem.size()) / seconds);
+                p.catchments, static_cast<long long>(p.wet_cells),
+                p.valid_cells
+                    ? 100.0 * static_cast<double>(p.wet_cells) / static_cast<double>(p.valid_cells)
+                    : 0.0,
+                stats(p.water_depth_m).max, seconds, static_cast<double>(dem.size()) / seconds);
     std::printf("wrote %s\n", a.output.c_str());
 }
 
@@ -258,7 +225,9 @@ void add_hydro_command(CLI::App& app) {
     et->add_option("--sunshine-hours", e->sunshine, "bright sunshine, hours");
     et->add_option("--soil-heat-flux", e->w.soil_heat_flux_mj, "G, MJ m-2 day-1 (0 for days)")
         ->capture_default_str();
-    et->add_option("--wind-function", e->wind, "Penman f(u): 1948 | 1956 | shuttleworth")
+    et->add_option(
+          "--wind-function", e->wind,
+          "Penman f(u): 1948 | 1956 | shuttleworth (or penman1948 | penman1956 | shuttleworth1993)")
         ->capture_default_str();
     et->add_flag("--json", e->as_json, "print all intermediates as JSON");
     et->callback([e] { run_et(*e); });

@@ -1,5 +1,7 @@
 #include "ecoterra/eco/stand_metrics.hpp"
 
+#include "ecoterra/error.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -52,6 +54,26 @@ StandMetrics stand_metrics(const std::vector<double>& dbh, double area_m2, doubl
         m.fit_valid = true;
     }
     return m;
+}
+
+std::vector<StandMetrics> stand_metrics_by_species(const std::vector<double>& dbh_m,
+                                                   const std::vector<int>& species,
+                                                   std::size_t n_species, double area_m2,
+                                                   double class_width_cm) {
+    if (dbh_m.size() != species.size())
+        throw InputError("stand metrics by species: " + std::to_string(dbh_m.size()) +
+                         " diameters but " + std::to_string(species.size()) + " species indices");
+    std::vector<std::vector<double>> split(n_species);
+    for (std::size_t k = 0; k < dbh_m.size(); ++k) {
+        if (species[k] < 0 || static_cast<std::size_t>(species[k]) >= n_species)
+            throw InputError("stand metrics by species: stem " + std::to_string(k) +
+                             " has species index " + std::to_string(species[k]) + ", not in [0, " +
+                             std::to_string(n_species) + ")");
+        split[static_cast<std::size_t>(species[k])].push_back(dbh_m[k]);
+    }
+    std::vector<StandMetrics> out;
+    for (const auto& d : split) out.push_back(stand_metrics(d, area_m2, class_width_cm));
+    return out;
 }
 
 nlohmann::json to_json(const StandMetrics& m) {

@@ -135,12 +135,7 @@ const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
                    "slope (rise/run) below which a cell absorbs all its rain"),
          number<O>("grass_density_threshold", &O::grass_density_threshold, "1", 0, 1,
                    "vegetation density at which the surface evaporates as grass, not bare soil"),
-         choice<O>("wind_function", &O::wind,
-                   std::vector<std::pair<std::string, et::WindFunction>>{
-                       {"penman1948", et::WindFunction::penman1948},
-                       {"penman1956", et::WindFunction::penman1956},
-                       {"shuttleworth1993", et::WindFunction::shuttleworth1993}},
-                   "Penman wind function"),
+         choice<O>("wind_function", &O::wind, et::wind_function_keys(), "Penman wind function"),
          flag<O>("groundwater", &O::groundwater, "lateral groundwater flow under the root zone"),
          number<O>("specific_yield", &O::specific_yield, "m3/m3", 0.001, 0.6,
                    "drainable porosity of the aquifer"),

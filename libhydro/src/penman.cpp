@@ -156,11 +156,36 @@ std::string method_name(Method m) {
     return "?";
 }
 
-std::optional<Method> parse_method(const std::string& s) {
-    for (Method m :
-         {Method::fao56, Method::penman_open_water, Method::penman_bare_soil, Method::penman_grass})
+Method parse_method(const std::string& s, const std::string& what) {
+    std::string names;
+    for (Method m : {Method::fao56, Method::penman_open_water, Method::penman_bare_soil,
+                     Method::penman_grass}) {
         if (s == method_name(m)) return m;
-    return std::nullopt;
+        names += (names.empty() ? "" : ", ") + method_name(m);
+    }
+    throw InputError(what + " must be one of " + names + ", got '" + s + "'");
+}
+
+const std::vector<std::pair<std::string, WindFunction>>& wind_function_keys() {
+    static const std::vector<std::pair<std::string, WindFunction>> keys{
+        {"penman1948", WindFunction::penman1948},
+        {"penman1956", WindFunction::penman1956},
+        {"shuttleworth1993", WindFunction::shuttleworth1993}};
+    return keys;
+}
+
+WindFunction parse_wind_function(const std::string& s, const std::string& what) {
+    static const std::vector<std::pair<std::string, WindFunction>> short_forms{
+        {"1948", WindFunction::penman1948},
+        {"1956", WindFunction::penman1956},
+        {"shuttleworth", WindFunction::shuttleworth1993}};
+    std::string names;
+    for (const auto* list : {&wind_function_keys(), &short_forms})
+        for (const auto& [key, w] : *list) {
+            if (s == key) return w;
+            names += (names.empty() ? "" : ", ") + key;
+        }
+    throw InputError(what + " must be one of " + names + ", got '" + s + "'");
 }
 
 void DailyWeather::validate() const {

@@ -279,6 +279,27 @@ TEST_CASE("stand metrics: basal area, Reineke SDI and an exact exponential", "[e
     CHECK(m.histogram == std::vector<std::int64_t>{64, 32, 16, 8, 4});
 }
 
+TEST_CASE("stand metrics by species partition the stand: stems and basal area add up",
+          "[eco][stand]") {
+    std::vector<double> d;
+    std::vector<int> sp;
+    for (int k = 0; k < 300; ++k) {
+        d.push_back(k % 7 == 0 ? 0.0 : 0.02 + 0.001 * k); // some below breast height
+        sp.push_back(k % 3);
+    }
+    const auto all = stand_metrics(d, 2.5e4);
+    const auto per = stand_metrics_by_species(d, sp, 4, 2.5e4);
+    REQUIRE(per.size() == 4);
+    CHECK(per[3].stems == 0);
+    CHECK(per[0].stems + per[1].stems + per[2].stems == all.stems);
+    CHECK(per[0].basal_area_m2_per_ha + per[1].basal_area_m2_per_ha + per[2].basal_area_m2_per_ha ==
+          Approx(all.basal_area_m2_per_ha).epsilon(1e-12));
+    CHECK_THROWS_WITH(stand_metrics_by_species(d, sp, 2, 2.5e4),
+                      Catch::Contains("species index 2"));
+    sp.pop_back();
+    CHECK_THROWS_AS(stand_metrics_by_species(d, sp, 3, 2.5e4), InputError);
+}
+
 TEST_CASE("species files: MAVS entries load with reported defaults, bad values are named",
           "[eco][species]") {
     using nlohmann::json;

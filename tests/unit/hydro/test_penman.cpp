@@ -1,4 +1,5 @@
 // FAO-56 examples and the vectors of reference hydrology.md s1.3 and s2.2.
+#include "ecoterra/error.hpp"
 #include "ecoterra/hydro/penman.hpp"
 
 #include <catch2/catch.hpp>
@@ -194,4 +195,21 @@ TEST_CASE("Weather input is checked", "[et][errors]") {
     w.rh_max_pct.reset();
     w.lat_deg = 95;
     CHECK_THROWS_WITH(fao56_reference_daily(w), Catch::Contains("latitude"));
+}
+
+TEST_CASE("Wind functions and methods parse from one list of names, bad names are refused",
+          "[penman][errors]") {
+    for (const auto& [key, w] : wind_function_keys()) {
+        CHECK(parse_wind_function(key, "k") == w);
+        CHECK(wind_function_name(w).rfind(key, 0) == 0); // the printed name starts with the key
+    }
+    CHECK(parse_wind_function("1956", "k") == WindFunction::penman1956);
+    CHECK(parse_wind_function("shuttleworth", "k") == WindFunction::shuttleworth1993);
+    CHECK_THROWS_WITH(parse_wind_function("1957", "--wind-function"),
+                      Catch::Contains("--wind-function") && Catch::Contains("'1957'") &&
+                          Catch::Contains("penman1948"));
+    for (Method m :
+         {Method::fao56, Method::penman_open_water, Method::penman_bare_soil, Method::penman_grass})
+        CHECK(parse_method(method_name(m), "m") == m);
+    CHECK_THROWS_AS(parse_method("fao-56", "--method"), InputError);
 }

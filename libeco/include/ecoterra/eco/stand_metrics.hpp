@@ -31,6 +31,13 @@ struct StandMetrics {
 
 StandMetrics stand_metrics(const std::vector<double>& dbh_m, double area_m2,
                            double class_width_cm = 5.0);
+/// The metrics of each species alone: species[k] is the species index (0 .. n_species-1) of the
+/// stem with dbh_m[k]; throws InputError when the lists differ in length or an index is out of
+/// range.
+std::vector<StandMetrics> stand_metrics_by_species(const std::vector<double>& dbh_m,
+                                                   const std::vector<int>& species,
+                                                   std::size_t n_species, double area_m2,
+                                                   double class_width_cm = 5.0);
 nlohmann::json to_json(const StandMetrics& m);
 
 } // namespace ecoterra::eco

@@ -36,6 +36,8 @@
 //   with Cn/Cd = 900/0.34 daily and 37/0.34 hourly (grass reference).
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ecoterra::hydro::et {
 
@@ -78,10 +80,18 @@ double net_longwave_hourly(double t_c, double ea_kpa, double rs_over_rso);
 enum class WindFunction { penman1948, penman1956, shuttleworth1993 };
 std::string wind_function_name(WindFunction w);
 double wind_function(WindFunction w, double u2_m_per_s);
+/// The keys of the wind functions (`penman1948`, `penman1956`, `shuttleworth1993`): the one list
+/// the scene catalogue and the `hydro et` option read.
+const std::vector<std::pair<std::string, WindFunction>>& wind_function_keys();
+/// The wind function of a key, or of its short form (`1948`, `1956`, `shuttleworth`); throws
+/// InputError naming `what`, the value and the accepted keys otherwise.
+WindFunction parse_wind_function(const std::string& s, const std::string& what);
 
 enum class Method { fao56, penman_open_water, penman_bare_soil, penman_grass };
 std::string method_name(Method m);
-std::optional<Method> parse_method(const std::string& s);
+/// The method of a name (`fao56`, `penman-open-water`, `penman-bare-soil`, `penman-grass`);
+/// throws InputError naming `what`, the value and the accepted names otherwise.
+Method parse_method(const std::string& s, const std::string& what);
 
 /// One day's weather at a site. Give humidity as rh_min/rh_max, rh_mean, tdew or ea; solar
 /// radiation as rs or sunshine hours (else Hargreaves' temperature estimate, kRs 0.16).

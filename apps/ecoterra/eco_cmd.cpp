@@ -46,11 +46,7 @@ void run_run(const RunArgs& a) {
             sets.push_back("simulation.years=" + std::to_string(*a.years));
         hydro::apply_overrides(j, sets);
         const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
-        try {
-            scene = eco::load_eco_scene(j, base);
-        } catch (const InputError& e) {
-            throw InputError(a.scene + ": " + e.what());
-        }
+        scene = with_context(a.scene, [&] { return eco::load_eco_scene(j, base); });
         for (const auto& n : scene->ecosystem.notes)
             std::fprintf(stderr, "note: %s: %s\n", scene->ecosystem.source.c_str(), n.c_str());
         if (scene->hydro.observed) print_notes(hydro::fill_report(*scene->hydro.observed));

@@ -153,12 +153,9 @@ void run_hydro_run(const RunArgs& a) {
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
     hydro::apply_overrides(scene, sets);
     const std::filesystem::path base = std::filesystem::path(a.scene).parent_path();
-    hydro::HydroScene sc;
-    try {
-        sc = hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);
-    } catch (const InputError& e) {
-        throw InputError(a.scene + ": " + e.what());
-    }
+    const hydro::HydroScene sc = with_context(a.scene, [&] {
+        return hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);
+    });
     json prov = provenance({{"scene_file", a.scene}, {"overrides", sets}});
     if (sc.observed) {
         print_notes(hydro::fill_report(*sc.observed));

@@ -21,13 +21,31 @@ constexpr double kMmPerM = 1000.0;
 constexpr double kLightOnlyHeightFraction = 0.95;
 /// The diameter at which H = kLightOnlyHeightFraction * Hmax, m.
 double light_only_d95_m(const Species& s) {
-    return -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / 100.0;
+    return -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / kCmPerM;
 }
 /// Light-only growth curve D(t) = D95 (1 - exp(-r t)).
 double light_only_dbh_m(const Species& s, double age_yr) {
     return light_only_d95_m(s) * (1 - std::exp(-s.growth_rate_per_yr * age_yr));
 }
+/// Age on the light-only curve of an initial stem: the diameter's share of D95 is capped here (a
+/// stem at or above D95 gets the age of this share), and 1 - share floored at kMinRemainder.
+constexpr double kLightOnlyMaxShareOfD95 = 0.999;
+constexpr double kMinRemainder = 1e-9;
+/// The yearly carbon check: |cumulative residual| may reach this share of the cumulative
+/// throughput (at least 1 kg of it) plus kCarbonStockRounding of the stock.
 constexpr double kCarbonTolerance = 1e-9;
+constexpr double kCarbonStockRounding = 1e-12;
+/// Memory per plant-grid cell: the ground shade and the shading pass's work rasters, bytes.
+constexpr double kPlantGridBytesPerCell = 24.0;
+/// Field capacity minus wilting point below which the relative soil water is taken as dry.
+constexpr double kMinAvailableWater = 1e-9;
+/// Stem files: the age and diameter a listed stem may have.
+constexpr double kMaxStemAgeYr = 10000;
+constexpr double kMaxStemDbhCm = 500;
+/// MAVS's competitive radius is half of its height-to-diameter ratio times the height.
+double mavs_competition_radius_m(const Species& s, double height_m) {
+    return 0.5 * s.height_to_diameter_ratio * height_m;
+}
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
 // 4: catchments on the depression hierarchy; 5: no padding in plants and the weather state,
 // bands sorted once (the order wet cells are walked in)
@@ -44,7 +62,7 @@ Ecosystem::Ecosystem(const EcoScene& scene)
     m_pgrid.cell_size_m = hg.cell_size_m / m_map.factor;
     m_pgrid.nx = hg.nx * m_map.factor;
     m_pgrid.ny = hg.ny * m_map.factor;
-    ensure_fits_in_memory(m_pgrid.size(), 24.0, "the plant grid");
+    ensure_fits_in_memory(m_pgrid.size(), kPlantGridBytesPerCell, "the plant grid");
     m_hydro_cell_area = hg.cell_size_m * hg.cell_size_m;
     m_hydro =
         std::make_unique<hydro::HydrologyModel>(scene.hydro.dem, scene.hydro.soil, RasterD(hg, 0.0),
@@ -95,7 +113,7 @@ void Ecosystem::place_initial_plants() {
     const auto nsp = static_cast<std::uint16_t>(m_scene.ecosystem.species.size());
     if (ini.kind == InitialPlants::Kind::random) {
         Rng rng(m_scene.seed, "eco.initial");
-        const double area_ha = g.width_m() * g.height_m() / 1e4;
+        const double area_ha = g.width_m() * g.height_m() / kM2PerHa;
         const std::int64_t n = std::llround(ini.stems_per_ha * area_ha);
         for (std::int64_t k = 0; k < n; ++k) {
             const auto sp = static_cast<std::uint16_t>(rng.below(nsp));
@@ -107,7 +125,8 @@ void Ecosystem::place_initial_plants() {
             if (m_scene.competition == Competition::light_only) {
                 // Age that gives this diameter on the light-only growth curve.
                 p.age_yr = std::ceil(
-                    -std::log(std::max(1e-9, 1 - std::min(d / light_only_d95_m(s), 0.999))) /
+                    -std::log(std::max(kMinRemainder, 1 - std::min(d / light_only_d95_m(s),
+                                                                   kLightOnlyMaxShareOfD95))) /
                     s.growth_rate_per_yr);
                 p.dbh_m = light_only_dbh_m(s, p.age_yr);
                 allometry::apply(s, p);
@@ -128,11 +147,13 @@ void Ecosystem::place_initial_plants() {
             ++lineno;
             if (line.empty()) continue;
             std::stringstream ss(line);
-            std::string f[5];
+            constexpr int kColumns = 5, kRequiredColumns = 4; // x_m,y_m,species,dbh_cm[,age_yr]
+            std::string f[kColumns];
             int nf = 0;
-            while (nf < 5 && std::getline(ss, f[nf], ',')) ++nf;
+            while (nf < kColumns && std::getline(ss, f[nf], ',')) ++nf;
             const std::string where = ini.file.string() + " line " + std::to_string(lineno);
-            if (nf < 4) throw InputError(where + ": expected x_m,y_m,species,dbh_cm[,age_yr]");
+            if (nf < kRequiredColumns)
+                throw InputError(where + ": expected x_m,y_m,species,dbh_cm[,age_yr]");
             // Numbers in full (no "12abc"), finite; the column is named with its value.
             auto number = [&](int k, const char* column) {
                 std::string v = f[k];
@@ -151,14 +172,16 @@ void Ecosystem::place_initial_plants() {
                 return out;
             };
             const double x = number(0, "x_m"), y = number(1, "y_m"), dcm = number(3, "dbh_cm");
-            const double age = nf == 5 ? number(4, "age_yr") : 0.0;
-            if (age < 0 || age > 10000)
-                throw InputError(where + ": age_yr = " + f[4] + " is outside [0, 10000]");
+            const double age = nf == kColumns ? number(4, "age_yr") : 0.0;
+            if (age < 0 || age > kMaxStemAgeYr)
+                throw InputError(where + ": age_yr = " + f[4] + " is outside [0, " +
+                                 format_number(kMaxStemAgeYr) + "]");
             if (!g.contains_point(x, y))
                 throw InputError(where + ": position (" + format_number(x) + ", " +
                                  format_number(y) + ") m is outside the terrain");
-            if (!(dcm > 0 && dcm < 500))
-                throw InputError(where + ": dbh_cm = " + f[3] + " is outside (0, 500)");
+            if (!(dcm > 0 && dcm < kMaxStemDbhCm))
+                throw InputError(where + ": dbh_cm = " + f[3] + " is outside (0, " +
+                                 format_number(kMaxStemDbhCm) + ")");
             int sp = -1;
             for (std::size_t k = 0; k < nsp; ++k) {
                 const auto& s = m_scene.ecosystem.species[k];
@@ -167,10 +190,10 @@ void Ecosystem::place_initial_plants() {
             if (sp < 0)
                 throw InputError(where + ": species '" + f[2] + "' is not in " +
                                  m_scene.ecosystem.source.string());
-            Plant p = new_plant(static_cast<std::uint16_t>(sp), x, y, dcm / 100.0);
+            Plant p = new_plant(static_cast<std::uint16_t>(sp), x, y, dcm / kCmPerM);
             p.age_yr = age;
             if (m_scene.competition == Competition::light_only) {
-                p.dbh_m = dcm / 100.0;
+                p.dbh_m = dcm / kCmPerM;
                 allometry::apply(m_scene.ecosystem.species[static_cast<std::size_t>(sp)], p);
             }
             m_plants.push_back(p);
@@ -373,7 +396,8 @@ bool Ecosystem::establishes(const Species& s, double x, double y, Rng& rng) cons
     const int hi = i / m_map.factor, hj = j / m_map.factor;
     const auto& soil = m_scene.hydro.soil;
     const double wp = soil.wilting_point(hi, hj), fc = soil.field_capacity(hi, hj);
-    const double rel = (m_hydro->soil_moisture()(hi, hj) - wp) / std::max(fc - wp, 1e-9);
+    const double rel =
+        (m_hydro->soil_moisture()(hi, hj) - wp) / std::max(fc - wp, kMinAvailableWater);
     if (rel < s.germination_min_soil_water) return false;
     if (m_hydro->catchments().owner(static_cast<std::int64_t>(hj) * m_map.hydro_nx + hi) != 0)
         return false;
@@ -492,7 +516,7 @@ void Ecosystem::year_end_light_only() {
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         const Plant& p = m_plants[k];
         radius[k] = m_scene.light_only_radius == LightOnlyRadius::mavs
-                        ? 0.5 * species[p.species].height_to_diameter_ratio * p.height_m
+                        ? mavs_competition_radius_m(species[p.species], p.height_m)
                         : p.crown_radius_m;
     }
     std::stable_sort(order.begin(), order.end(),
@@ -551,7 +575,7 @@ void Ecosystem::year_end_common() {
     m_cum_carbon_throughput += m_sum.production + m_sum.maintenance + m_sum.growth_resp +
                                m_sum.recruit_carbon + std::abs(m_sum.dead_carbon);
     if (std::abs(m_cum_carbon_residual) >
-        kCarbonTolerance * std::max(m_cum_carbon_throughput, 1.0) + 1e-12 * stock)
+        kCarbonTolerance * std::max(m_cum_carbon_throughput, 1.0) + kCarbonStockRounding * stock)
         throw Error("carbon budget broke in year " + std::to_string(m_years_done) + ": residual " +
                     format_number(m_cum_carbon_residual) + " kg against a throughput of " +
                     format_number(m_cum_carbon_throughput) + " kg");
@@ -640,19 +664,21 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
 
 void Ecosystem::load_state(ArchiveReader& a) {
     if (a.get<std::uint32_t>() != kCheckpointMagic)
-        throw InputError("the checkpoint is not an ecoterra ecosystem checkpoint");
+        throw CheckpointError("the checkpoint is not an ecoterra ecosystem checkpoint");
     const auto version = a.get<std::uint32_t>();
     if (version != kCheckpointVersion)
-        throw InputError("the checkpoint has format version " + std::to_string(version) +
-                         ", this ecoterra reads version " + std::to_string(kCheckpointVersion));
+        throw CheckpointError("the checkpoint has format version " + std::to_string(version) +
+                              ", this ecoterra reads version " +
+                              std::to_string(kCheckpointVersion));
     m_years_done = a.get<int>();
     m_days_done = a.get<int>();
     m_weather = a.get<hydro::DayWeather>();
     if (a.get<std::uint64_t>() != observed_weather_hash())
-        throw InputError(m_scene.hydro.observed
-                             ? "the observed weather series differs from the one the run was "
-                               "made with (was the weather CSV changed?)"
-                             : "the checkpoint was made with observed weather, the scene has none");
+        throw CheckpointError(
+            m_scene.hydro.observed
+                ? "the observed weather series differs from the one the run was "
+                  "made with (was the weather CSV changed?)"
+                : "the checkpoint was made with observed weather, the scene has none");
     m_gen.set_state(a.get<hydro::WeatherGenerator::State>());
     m_rng_seed.set_state(a.get<std::array<std::uint64_t, 4>>());
     m_rng_mort.set_state(a.get<std::array<std::uint64_t, 4>>());

@@ -7,8 +7,14 @@
 namespace ecoterra::eco::allometry {
 
 namespace {
-constexpr double kCmPerM = 100.0;
-}
+/// dbh_from_stem_mass: Newton steps at most, and the relative step that ends them.
+constexpr int kMaxNewtonSteps = 60;
+constexpr double kRelativeStepTolerance = 1e-13;
+/// The smallest diameter the relative tolerance is taken of, m.
+constexpr double kToleranceFloorM = 1e-6;
+/// The first upper bracket when the guess is smaller, m.
+constexpr double kFirstBracketM = 1e-4;
+} // namespace
 
 double height_m(const Species& s, double d) {
     return kBreastHeightM + (s.max_height_m - kBreastHeightM) *
@@ -32,10 +38,10 @@ double stem_mass_kg(const Species& s, double d) {
 double dbh_from_stem_mass(const Species& s, double mass, double guess) {
     if (!(mass > 0)) return 0.0;
     // Bracket, then Newton steps kept inside the bracket (M is increasing in D).
-    double lo = 0, hi = std::max(guess, 1e-4);
+    double lo = 0, hi = std::max(guess, kFirstBracketM);
     while (stem_mass_kg(s, hi) < mass) hi *= 2;
     double d = std::clamp(guess, lo, hi);
-    for (int it = 0; it < 60; ++it) {
+    for (int it = 0; it < kMaxNewtonSteps; ++it) {
         const double m = stem_mass_kg(s, d) - mass;
         if (m > 0)
             hi = d;
@@ -47,7 +53,8 @@ double dbh_from_stem_mass(const Species& s, double mass, double guess) {
         const double dm = c * (2 * d * height_m(s, d) + d * d * dh);
         double next = dm > 0 ? d - m / dm : 0.5 * (lo + hi);
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::abs(next - d) <= 1e-13 * std::max(d, 1e-6)) return next;
+        if (std::abs(next - d) <= kRelativeStepTolerance * std::max(d, kToleranceFloorM))
+            return next;
         d = next;
     }
     return d;

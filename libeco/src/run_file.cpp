@@ -399,7 +399,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
                                      " lacks its plants or its year");
             });
         ArchiveReader r(bytes.data(), bytes.size(), out.string());
-        eco->load_state(r);
+        with_context(out.string() + ": /checkpoint", [&] { eco->load_state(r); });
         snapshots = info.snapshots;
         prov["scene"] = stored_scene;
         prov["resumed_from_year"] = eco->years_done();

@@ -81,11 +81,7 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     if (!j.is_object()) throw InputError(source + ": an ecosystem file must be a JSON object");
     auto top = kMavsTopKeys;
     top.insert(top.end(), {"name", "description", "references", "Species"});
-    try {
-        require_known_keys(j, top, "");
-    } catch (const InputError& e) {
-        throw InputError(source + ": " + e.what());
-    }
+    with_context(source, [&] { require_known_keys(j, top, ""); });
     EcosystemDef def;
     def.source = source;
     def.name = j.value("name", std::filesystem::path(source).stem().string());
@@ -105,7 +101,7 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
             label = std::to_string(index);
             label.insert(label.begin(), '#');
         }
-        try {
+        with_context(source + ": species " + label, [&] {
             Species s = parse_species(e);
             if (!seen.insert(s.mesh_file).second)
                 throw InputError("'Mesh File' " + s.mesh_file +
@@ -116,9 +112,7 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
                 def.notes.push_back("species " + label + ": defaults for " + list);
             }
             def.species.push_back(std::move(s));
-        } catch (const InputError& err) {
-            throw InputError(source + ": species " + label + ": " + err.what());
-        }
+        });
         ++index;
     }
     if (def.species.size() > 65535) throw InputError(source + ": more than 65535 species");

@@ -8,7 +8,6 @@
 namespace ecoterra::eco {
 
 namespace {
-constexpr double kM2PerHa = 1e4;
 }
 
 StandMetrics stand_metrics(const std::vector<double>& dbh, double area_m2, double width_cm) {

@@ -7,12 +7,16 @@
 namespace ecoterra::hydro {
 
 namespace {
-/// Safety limit on catchment updates in one equilibrium, per node of the hierarchy.
+/// Safety limit on catchment updates in one equilibrium, per node of the hierarchy (plus a few
+/// nodes' worth, kMinUpdateNodes, for tiny hierarchies).
 constexpr std::int64_t kMaxUpdatesPerNode = 64;
+constexpr std::int64_t kMinUpdateNodes = 16;
 /// Volumes within this of a threshold (m3) count as at it: an absolute part for small bodies and
 /// a relative part for the rounding of large sums.
+constexpr double kAbsoluteVolumeTolerance_m3 = 1e-12;
+constexpr double kRelativeVolumeTolerance = 1e-13;
 double tolerance_m3(double reference_m3) {
-    return 1e-12 + 1e-13 * std::abs(reference_m3);
+    return kAbsoluteVolumeTolerance_m3 + kRelativeVolumeTolerance * std::abs(reference_m3);
 }
 } // namespace
 
@@ -190,7 +194,7 @@ int Catchments::equilibrate() {
     for (const auto& k : m_list)
         if (k.dirty) work.push_back(k.node);
     std::reverse(work.begin(), work.end()); // the stack takes them in list order
-    const std::int64_t limit = kMaxUpdatesPerNode * (m_dh.node_count() + 16);
+    const std::int64_t limit = kMaxUpdatesPerNode * (m_dh.node_count() + kMinUpdateNodes);
     std::int64_t updates = 0;
     while (!work.empty()) {
         const std::int32_t n = work.back();
@@ -348,12 +352,12 @@ void Catchments::load_state(ArchiveReader& a) {
     }
     const auto nodes = a.get<std::int32_t>();
     if (nodes != m_dh.node_count())
-        throw Error("catchment checkpoint: " + std::to_string(nodes) +
-                    " depressions, the terrain has " + std::to_string(m_dh.node_count()));
+        throw CheckpointError("catchment checkpoint: " + std::to_string(nodes) +
+                              " depressions, the terrain has " + std::to_string(m_dh.node_count()));
     std::fill(m_pos.begin(), m_pos.end(), -1);
     for (const auto& k : list) {
         if (k.node < 0 || k.node >= nodes || m_pos[k.node] >= 0)
-            throw Error("catchment checkpoint: bad depression " + std::to_string(k.node));
+            throw CheckpointError("catchment checkpoint: bad depression " + std::to_string(k.node));
         m_pos[k.node] = 0;
     }
     m_list = std::move(list);

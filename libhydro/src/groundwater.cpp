@@ -377,8 +377,9 @@ void Groundwater::save_state(ArchiveWriter& a) const {
 void Groundwater::load_state(ArchiveReader& a) {
     const auto y = a.get_vector<double>();
     if (static_cast<std::int64_t>(y.size()) != m->nvar() + 1)
-        throw Error("groundwater checkpoint: " + std::to_string(y.size()) + " values for " +
-                    std::to_string(m->nvar() + 1) + " unknowns (another terrain?)");
+        throw CheckpointError("groundwater checkpoint: " + std::to_string(y.size()) +
+                              " values for " + std::to_string(m->nvar() + 1) +
+                              " unknowns (another terrain?)");
     std::copy(y.begin(), y.end(), N_VGetArrayPointer(m->y.v));
     m->t_now = a.get<double>();
     m->last_step = a.get<double>();

@@ -319,14 +319,15 @@ void HydrologyModel::load_state(ArchiveReader& a) {
     auto theta = a.get_raster<double>();
     auto supplied = a.get_raster<double>();
     if (!(theta.grid() == m_dem.grid()) || !(supplied.grid() == m_dem.grid()))
-        throw Error("hydrology checkpoint: its grid differs from the terrain's");
+        throw CheckpointError("hydrology checkpoint: its grid differs from the terrain's");
     m_theta = std::move(theta);
     m_transp_supplied = std::move(supplied);
     m_catch.load_state(a);
     const bool gw = a.get<bool>();
     if (gw != (m_gw != nullptr))
-        throw Error("hydrology checkpoint: groundwater is " + std::string(gw ? "on" : "off") +
-                    " in the checkpoint and " + (m_gw ? "on" : "off") + " in the scene");
+        throw CheckpointError("hydrology checkpoint: groundwater is " +
+                              std::string(gw ? "on" : "off") + " in the checkpoint and " +
+                              (m_gw ? "on" : "off") + " in the scene");
     if (m_gw) m_gw->load_state(a);
     m_cum_residual = a.get<double>();
     m_cum_throughput = a.get<double>();

@@ -155,3 +155,33 @@ TEST_CASE("threads: a run gives the same bytes on 1, 2, 3, 4 and 7 threads",
     omp_set_num_threads(saved);
     set_parallel_min_items(kMinParallelItems);
 }
+
+TEST_CASE("resume: a checkpoint that does not fit the engine is a CheckpointError, bad input",
+          "[eco][resume][errors]") {
+    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+    json j = json::parse(f);
+    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    eco::Ecosystem e(scene);
+    const auto bytes = checkpoint(e);
+    const auto load = [](const eco::EcoScene& sc, const std::vector<std::uint8_t>& b) {
+        eco::Ecosystem r(sc);
+        ArchiveReader in(b.data(), b.size(), "run.h5");
+        r.load_state(in);
+    };
+    // Every mismatch is the same class, and that class is bad input (exit code 2).
+    std::vector<std::uint8_t> truncated(bytes.begin(), bytes.begin() + bytes.size() / 2);
+    CHECK_THROWS_AS(load(scene, truncated), CheckpointError);
+    std::vector<std::uint8_t> other = bytes;
+    other[0] ^= 0xff;
+    CHECK_THROWS_WITH(load(scene, other), Catch::Contains("not an ecoterra ecosystem checkpoint"));
+    json k = j;
+    k["hydrology"]["groundwater"] = true;
+    const auto gw = eco::load_eco_scene(k, test::data_dir() / "scenes");
+    CHECK_THROWS_WITH(load(gw, bytes), Catch::Contains("groundwater is off in the checkpoint"));
+    CHECK_THROWS_AS(load(gw, bytes), InputError);
+    CHECK_NOTHROW(load(scene, bytes));
+    // with_context keeps the class and puts what was being done first.
+    CHECK_THROWS_WITH(with_context("resuming run.h5", [&] { load(gw, bytes); }),
+                      Catch::StartsWith("resuming run.h5: hydrology checkpoint"));
+    CHECK_THROWS_AS(with_context("x", [&] { load(gw, bytes); }), CheckpointError);
+}

@@ -107,7 +107,7 @@ public:
 private:
     void need(std::size_t n) const {
         if (static_cast<std::size_t>(m_end - m_p) < n)
-            throw Error(m_source + ": the checkpoint is truncated or of another format");
+            throw CheckpointError(m_source + ": the checkpoint is truncated or of another format");
     }
     const std::uint8_t* m_p;
     const std::uint8_t* m_end;

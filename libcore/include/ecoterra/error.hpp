@@ -23,12 +23,32 @@ public:
     using Error::Error;
 };
 
+/// A checkpoint that is damaged, of another version, or does not belong to the scene resuming it
+/// (another grid, other switches, other weather): bad input like any other (exit code 2).
+class CheckpointError : public InputError {
+public:
+    using InputError::InputError;
+};
+
 /// A number as a short string for messages ("0.05", "1e-08"), as an ostream prints it.
 std::string format_number(double v);
 
-/// Returns "<context>: <message>" for re-throwing with more context.
-inline std::string with_context(const std::string& context, const std::exception& e) {
-    return context + ": " + e.what();
+/// Runs `f`; an ecoterra error it throws is thrown on as the same class with "<context>: " before
+/// its message, so a user reads what was being done ("data/ecosystems/x.json: species 'Birch':
+/// ..."). Other exceptions pass unchanged.
+template <class F>
+decltype(auto) with_context(const std::string& context, F&& f) {
+    try {
+        return f();
+    } catch (const CheckpointError& e) {
+        throw CheckpointError(context + ": " + e.what());
+    } catch (const InputError& e) {
+        throw InputError(context + ": " + e.what());
+    } catch (const IoError& e) {
+        throw IoError(context + ": " + e.what());
+    } catch (const Error& e) {
+        throw Error(context + ": " + e.what());
+    }
 }
 
 } // namespace ecoterra

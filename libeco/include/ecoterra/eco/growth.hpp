@@ -2,24 +2,31 @@
 // Growth percentage and the daily carbohydrate balance (paper 002 s3; equations rebuilt in
 // docs/ecosystem.md s3).
 //
-// Factors, each in [0, 1] (Gaussian responses around the species' desired state, width =
-// tolerance):
-//   shade   f_s = 1 if s <= s*, else exp(-((s - s*)/tol)^2 / 2)     s = shade fraction (0..1)
-//   water   f_w = 1 if x >= x*, else exp(-((x* - x)/tol)^2 / 2)     x = fraction of demand met
-//   pH      f_p = exp(-((pH - pH*)/tol)^2 / 2)
-//   texture f_t = 1 in the desired USDA class, else exp(-(d/tol)^2 / 2), d = distance (percentage
-//                 points of sand, silt, clay) from the cell's composition to the class centroid
-//   growth percentage G = f_s f_w f_t f_p
-// Daily carbohydrate (kg CH2O) of a plant with leaf area LA (m2) and height H (m):
-//   production   P = p_max * LA * G * phen(doy) * f_T(Tmean),  f_T = clamp((T - Tb)/(To - Tb), 0,
-//   1) maintenance  R = r_m / 365 * LA_full * H * Q10^((T - 20)/10)   (pipe model: living sapwood
-//                volume ~ leaf area x height, Shinozaki et al. 1964; Q10 = 2, Ryan 1991)
-//   surplus P - R fills the reserve up to C_max = c_res * LA_full; what is left builds wood after
-//   growth respiration (a fraction kGrowthRespiration of it, Penning de Vries 1975); a deficit
-//   drains the reserve; an empty reserve kills the plant (starvation).
-// Growth suppression (yearly, after LPJ-GUESS's greff_min): growth efficiency e = net wood +
-//   reserve increment per m2 leaf over the year (kg m-2 yr-1), running mean e_bar <- e_bar +
-//   (e - e_bar)/3; death probability mu_max * clamp(1 - e_bar / e_min, 0, 1).
+// clang-format off
+// Factors, each in [0, 1]: Gaussian responses around the species' desired state (Preference:
+// desired, tolerance):
+//   shade    f_s = 1 if s <= s*, else exp(-((s - s*)/tol)^2 / 2)    s = shade fraction, 0..1
+//   water    f_w = 1 if x >= x*, else exp(-((x* - x)/tol)^2 / 2)    x = fraction of demand met
+//   pH       f_p = exp(-((pH - pH*)/tol)^2 / 2)
+//   texture  f_t = 1 in the desired USDA class, else exp(-(d/tol)^2 / 2), d = distance in
+//            percentage points (sand, silt, clay) from the cell's composition to the class centroid
+//   growth percentage  G = f_s f_w f_t f_p
+// Daily carbohydrate (kg CH2O) of a plant of leaf area LA (m2, in leaf) and height H (m):
+//   production   P = p_max LA G phen(doy) f_T(T)          f_T = clamp((T - T_b)/(T_o - T_b), 0, 1)
+//   maintenance  R = r_m / 365 LA H Q10^((T - 20)/10)     pipe model: sapwood ~ LA x H (Shinozaki
+//                                                         et al. 1964); Q10 = 2 (Ryan 1991)
+//   with p_max = max_production_kg_per_m2_leaf_per_day, r_m =
+//   respiration_kg_per_m2_leaf_per_m_per_yr, T_b = temperature_base_c, T_o = temperature_optimum_c
+//   and T the day's mean air temperature (degC).
+//   A surplus P - R fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; the rest
+//   builds wood after growth respiration (the fraction kGrowthRespiration of it, Penning de Vries
+//   1975). A deficit drains the reserve; an empty reserve kills the plant (starvation).
+// Growth suppression (yearly, after LPJ-GUESS's greff_min): the growth efficiency
+//   e = (wood + reserve - their value a year ago) / LA  (kg m-2 yr-1) enters a running mean
+//   e_bar <- e_bar + (e - e_bar)/3; the death probability is mu_max clamp(1 - e_bar/e_min, 0, 1)
+//   with e_min = suppression_growth_efficiency_kg_per_m2_leaf_per_yr and
+//   mu_max = suppression_mortality_per_yr.
+// clang-format on
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/hydro/weather.hpp"
 
@@ -48,11 +55,12 @@ struct CarbonDay {
     bool starved = false;
 };
 
-/// One day of the carbohydrate balance. `growth` is the growth percentage G, `light_phen` the
-/// product phen * f_T, `leaf_area_full` the in-leaf leaf area. Updates reserve and wood.
+/// One day of the carbohydrate balance of plant `p` (its in-leaf leaf_area_m2 and height_m):
+/// `growth` is the growth percentage G, `phen` the leaf-on fraction phen(doy), `tmean_c` the
+/// day's mean air temperature. Updates the plant's reserve and wood.
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double tmean_c);
-/// The same with the day's temperature responses precomputed: f_T of the species and
-/// Q10^((T - 20)/10).
+/// The same with the day's temperature responses precomputed: `f_temp` = f_T(T) of the species and
+/// `q10_factor` = Q10^((T - 20)/10).
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double f_temp,
                      double q10_factor);
 

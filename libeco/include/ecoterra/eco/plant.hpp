@@ -1,15 +1,16 @@
 #pragma once
-// Plants and their allometry.
-//
-//   height      H(D) = 1.3 + (Hmax - 1.3) (1 - exp(-b D_cm))       [m]  (SORTIE-ND;
-//   Chapman-Richards
-//                                                                       family, reference forest.md
-//                                                                       s2)
-//   crown       R(D) = min(c1 D_cm^c2, Rmax), at least kMinCrownRadius [m] (SORTIE-ND power law)
-//   roots       root radius = crown radius                                    (paper 002 s3)
-//   leaf area   LA = LAI_crown * pi R^2                                [m2]
-//   stem mass   M(D) = rho * F * (pi/4) D^2 H(D)                       [kg]  (F = kStemFormFactor)
-// with D the trunk diameter at breast height (1.3 m) in m, D_cm = 100 D.
+// Plants and their allometry (docs/ecosystem.md s2; reference forest.md s2).
+// clang-format off
+//   height     H(D) = 1.3 + (Hmax - 1.3) (1 - exp(-b D_cm))     m   SORTIE-ND, Chapman-Richards family
+//   crown      R(D) = clamp(c1 D_cm^c2, kMinCrownRadiusM, Rmax)  m   SORTIE-ND power law
+//   roots      root radius = crown radius                            paper 002 s3
+//   leaf area  LA = LAI_c pi R^2                                 m2
+//   stem mass  M(D) = rho F (pi/4) D^2 H(D)                      kg  F = kStemFormFactor
+// with D the trunk diameter at breast height (1.3 m) in m and D_cm = 100 D; the Species members
+// are Hmax = max_height_m, b = height_dbh_slope_per_cm, c1 = crown_radius_coefficient_m,
+// c2 = crown_radius_exponent, Rmax = max_crown_radius_m, LAI_c = leaf_area_per_crown_area,
+// rho = wood_density_kg_per_m3.
+// clang-format on
 #include "ecoterra/eco/species.hpp"
 
 #include <cstddef>
@@ -19,6 +20,7 @@
 namespace ecoterra::eco {
 
 inline constexpr double kBreastHeightM = 1.3;
+inline constexpr double kCmPerM = 100.0;
 /// Stem form factor: stem volume / (basal area x height); 0.5 for a paraboloid (Husch, Beers &
 /// Kershaw 2003, Forest Mensuration, ch. 6).
 inline constexpr double kStemFormFactor = 0.5;

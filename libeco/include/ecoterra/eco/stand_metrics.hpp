@@ -14,6 +14,7 @@
 namespace ecoterra::eco {
 
 inline constexpr double kFt2PerAcrePerM2PerHa = 4.356; ///< 1 m2/ha in ft2/acre
+inline constexpr double kM2PerHa = 1e4;
 inline constexpr double kReinekeExponent = 1.605;
 inline constexpr double kReinekeReferenceDbhCm = 25.4;
 

@@ -3,7 +3,8 @@
 #include "subcommands.hpp"
 
 #include "ecoterra/eco/describe.hpp"
-#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/run.hpp"
+#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"

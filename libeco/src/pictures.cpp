@@ -1,5 +1,5 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
-#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
 #include <cairo.h>

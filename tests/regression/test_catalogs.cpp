@@ -7,7 +7,8 @@
 
 #include "ecoterra/eco/describe.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/run.hpp"
+#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"

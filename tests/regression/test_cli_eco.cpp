@@ -4,7 +4,7 @@
 #include "support/scenes.hpp"
 
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/eco/run_file.hpp"
+#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,0 +1,44 @@
+#pragma once
+// Running an ecosystem scene into a run file, and resuming one (file layout in docs/formats.md).
+// The run file RUN.h5 is replaced atomically after every snapshot and each snapshot is a file of
+// its own in RUN.snapshots/: a crash or kill during a write leaves the earlier snapshots and the
+// previous run file intact, and `ecoterra run --resume RUN.h5` continues from the last checkpoint.
+#include "ecoterra/eco/ecosystem.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+
+namespace ecoterra::eco {
+
+struct RunOptions {
+    std::filesystem::path output;
+    bool pictures = true;
+    std::filesystem::path picture_dir; ///< default: RUN.pictures next to the output
+    nlohmann::json provenance;         ///< version, command line (the scene is added)
+    std::optional<int> years;          ///< years to run now (default: the scene's, less done)
+    bool resume = false;
+};
+
+struct RunProgress {
+    int year = 0, years = 0;
+    std::size_t plants = 0;
+    double basal_area_m2_per_ha = 0, seconds = 0, plant_years = 0;
+};
+
+struct RunSummary {
+    int years_run = 0, years_total = 0, snapshots = 0;
+    bool reached_target = false;
+    StandMetrics stand;
+    double seconds = 0, plant_years = 0;
+    double water_residual_relative = 0, carbon_residual_relative = 0;
+    std::filesystem::path picture_dir;
+};
+
+/// Runs a scene from its start (opt.resume false) or continues the run in opt.output.
+RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
+                         const std::function<void(const RunProgress&)>& progress = {});
+
+} // namespace ecoterra::eco

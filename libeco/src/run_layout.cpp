@@ -1,0 +1,144 @@
+#include "run_layout.hpp"
+
+#include "ecoterra/io/hdf5_writer.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace ecoterra::eco::run_layout {
+
+using nlohmann::json;
+
+std::string snapshot_dir_name(const fs::path& output) {
+    return output.stem().string() + ".snapshots";
+}
+
+std::string snapshot_file_name(int index) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.h5", index);
+    return name;
+}
+
+std::uint64_t raster_hash(const RasterD& r) {
+    return fnv1a64(r.data(), static_cast<std::size_t>(r.size()) * sizeof(double));
+}
+
+void write_snapshot(const Ecosystem& eco, const fs::path& path) {
+    io::Hdf5Writer h5(path);
+    const auto& w = eco.last_weather();
+    std::vector<PlantRecord> rows;
+    rows.reserve(eco.plants().size());
+    for (const auto& p : eco.plants()) rows.push_back(plant_record(p));
+    for (const auto& c : plant_columns()) {
+        const std::string dataset = "/plants/" + c.name;
+        auto write = [&]<class T>(T) {
+            std::vector<T> v;
+            v.reserve(rows.size());
+            for (const auto& r : rows) v.push_back(static_cast<T>(c.get(r)));
+            h5.series(dataset, v, c.unit, c.description);
+        };
+        if (c.type == ColumnType::int64)
+            write(std::int64_t{});
+        else if (c.type == ColumnType::int32)
+            write(std::int32_t{});
+        else
+            write(double{});
+    }
+    const auto& hy = eco.hydrology();
+    h5.raster("/soil_moisture", hy.soil_moisture(), "m3/m3",
+              "volumetric soil water in the root zone");
+    h5.raster("/surface_water_depth_m", hy.surface_water_depth(), "m", "standing water depth");
+    h5.raster("/catchment_id", hy.catchment_ids(), "1", "catchment holding the cell, 0 = dry");
+    h5.raster("/water_table_depth_m", hy.water_table_depth(), "m",
+              "depth of the water table below the surface (NaN without groundwater)");
+    h5.raster("/shade_fraction", eco.ground_shade(), "1",
+              "light intercepted by crowns above the ground (plant grid)");
+    h5.attribute("/", "year", static_cast<double>(eco.years_done()));
+    h5.attribute("/", "day", static_cast<double>(eco.days_done()));
+    h5.attribute("/", "date",
+                 "simulation year " + std::to_string(w.year) + ", day " + std::to_string(w.doy));
+    h5.commit();
+}
+
+void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance, int snapshots) {
+    io::Hdf5Writer h5(path);
+    const EcoScene& sc = eco.scene();
+    h5.raster("/terrain/elevation", sc.hydro.dem, "m", "terrain elevation (hydrology grid)");
+    hydro::write_soil_maps(h5, sc.hydro.soil);
+    json sp = json::array();
+    std::string names;
+    for (const auto& s : sc.ecosystem.species) {
+        sp.push_back(species_to_json(s));
+        names += (names.empty() ? "" : "\n") + s.name;
+    }
+    h5.attribute("/species", "json", sp.dump());
+    h5.attribute("/species", "names", names);
+    h5.attribute("/species", "ecosystem", sc.ecosystem.name);
+    h5.attribute("/provenance", "json", provenance.dump());
+    h5.attribute("/provenance", "seed", static_cast<double>(sc.seed));
+    hydro::write_table(h5, "/series/yearly", eco.yearly());
+    hydro::write_table(h5, "/series/daily", eco.daily());
+    ArchiveWriter a;
+    eco.save_state(a);
+    h5.series("/checkpoint/state", a.bytes(), "1",
+              "full model state at the last snapshot (binary, ecoterra checkpoint format)");
+    h5.attribute("/checkpoint", "year", static_cast<double>(eco.years_done()));
+    h5.attribute("/checkpoint", "terrain_hash", std::to_string(raster_hash(sc.hydro.dem)));
+    h5.attribute("/checkpoint", "checksum_fnv1a64",
+                 std::to_string(fnv1a64(a.bytes().data(), a.bytes().size())));
+    const std::string dir = snapshot_dir_name(path);
+    for (int k = 0; k < snapshots; ++k) {
+        char link[32];
+        std::snprintf(link, sizeof link, "/snapshots/%04d", k);
+        h5.external_link(link, dir + "/" + snapshot_file_name(k), "/");
+    }
+    h5.attribute("/snapshots", "count", static_cast<double>(snapshots));
+    h5.attribute("/", "area_m2", eco.plant_grid().width_m() * eco.plant_grid().height_m());
+    h5.commit();
+}
+
+std::string read_string_attr(const H5::H5Object& o, const std::string& name) {
+    H5::Attribute a = o.openAttribute(name);
+    std::string v;
+    a.read(a.getStrType(), v);
+    return v;
+}
+
+double read_double_attr(const H5::H5Object& o, const std::string& name) {
+    double v = 0;
+    o.openAttribute(name).read(H5::PredType::NATIVE_DOUBLE, &v);
+    return v;
+}
+
+H5::H5File open_run(const fs::path& run) {
+    H5::Exception::dontPrint();
+    if (!fs::exists(run)) throw InputError(run.string() + ": no such run file");
+    try {
+        H5::H5File f(run.string(), H5F_ACC_RDONLY);
+        if (!f.nameExists("/provenance") || !f.nameExists("/checkpoint"))
+            throw InputError(run.string() + ": not an ecoterra ecosystem run (no /checkpoint)");
+        return f;
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": not a readable HDF5 file (" + e.getDetailMsg() + ")");
+    }
+}
+
+/// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
+void require_writable_folder(const fs::path& dir, const std::string& what) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create " + what + ": " + ec.message());
+    std::string probe(".write-test-");
+    probe.append(std::to_string(::getpid()));
+    const fs::path file = dir / probe;
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0)
+        throw IoError(dir.string() + ": cannot write in " + what + ": " + std::strerror(errno));
+    ::close(fd);
+    fs::remove(file, ec);
+}
+
+} // namespace ecoterra::eco::run_layout

@@ -1,0 +1,75 @@
+#pragma once
+// The layout of an ecosystem run on disk (docs/formats.md, "Ecosystem runs"): private to libeco,
+// shared by the run driver (run.cpp) and the readers (run_reader.cpp).
+//
+//   RUN.h5                     main file, replaced atomically after every snapshot: terrain, soil,
+//                              species, provenance, yearly and daily series, the checkpoint of
+//                              the state at the last snapshot, and /snapshots/NNNN links
+//   RUN.snapshots/NNNN.h5      one file per snapshot, written atomically once and never touched
+//                              again; /snapshots/NNNN in RUN.h5 is an HDF5 external link to it
+#include "ecoterra/eco/ecosystem.hpp"
+
+#include <H5Cpp.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ecoterra::eco::run_layout {
+
+namespace fs = std::filesystem;
+
+/// NAME.snapshots for the run file NAME.h5.
+std::string snapshot_dir_name(const fs::path& output);
+/// NNNN.h5, the file of snapshot `index`.
+std::string snapshot_file_name(int index);
+/// FNV-1a of a raster's bytes (the terrain a checkpoint belongs to).
+std::uint64_t raster_hash(const RasterD& r);
+/// Writes snapshot file `path`: plants, soil moisture, standing water, weather of the day.
+void write_snapshot(const Ecosystem& eco, const fs::path& path);
+/// Writes the run file `path` (atomically): rasters, species, series, checkpoint and the links to
+/// `snapshots` snapshot files.
+void write_main(const Ecosystem& eco, const fs::path& path, const nlohmann::json& provenance,
+                int snapshots);
+std::string read_string_attr(const H5::H5Object& o, const std::string& name);
+double read_double_attr(const H5::H5Object& o, const std::string& name);
+/// Opens a run file for reading; InputError naming it if it is missing or not a run.
+H5::H5File open_run(const fs::path& run);
+/// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
+void require_writable_folder(const fs::path& dir, const std::string& what);
+
+template <class T>
+std::vector<T> read_vector(const H5::Group& g, const std::string& name, const H5::PredType& t) {
+    H5::DataSet ds = g.openDataSet(name);
+    hsize_t n = 0;
+    ds.getSpace().getSimpleExtentDims(&n);
+    std::vector<T> v(n);
+    if (n) ds.read(v.data(), t);
+    return v;
+}
+
+/// Opens snapshot `k` of `run` and calls f on its root group. The file is found by the run file's
+/// present name (RUN.snapshots/NNNN.h5 beside RUN.h5), so that a run file renamed together with
+/// its folder still reads; the external links in RUN.h5 serve other tools (h5py, HDFView).
+template <class F>
+void open_snapshot(const fs::path& run, int k, F&& f) {
+    const fs::path parent = run.has_parent_path() ? run.parent_path() : fs::path(".");
+    const fs::path file = parent / snapshot_dir_name(run) / snapshot_file_name(k);
+    const std::string what =
+        run.string() + ": snapshot " + std::to_string(k) + " (" + file.string() + ") ";
+    const std::string hint = "; a run file NAME.h5 and its folder NAME.snapshots are moved and "
+                             "renamed together";
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) throw InputError(what + "is missing" + hint);
+    try {
+        if (!H5::H5File::isHdf5(file.string())) throw InputError(what + "is not an HDF5 file");
+        H5::H5File h(file.string(), H5F_ACC_RDONLY);
+        f(h.openGroup("/"));
+    } catch (const H5::Exception& e) {
+        throw InputError(what + "is damaged (" + e.getDetailMsg() + ")");
+    }
+}
+
+} // namespace ecoterra::eco::run_layout

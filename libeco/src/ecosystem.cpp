@@ -408,14 +408,29 @@ bool Ecosystem::establishes(const Species& s, double x, double y, Rng& rng) cons
 }
 
 void Ecosystem::year_end_coupled() {
+    std::vector<char> dead = ageing_and_mortality();
+    std::vector<Plant> recruits = seed_dispersal(dead);
+    background_arrivals(recruits);
+    for (auto& p : m_plants) p.growth_sum = p.growth_days = 0;
+    for (std::size_t k = 0; k < m_plants.size(); ++k)
+        if (dead[k]) m_plants[k].alive = false;
+    remove_dead();
+    for (auto& r : recruits) {
+        m_sum.recruit_carbon += r.wood_kg + r.reserve_kg;
+        m_plants.push_back(r);
+    }
+    m_sum.births += static_cast<double>(recruits.size());
+    refresh_canopy();
+}
+
+std::vector<char> Ecosystem::ageing_and_mortality() {
     const auto& species = m_scene.ecosystem.species;
-    // Ageing and mortality (maximum age, background), in plant order.
     std::vector<char> dead(m_plants.size(), 0);
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         Plant& p = m_plants[k];
         const Species& s = species[p.species];
-        const double u = m_rng_mort.uniform();
-        if (!p.alive) continue; // starved this year, counted then
+        const double u = m_rng_mort.uniform(); // drawn for every plant: the stream stays aligned
+        if (!p.alive) continue;                // starved this year, counted then
         p.age_yr += 1;
         update_growth_efficiency(p);
         const double suppression = suppression_mortality(s, p.growth_efficiency);
@@ -430,9 +445,13 @@ void Ecosystem::year_end_coupled() {
             m_sum.deaths_suppression += 1;
         }
     }
-    // Seeds of the survivors.
-    std::vector<Plant> recruits;
+    return dead;
+}
+
+std::vector<Plant> Ecosystem::seed_dispersal(const std::vector<char>& dead) {
+    const auto& species = m_scene.ecosystem.species;
     const auto& g = m_pgrid;
+    std::vector<Plant> recruits;
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         const Plant& p = m_plants[k];
         const Species& s = species[p.species];
@@ -454,7 +473,12 @@ void Ecosystem::year_end_coupled() {
                 recruits.push_back(new_plant(p.species, x, y, s.recruit_dbh_m));
         }
     }
-    // Background arrivals (MAVS "Num New Per Area").
+    return recruits;
+}
+
+void Ecosystem::background_arrivals(std::vector<Plant>& recruits) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& g = m_pgrid;
     const double area = g.width_m() * g.height_m();
     for (std::size_t sp = 0; sp < species.size(); ++sp) {
         const Species& s = species[sp];
@@ -467,22 +491,21 @@ void Ecosystem::year_end_coupled() {
                     new_plant(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));
         }
     }
-    for (auto& p : m_plants) p.growth_sum = p.growth_days = 0;
-    for (std::size_t k = 0; k < m_plants.size(); ++k)
-        if (dead[k]) m_plants[k].alive = false;
-    remove_dead();
-    for (auto& r : recruits) {
-        m_sum.recruit_carbon += r.wood_kg + r.reserve_kg;
-        m_plants.push_back(r);
-    }
-    m_sum.births += static_cast<double>(recruits.size());
-    refresh_canopy();
 }
 
 void Ecosystem::year_end_light_only() {
+    std::vector<char> dead = light_only_growth();
+    light_only_arrivals(dead);
+    overlap_thinning(dead);
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < m_plants.size(); ++k)
+        if (!dead[k]) m_plants[out++] = m_plants[k];
+    m_plants.resize(out);
+    refresh_canopy();
+}
+
+std::vector<char> Ecosystem::light_only_growth() {
     const auto& species = m_scene.ecosystem.species;
-    const auto& g = m_pgrid;
-    // Growth on the saturating curve, and death at the maximum age.
     std::vector<char> dead(m_plants.size(), 0);
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         Plant& p = m_plants[k];
@@ -496,7 +519,12 @@ void Ecosystem::year_end_light_only() {
         p.dbh_m = light_only_dbh_m(s, p.age_yr);
         allometry::apply(s, p);
     }
-    // Arrivals at the per-area rate.
+    return dead;
+}
+
+void Ecosystem::light_only_arrivals(std::vector<char>& dead) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& g = m_pgrid;
     const double area = g.width_m() * g.height_m();
     for (std::size_t sp = 0; sp < species.size(); ++sp) {
         const std::int64_t n = poisson(m_rng_arrival, species[sp].new_per_area_per_yr * area);
@@ -508,8 +536,11 @@ void Ecosystem::year_end_light_only() {
             m_sum.births += 1;
         }
     }
-    // Overlap: from the largest down, a plant whose circle overlaps a kept larger one dies (the
-    // crown by default, or the circle of MAVS's competitive radius).
+}
+
+void Ecosystem::overlap_thinning(std::vector<char>& dead) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& g = m_pgrid;
     std::vector<std::size_t> order(m_plants.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::vector<double> radius(m_plants.size());
@@ -521,6 +552,8 @@ void Ecosystem::year_end_light_only() {
     }
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return radius[a] > radius[b]; });
+    // Kept plants in square buckets at least two of the largest radii wide: a circle can only
+    // overlap one in its own or a neighbouring bucket.
     double rmax = 0;
     for (const double r : radius) rmax = std::max(rmax, r);
     const double bucket = std::max(2 * rmax, g.cell_size_m);
@@ -553,25 +586,24 @@ void Ecosystem::year_end_light_only() {
             kept[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
         }
     }
-    std::size_t out = 0;
-    for (std::size_t k = 0; k < m_plants.size(); ++k)
-        if (!dead[k]) m_plants[out++] = m_plants[k];
-    m_plants.resize(out);
-    refresh_canopy();
 }
 
 void Ecosystem::year_end_common() {
     ++m_years_done;
-    const auto& hg = m_scene.hydro.dem.grid();
     update_vegetation_density();
+    const CarbonStocks c = close_carbon_budget();
+    record_year(c);
+    m_sum = YearSums{};
+}
 
-    double wood = 0, reserve = 0;
-    for (const auto& p : m_plants) wood += p.wood_kg, reserve += p.reserve_kg;
-    const double stock = wood + reserve;
+Ecosystem::CarbonStocks Ecosystem::close_carbon_budget() {
+    CarbonStocks c;
+    for (const auto& p : m_plants) c.wood_kg += p.wood_kg, c.reserve_kg += p.reserve_kg;
+    const double stock = c.wood_kg + c.reserve_kg;
     const double expected = m_stock_at_year_start + m_sum.production - m_sum.maintenance -
                             m_sum.growth_resp + m_sum.recruit_carbon - m_sum.dead_carbon;
-    const double residual = stock - expected;
-    m_cum_carbon_residual += residual;
+    c.residual_kg = stock - expected;
+    m_cum_carbon_residual += c.residual_kg;
     m_cum_carbon_throughput += m_sum.production + m_sum.maintenance + m_sum.growth_resp +
                                m_sum.recruit_carbon + std::abs(m_sum.dead_carbon);
     if (std::abs(m_cum_carbon_residual) >
@@ -580,7 +612,11 @@ void Ecosystem::year_end_common() {
                     format_number(m_cum_carbon_residual) + " kg against a throughput of " +
                     format_number(m_cum_carbon_throughput) + " kg");
     m_stock_at_year_start = stock;
+    return c;
+}
 
+void Ecosystem::record_year(const CarbonStocks& c) {
+    const auto& hg = m_scene.hydro.dem.grid();
     const StandMetrics st = stand();
     const double to_mm = kMmPerM / (hg.width_m() * hg.height_m());
     YearRow row;
@@ -604,13 +640,12 @@ void Ecosystem::year_end_common() {
     row.growth_respiration_kg = m_sum.growth_resp;
     row.recruit_carbon_kg = m_sum.recruit_carbon;
     row.dead_carbon_kg = m_sum.dead_carbon;
-    row.wood_stock_kg = wood;
-    row.reserve_stock_kg = reserve;
-    row.carbon_residual_kg = residual;
+    row.wood_stock_kg = c.wood_kg;
+    row.reserve_stock_kg = c.reserve_kg;
+    row.carbon_residual_kg = c.residual_kg;
     row.transpiration_demand_mm = m_sum.demand_m3 * to_mm;
     row.transpiration_supplied_mm = m_sum.supplied_m3 * to_mm;
     m_yearly.push(row, yearly_columns());
-    m_sum = YearSums{};
 }
 
 StandMetrics Ecosystem::stand() const {

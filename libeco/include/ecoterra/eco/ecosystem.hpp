@@ -68,9 +68,34 @@ private:
     void refresh_canopy();
     void rebuild_crowns();
     void update_vegetation_density();
+    // The year end, coupled mode: year_end_coupled runs these in order, then removes the dead,
+    // adds the recruits and refreshes the canopy.
     void year_end_coupled();
+    /// Ageing, the growth-efficiency update, and death by age, background and suppression (one
+    /// draw of the mortality stream per plant); returns the plants that die.
+    std::vector<char> ageing_and_mortality();
+    /// Seeds of the mature survivors, dispersed and established (the seeding stream).
+    std::vector<Plant> seed_dispersal(const std::vector<char>& dead);
+    /// Arrivals from outside at each species' per-area rate, established (the arrival stream).
+    void background_arrivals(std::vector<Plant>& recruits);
+    // The year end, light-only mode (the MAVS baseline): growth on the saturating curve, arrivals,
+    // overlap thinning, then the dead removed and the canopy refreshed.
     void year_end_light_only();
+    /// Ageing and growth on the light-only curve; death at the maximum age.
+    std::vector<char> light_only_growth();
+    /// Arrivals at each species' per-area rate, placed without an establishment test.
+    void light_only_arrivals(std::vector<char>& dead);
+    /// From the largest circle down, a plant overlapping a kept larger one dies.
+    void overlap_thinning(std::vector<char>& dead);
+    // Both modes: vegetation density for the hydrology, the carbon budget, the yearly row.
     void year_end_common();
+    struct CarbonStocks {
+        double wood_kg = 0, reserve_kg = 0, residual_kg = 0;
+    };
+    /// The year's carbon budget of all plants; throws Error when it does not close.
+    CarbonStocks close_carbon_budget();
+    /// Appends the year's row (yearly_columns()) to the yearly series.
+    void record_year(const CarbonStocks& c);
     void remove_dead();
     /// A hash of the observed weather series (0 with the generator), checked on resume.
     std::uint64_t observed_weather_hash() const;

@@ -36,73 +36,62 @@ RasterD load_terrain(const json& t, const fs::path& base, json& resolved) {
     return std::move(g.z);
 }
 
-SoilComposition composition(const json& j, const std::string& where) {
-    SoilComposition c;
-    c.sand_pct = get_number(j, "sand_pct", c.sand_pct, where);
-    c.silt_pct = get_number(j, "silt_pct", c.silt_pct, where);
-    c.clay_pct = get_number(j, "clay_pct", c.clay_pct, where);
-    c.ph = get_number(j, "ph", c.ph, where);
-    if (j.contains("organic_matter_pct"))
-        c.organic_matter_pct = get_number(j, "organic_matter_pct", 0, where);
-    c.validate(where);
-    return c;
-}
-
 SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::uint64_t seed,
-                  json& resolved) {
+                  SoilSpec& spec, json& resolved) {
     require_known_keys(s, {"uniform", "random", "rasters"}, "soil");
     if (s.size() != 1) throw InputError("soil: give exactly one of 'uniform', 'random', 'rasters'");
-    const std::vector<std::string> comp_keys = {"sand_pct", "silt_pct", "clay_pct", "ph",
-                                                "organic_matter_pct"};
-    if (s.contains("uniform")) {
-        require_known_keys(s["uniform"], comp_keys, "soil.uniform");
-        const auto c = composition(s["uniform"], "soil.uniform");
-        resolved["soil"] = {{"uniform",
-                             {{"sand_pct", c.sand_pct},
-                              {"silt_pct", c.silt_pct},
-                              {"clay_pct", c.clay_pct},
-                              {"ph", c.ph}}}};
-        return uniform_soil(g, c);
+    spec.kind = s.begin().key();
+    if (spec.kind == "uniform") {
+        spec.uniform = soil_composition_catalog().read(s["uniform"], SoilComposition{});
+        spec.uniform.validate("soil.uniform");
+        resolved["soil"] = {{"uniform", soil_composition_catalog().to_json(spec.uniform)}};
+        return uniform_soil(g, spec.uniform);
     }
-    if (s.contains("random")) {
-        auto keys = comp_keys;
-        keys.insert(keys.end(), {"amplitude_pct", "ph_amplitude", "patch_size_m"});
-        const json& r = s["random"];
-        require_known_keys(r, keys, "soil.random");
-        RandomSoilParams p;
-        p.mean = composition(r, "soil.random");
-        p.amplitude_pct = get_number(r, "amplitude_pct", p.amplitude_pct, "soil.random");
-        p.ph_amplitude = get_number(r, "ph_amplitude", p.ph_amplitude, "soil.random");
-        p.patch_size_m = get_number(r, "patch_size_m", p.patch_size_m, "soil.random");
-        resolved["soil"] = {{"random",
-                             {{"sand_pct", p.mean.sand_pct},
-                              {"silt_pct", p.mean.silt_pct},
-                              {"clay_pct", p.mean.clay_pct},
-                              {"ph", p.mean.ph},
-                              {"amplitude_pct", p.amplitude_pct},
-                              {"ph_amplitude", p.ph_amplitude},
-                              {"patch_size_m", p.patch_size_m}}}};
-        return random_soil(g, p, seed);
+    if (spec.kind == "random") {
+        spec.random = random_soil_catalog().read(s["random"], RandomSoilParams{});
+        spec.random.mean.validate("soil.random");
+        resolved["soil"] = {{"random", random_soil_catalog().to_json(spec.random)}};
+        return random_soil(g, spec.random, seed);
     }
-    const json& r = s["rasters"];
-    require_known_keys(r, {"sand_pct", "silt_pct", "clay_pct", "ph"}, "soil.rasters");
-    auto read = [&](const char* k) {
-        const auto path = resolve(base, get_string(r, k, "", "soil.rasters"));
+    SoilRasterFiles& files = spec.rasters;
+    files = soil_rasters_catalog().read(s["rasters"], SoilRasterFiles{});
+    auto read = [&](std::string& file, const char* key) {
+        const fs::path path = resolve(base, file);
+        file = path.string(); // resolved: a resume finds the same file
         RasterD x = terrain::io::read_raster(path);
         if (!(x.grid() == g))
-            throw InputError("soil.rasters." + std::string(k) + ": " + path.string() + " is " +
+            throw InputError("soil.rasters." + std::string(key) + ": " + path.string() + " is " +
                              std::to_string(x.nx()) + "x" + std::to_string(x.ny()) +
                              ", the terrain is " + std::to_string(g.nx) + "x" +
                              std::to_string(g.ny));
         return x;
     };
-    for (const char* k : {"sand_pct", "silt_pct", "clay_pct"})
-        if (!r.contains(k)) throw InputError("soil.rasters: missing key '" + std::string(k) + "'");
-    const auto sand = read("sand_pct"), silt = read("silt_pct"), clay = read("clay_pct");
+    const auto sand = read(files.sand_pct, "sand_pct"), silt = read(files.silt_pct, "silt_pct"),
+               clay = read(files.clay_pct, "clay_pct");
     std::optional<RasterD> ph;
-    if (r.contains("ph")) ph = read("ph");
-    resolved["soil"] = s;
+    if (!files.ph.empty()) ph = read(files.ph, "ph");
+    resolved["soil"] = {{"rasters", soil_rasters_catalog().to_json(files)}};
     return soil_from_rasters(sand, silt, clay, ph ? &*ph : nullptr, "soil.rasters");
+}
+
+RasterD load_vegetation_cover(const json& v, const fs::path& base, const GridSpec& g,
+                              VegetationCover& cover, json& resolved) {
+    cover = vegetation_cover_catalog().read(v, VegetationCover{});
+    if (v.contains("density") && v.contains("density_file"))
+        throw InputError("vegetation: give 'density' or 'density_file', not both");
+    resolved["vegetation"] = json::object();
+    if (cover.density_file.empty()) {
+        resolved["vegetation"]["density"] = cover.density;
+        return RasterD(g, cover.density);
+    }
+    const auto path = resolve(base, cover.density_file);
+    cover.density_file = path.string();
+    RasterD d = terrain::io::read_raster(path);
+    if (!(d.grid() == g))
+        throw InputError("vegetation.density_file: " + path.string() +
+                         " does not match the terrain's grid");
+    resolved["vegetation"]["density_file"] = cover.density_file;
+    return d;
 }
 
 Climate load_climate(const json& c, const fs::path& base, HydroScene& scene, json& resolved) {
@@ -127,6 +116,28 @@ HydrologyOptions load_options(const json& h, json& resolved) {
 }
 
 } // namespace
+
+const ParamCatalog<SoilRasterFiles>& soil_rasters_catalog() {
+    using F = SoilRasterFiles;
+    static const ParamCatalog<F> c(
+        "soil.rasters",
+        {text<F>("sand_pct", &F::sand_pct, "raster of sand, % (terrain grid)").mandatory(),
+         text<F>("silt_pct", &F::silt_pct, "raster of silt, % (terrain grid)").mandatory(),
+         text<F>("clay_pct", &F::clay_pct, "raster of clay, % (terrain grid)").mandatory(),
+         text<F>("ph", &F::ph, "raster of soil pH (terrain grid); empty: uniform pH 6.5")});
+    return c;
+}
+
+const ParamCatalog<VegetationCover>& vegetation_cover_catalog() {
+    using V = VegetationCover;
+    static const ParamCatalog<V> c(
+        "vegetation",
+        {number<V>("density", &V::density, "1", 0, 1,
+                   "uniform vegetation density for the rain partition (hydro run only)"),
+         text<V>("density_file", &V::density_file,
+                 "raster of densities 0..1 on the terrain's grid instead of `density`")});
+    return c;
+}
 
 const ParamCatalog<HydroScene>& hydro_simulation_catalog() {
     using H = HydroScene;
@@ -184,22 +195,10 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     scene.dem = load_terrain(s["terrain"], base, r);
     require_valid_cells(scene.dem, "terrain");
     const auto& g = scene.dem.grid();
-    scene.soil =
-        load_soil(s.value("soil", json{{"uniform", json::object()}}), base, g, scene.seed, r);
-    const json veg = s.value("vegetation", json::object());
-    require_known_keys(veg, {"density", "density_file"}, "vegetation");
-    if (veg.contains("density_file")) {
-        const auto path = resolve(base, get_string(veg, "density_file", "", "vegetation"));
-        scene.vegetation_density = terrain::io::read_raster(path);
-        if (!(scene.vegetation_density.grid() == g))
-            throw InputError("vegetation.density_file: " + path.string() +
-                             " does not match the terrain's grid");
-        r["vegetation"] = {{"density_file", path.string()}};
-    } else {
-        const double d = get_number(veg, "density", 0.5, "vegetation", 0, 1);
-        scene.vegetation_density = RasterD(g, d);
-        r["vegetation"] = {{"density", d}};
-    }
+    scene.soil = load_soil(s.value("soil", json{{"uniform", json::object()}}), base, g, scene.seed,
+                           scene.soil_spec, r);
+    scene.vegetation_density =
+        load_vegetation_cover(s.value("vegetation", json::object()), base, g, scene.cover, r);
     scene.climate = load_climate(s.value("climate", json::object()), base, scene, r);
     scene.options = load_options(s.value("hydrology", json::object()), r);
     return scene;

@@ -207,12 +207,65 @@ SoilMap soil_from_rasters(const RasterD& sand, const RasterD& silt, const Raster
     SoilMap m = empty_map(sand.grid());
     for (int j = 0; j < sand.ny(); ++j)
         for (int i = 0; i < sand.nx(); ++i) {
-            SoilComposition c{sand(i, j), silt(i, j), clay(i, j), ph ? (*ph)(i, j) : 6.5, {}};
+            SoilComposition c{sand(i, j), silt(i, j), clay(i, j), ph ? (*ph)(i, j) : SoilComposition{}.ph, {}};
             c.validate(source_name + " cell (" + std::to_string(i) + ", " + std::to_string(j) +
                        ")");
             set_cell(m, i, j, c);
         }
     return m;
+}
+
+namespace {
+SoilComposition& itself(SoilComposition& c) {
+    return c;
+}
+SoilComposition& mean_of(RandomSoilParams& r) {
+    return r.mean;
+}
+
+/// The composition keys over any struct that holds a composition (reached by `comp`).
+template <class S, SoilComposition& (*comp)(S&)>
+std::vector<Param<S>> composition_params() {
+    return {number<S>(
+                "sand_pct", +[](S& s) -> double& { return comp(s).sand_pct; }, "%", 0, 100,
+                "sand, % by mass (sand + silt + clay = 100 within 2)"),
+            number<S>(
+                "silt_pct", +[](S& s) -> double& { return comp(s).silt_pct; }, "%", 0, 100,
+                "silt, % by mass"),
+            number<S>(
+                "clay_pct", +[](S& s) -> double& { return comp(s).clay_pct; }, "%", 0, 100,
+                "clay, % by mass"),
+            number<S>(
+                "ph", +[](S& s) -> double& { return comp(s).ph; }, "pH", 0, 14, "soil pH"),
+            optional_number<S>(
+                "organic_matter_pct",
+                +[](S& s) -> std::optional<double>& { return comp(s).organic_matter_pct; }, "%", 0,
+                20,
+                "organic matter: hydraulic properties from Saxton & Rawls 2006 instead of the "
+                "class table")};
+}
+} // namespace
+
+const ParamCatalog<SoilComposition>& soil_composition_catalog() {
+    static const ParamCatalog<SoilComposition> c("soil.uniform",
+                                                 composition_params<SoilComposition, itself>());
+    return c;
+}
+
+const ParamCatalog<RandomSoilParams>& random_soil_catalog() {
+    using R = RandomSoilParams;
+    static const ParamCatalog<R> c("soil.random", [] {
+        auto p = composition_params<R, mean_of>();
+        for (auto& q : p) q.description = "mean " + q.description;
+        p.push_back(number<R>("amplitude_pct", &R::amplitude_pct, "%", 0, 50,
+                              "amplitude of the sand and clay fields (Perlin noise)"));
+        p.push_back(
+            number<R>("ph_amplitude", &R::ph_amplitude, "pH", 0, 7, "amplitude of the pH field"));
+        p.push_back(number<R>("patch_size_m", &R::patch_size_m, "m", 0.001, 1e6,
+                              "size of the soil patches (the noise's wavelength)"));
+        return p;
+    }());
+    return c;
 }
 
 } // namespace ecoterra::hydro

@@ -188,6 +188,39 @@ GridSpec default_grid(const std::string& method) {
     return GridSpec{512, 512, 0.25, 0.0, 0.0};
 }
 
+/// The grid and seed keys of a terrain specification (beside method, preset, size and params).
+struct GridAndSeed {
+    GridSpec grid;
+    long long seed = 1;
+};
+
+const ParamCatalog<GridAndSeed>& grid_catalog() {
+    using G = GridAndSeed;
+    constexpr double kMinCell_m = 1e-9;
+    static const ParamCatalog<G> c(
+        "", {integer<G>(
+                 "nx", +[](G& g) -> int& { return g.grid.nx; }, "1", 1, kMaxSide,
+                 "columns (x, east); `size` sets nx and ny at once")
+                 .with_note("per method"),
+             integer<G>(
+                 "ny", +[](G& g) -> int& { return g.grid.ny; }, "1", 1, kMaxSide, "rows (y, north)")
+                 .with_note("per method"),
+             number<G>(
+                 "cell_size_m", +[](G& g) -> double& { return g.grid.cell_size_m; }, "m",
+                 kMinCell_m, catalog_detail::kNoLimit, "side of a square cell")
+                 .with_note("per method"),
+             number<G>(
+                 "origin_x_m", +[](G& g) -> double& { return g.grid.origin_x_m; }, "m",
+                 -catalog_detail::kNoLimit, catalog_detail::kNoLimit,
+                 "x of the grid's south-west corner"),
+             number<G>(
+                 "origin_y_m", +[](G& g) -> double& { return g.grid.origin_y_m; }, "m",
+                 -catalog_detail::kNoLimit, catalog_detail::kNoLimit,
+                 "y of the grid's south-west corner"),
+             integer<G>("seed", &G::seed, "1", 0, 4.611686018427388e18, "seed of the generator")});
+    return c;
+}
+
 } // namespace
 
 const std::vector<std::string>& terrain_methods() {
@@ -197,9 +230,7 @@ const std::vector<std::string>& terrain_methods() {
 }
 
 json resolve_terrain_spec(const json& spec) {
-    require_known_keys(spec,
-                       {"method", "preset", "nx", "ny", "size", "cell_size_m", "origin_x_m",
-                        "origin_y_m", "seed", "params"},
+    require_known_keys(spec, grid_catalog().keys_at("", {"method", "preset", "size", "params"}),
                        "");
     std::string preset = get_string(spec, "preset", "", "");
     if (!preset.empty() && preset != "majhor2023")
@@ -221,17 +252,14 @@ json resolve_terrain_spec(const json& spec) {
     }
     if (!preset.empty() && method != "multifractal")
         throw InputError("preset majhor2023 is a multifractal setting; method is '" + method + "'");
-    GridSpec g = default_grid(method);
-    if (spec.contains("size")) {
-        g.nx = g.ny = static_cast<int>(get_integer(spec, "size", g.nx, "", 1, kMaxSide));
-    }
-    g.nx = static_cast<int>(get_integer(spec, "nx", g.nx, "", 1, kMaxSide));
-    g.ny = static_cast<int>(get_integer(spec, "ny", g.ny, "", 1, kMaxSide));
-    g.cell_size_m = get_number(spec, "cell_size_m", g.cell_size_m, "", 1e-300);
-    g.origin_x_m = get_number(spec, "origin_x_m", 0.0, "");
-    g.origin_y_m = get_number(spec, "origin_y_m", 0.0, "");
+    GridAndSeed gs{default_grid(method)};
+    if (spec.contains("size"))
+        gs.grid.nx = gs.grid.ny =
+            static_cast<int>(get_integer(spec, "size", gs.grid.nx, "", 1, kMaxSide));
+    gs = grid_catalog().read(spec, gs, {"method", "preset", "size", "params"});
+    const GridSpec& g = gs.grid;
     g.validate("grid");
-    const long long seed = get_integer(spec, "seed", 1, "", 0);
+    const long long seed = gs.seed;
     const json params = spec.value("params", json::object());
     const std::string where = "params";
     json p;
@@ -277,6 +305,20 @@ std::vector<std::string> terrain_param_keys(const std::string& method) {
 
 std::vector<std::pair<std::string, std::vector<ParamInfo>>> describe_terrain_params() {
     std::vector<std::pair<std::string, std::vector<ParamInfo>>> out;
+    {
+        std::vector<ParamInfo> grid = {
+            {"method", "", "multifractal with a preset",
+             "multifractal, wm, perlin, gaussian, variable, fbm", "generator"},
+            {"preset", "", "none", "majhor2023", "the paper's multifractal setting and grid"}};
+        for (auto& i : describe(grid_catalog(), GridAndSeed{GridSpec{512, 512, 0.25, 0, 0}})) {
+            if (i.key == "nx")
+                grid.push_back({"size", "1", "none", i.range, "sets nx and ny at once"});
+            grid.push_back(std::move(i));
+        }
+        out.emplace_back("grid and seed (every method; multifractal and wm default to the paper's "
+                         "1009 x 1009 grid)",
+                         std::move(grid));
+    }
     auto wm = describe(wm_fields(), WMParams{});
     auto mf = describe(multifractal_fields(), MultifractalParams{});
     const MultifractalParams md;

@@ -13,11 +13,13 @@
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/terrain/generate.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <H5Cpp.h>
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 using namespace ecoterra;
@@ -72,9 +74,11 @@ json* at_path(json& j, const std::string& dotted) {
 
 /// For each key of catalogue `c` (section `section` of the scene): some other value loads,
 /// appears in the resolved scene, and the scene rebuilt from the resolved JSON (as resume does)
-/// has the same value and the same resolved JSON.
+/// has the same value and the same resolved JSON. `fix` may mend the section after a key changed
+/// (a rule across keys, such as sand + silt + clay = 100).
 template <class S, class Load, class Get>
-void check_scene_catalog(const ParamCatalog<S>& c, const json& base, Load load, Get get) {
+void check_scene_catalog(const ParamCatalog<S>& c, const json& base, Load load, Get get,
+                         const std::function<void(json&, const std::string&)>& fix = {}) {
     const auto base_scene = load(base);
     for (const auto& p : c.params()) {
         const std::string key = c.section() + "." + p.key;
@@ -83,6 +87,7 @@ void check_scene_catalog(const ParamCatalog<S>& c, const json& base, Load load, 
         for (const json& v : other_values(p, current)) {
             json scene = base;
             *at_path(scene, key) = v;
+            if (fix) fix(*at_path(scene, c.section()), p.key);
             try {
                 const auto first = load(scene);
                 json resolved = first.resolved;
@@ -136,6 +141,80 @@ TEST_CASE("every scene key round-trips through the resolved scene and a resume")
     auto load_hydro = [&](const json& s) { return hydro::load_hydro_scene(s, dir.path()); };
     auto hydro_self = [](const hydro::HydroScene& h) -> const hydro::HydroScene& { return h; };
     check_scene_catalog(hydro::hydro_simulation_catalog(), hydro_base, load_hydro, hydro_self);
+
+    // Soil and the hydrology scene's vegetation cover (the file keys are checked below).
+    auto uniform = [](const eco::EcoScene& e) -> const hydro::SoilComposition& {
+        return e.hydro.soil_spec.uniform;
+    };
+    // A changed fraction takes its difference from another, so the three still sum to 100.
+    auto sum_to_100 = [](json& soil, const std::string& key) {
+        const std::string other = key == "silt_pct" ? "sand_pct" : "silt_pct";
+        if (key != "sand_pct" && key != "silt_pct" && key != "clay_pct") return;
+        double rest = 100.0;
+        for (const char* k : {"sand_pct", "silt_pct", "clay_pct"})
+            if (k != other) rest -= soil.value(k, 0.0);
+        soil[other] = rest;
+    };
+    check_scene_catalog(hydro::soil_composition_catalog(), eco_base, load_eco, uniform, sum_to_100);
+    json random_base = eco_base;
+    random_base["soil"] = {{"random", {{"sand_pct", 30}, {"silt_pct", 50}, {"clay_pct", 20}}}};
+    auto random = [](const eco::EcoScene& e) -> const hydro::RandomSoilParams& {
+        return e.hydro.soil_spec.random;
+    };
+    check_scene_catalog(hydro::random_soil_catalog(), random_base, load_eco, random, sum_to_100);
+    const ParamCatalog<hydro::VegetationCover> density_only(
+        "vegetation", {hydro::vegetation_cover_catalog().params().front()});
+    auto cover = [](const hydro::HydroScene& h) -> const hydro::VegetationCover& {
+        return h.cover;
+    };
+    check_scene_catalog(density_only, hydro_base, load_hydro, cover);
+}
+
+TEST_CASE("file keys of a scene resolve to paths that a resume finds from any folder") {
+    test::TempDir dir;
+    json base = test::small_scene(1);
+    base["terrain"]["generate"]["size"] = 8;
+    const auto first = eco::load_eco_scene(base, dir.path());
+    const GridSpec g = first.hydro.dem.grid();
+    // Soil and vegetation rasters on the terrain's grid, named relative to the scene's folder.
+    RasterD sand(g, 40.0), silt(g, 40.0), clay(g, 20.0), ph(g, 5.5), density(g, 0.25);
+    sand(3, 4) = 60.0;
+    silt(3, 4) = 20.0;
+    for (const auto& [r, name] : {std::pair<const RasterD*, const char*>{&sand, "sand.asc"},
+                                  {&silt, "silt.asc"},
+                                  {&clay, "clay.asc"},
+                                  {&ph, "ph.asc"},
+                                  {&density, "density.asc"}})
+        terrain::io::write_raster(*r, dir.path() / name);
+    json scene = base;
+    scene["soil"] = {{"rasters",
+                      {{"sand_pct", "sand.asc"},
+                       {"silt_pct", "silt.asc"},
+                       {"clay_pct", "clay.asc"},
+                       {"ph", "ph.asc"}}}};
+    const auto a = eco::load_eco_scene(scene, dir.path());
+    // The resolved scene names absolute paths; rebuilt from another folder it is the same scene.
+    const auto b = eco::load_eco_scene(a.resolved, "/");
+    CHECK(b.resolved == a.resolved);
+    CHECK(std::filesystem::path(a.resolved["soil"]["rasters"]["sand_pct"].get<std::string>())
+              .is_absolute());
+    CHECK(b.hydro.soil.sand_pct(3, 4) == 60.0);
+    CHECK(b.hydro.soil.ph(0, 0) == 5.5);
+    json missing = scene;
+    missing["soil"]["rasters"].erase("clay_pct");
+    CHECK_THROWS_WITH(eco::load_eco_scene(missing, dir.path()),
+                      Catch::Contains("soil.rasters.clay_pct"));
+
+    json hscene = base;
+    hscene.erase("vegetation");
+    hscene["simulation"].erase("snapshot_interval_years");
+    hscene["vegetation"] = {{"density_file", "density.asc"}};
+    const auto h = hydro::load_hydro_scene(hscene, dir.path());
+    const auto h2 = hydro::load_hydro_scene(h.resolved, "/");
+    CHECK(h2.resolved == h.resolved);
+    CHECK(h2.vegetation_density(1, 1) == 0.25);
+    hscene["vegetation"]["density"] = 0.5;
+    CHECK_THROWS_WITH(hydro::load_hydro_scene(hscene, dir.path()), Catch::Contains("not both"));
 }
 
 TEST_CASE("every species key round-trips through the species JSON a run stores") {
@@ -171,16 +250,45 @@ TEST_CASE("every species key round-trips through the species JSON a run stores")
 }
 
 TEST_CASE("every terrain generator key round-trips through the resolved specification") {
-    for (const auto& [method, info] : terrain::describe_terrain_params()) {
+    const auto all = terrain::describe_terrain_params();
+    const auto& grid_keys = all.front().second; // "grid and seed": keys of every method
+    REQUIRE(all.front().first.rfind("grid and seed", 0) == 0);
+    for (std::size_t m = 1; m < all.size(); ++m) {
+        const std::string& method = all[m].first;
         const json base = {{"method", method}, {"size", 8}, {"cell_size_m", 1.0}};
         const json resolved = terrain::resolve_terrain_spec(base);
-        json lookup = resolved; // at_path inserts null where a key is missing
         // The resolved specification is a fixed point: resolving it again changes nothing.
         CHECK(terrain::resolve_terrain_spec(resolved) == resolved);
-        for (const auto& i : info) {
+        std::vector<ParamInfo> keys = all[m].second;
+        for (const auto& i : grid_keys)
+            if (i.key != "method" && i.key != "preset" && i.key != "size") keys.push_back(i);
+        for (const auto& i : keys) {
             if (i.key == "params.D" || i.key == "params.d_high") continue; // aliases
             INFO(method << " " << i.key);
-            CHECK(at_path(lookup, i.key)->is_null() == false);
+            json lookup = resolved; // at_path inserts null where a key is missing
+            const json current = *at_path(lookup, i.key);
+            REQUIRE_FALSE(current.is_null());
+            if (!current.is_number()) continue;
+            // Another value (nearby, so that rules across keys still hold) loads, is resolved as
+            // given, and stays through a second resolve.
+            bool tried = false;
+            const double c = current.get<double>();
+            for (const double x : {c * 1.1, c * 0.9, c + 1, c - 1, c + 0.01, c - 0.01}) {
+                const json v = current.is_number_integer() ? json(std::llround(x)) : json(x);
+                if (v == current) continue;
+                json spec = resolved;
+                *at_path(spec, i.key) = v;
+                try {
+                    const json r = terrain::resolve_terrain_spec(spec);
+                    json rl = r;
+                    CHECK(*at_path(rl, i.key) == v);
+                    CHECK(terrain::resolve_terrain_spec(r) == r);
+                    tried = true;
+                    break;
+                } catch (const InputError&) {
+                }
+            }
+            CHECK(tried);
         }
     }
 }

@@ -125,15 +125,19 @@ Param<S> number(std::string key, Ref ref, std::string unit, double min, double m
 }
 
 /// An optional real number: absent means "none".
-template <class S>
-Param<S> optional_number(std::string key, std::optional<double> S::*m, std::string unit, double min,
-                         double max, std::string description) {
+template <class S, class Ref>
+Param<S> optional_number(std::string key, Ref ref, std::string unit, double min, double max,
+                         std::string description) {
     auto p = catalog_detail::param<S>(std::move(key), ParamKind::number, std::move(unit), min, max,
                                       std::move(description));
     p.optional = true;
     p.default_note = "none";
-    p.get = [m](const S& s) { return s.*m ? nlohmann::json(*(s.*m)) : nlohmann::json(); };
-    p.set = [m](S& s, const nlohmann::json& v) { s.*m = v.get<double>(); };
+    auto acc = catalog_detail::accessor(ref);
+    p.get = [acc](const S& s) {
+        const std::optional<double>& v = acc(const_cast<S&>(s));
+        return v ? nlohmann::json(*v) : nlohmann::json();
+    };
+    p.set = [acc](S& s, const nlohmann::json& v) { acc(s) = v.get<double>(); };
     return p;
 }
 

@@ -2,6 +2,7 @@
 // Hydrology scenes: the JSON file `ecoterra hydro run` reads, and the run itself.
 // Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
 #include "ecoterra/hydro/hydrology.hpp"
+#include "ecoterra/hydro/soil.hpp"
 
 #include "ecoterra/io/hdf5_writer.hpp"
 
@@ -13,9 +14,35 @@
 
 namespace ecoterra::hydro {
 
+/// The files of a soil given as rasters on the terrain's grid (scene section soil.rasters).
+struct SoilRasterFiles {
+    std::string sand_pct, silt_pct, clay_pct;
+    std::string ph; ///< optional: "" = the uniform default pH
+};
+const ParamCatalog<SoilRasterFiles>& soil_rasters_catalog();
+
+/// How a scene gives its soil: `kind` is uniform, random or rasters, and the matching member holds
+/// its keys.
+struct SoilSpec {
+    std::string kind = "uniform";
+    SoilComposition uniform;
+    RandomSoilParams random;
+    SoilRasterFiles rasters;
+};
+
+/// The vegetation cover of a hydrology scene (section vegetation; ecosystem runs compute it from
+/// their plants): a uniform density, or a raster of densities on the terrain's grid.
+struct VegetationCover {
+    double density = 0.5;
+    std::string density_file; ///< "" = uniform `density`
+};
+const ParamCatalog<VegetationCover>& vegetation_cover_catalog();
+
 struct HydroScene {
     RasterD dem;
+    SoilSpec soil_spec;
     SoilMap soil;
+    VegetationCover cover;
     RasterD vegetation_density;
     Climate climate;
     std::optional<WeatherSeries> observed; ///< a CSV series instead of the generator

@@ -21,6 +21,7 @@
 //   thetaS33 = thetaS33t + (0.636 thetaS33t - 0.107)
 //   thetaS = FC + thetaS33 - 0.097S + 0.043
 //   lambda = (ln FC - ln WP) / (ln 1500 - ln 33);  Ks = 1930 (thetaS - FC)^(3 - lambda) mm/h
+#include "ecoterra/catalog.hpp"
 #include "ecoterra/raster.hpp"
 
 #include <array>
@@ -101,6 +102,12 @@ struct RandomSoilParams {
     void validate() const;
 };
 SoilMap random_soil(const GridSpec& grid, const RandomSoilParams& p, std::uint64_t seed);
+
+/// The keys of a soil composition (scene section soil.uniform).
+const ParamCatalog<SoilComposition>& soil_composition_catalog();
+/// The keys of a random soil (scene section soil.random): the composition keys as the mean, and
+/// the amplitudes and patch size of the Perlin fields.
+const ParamCatalog<RandomSoilParams>& random_soil_catalog();
 
 /// A soil map from per-cell rasters (percent sand, silt, clay; optional pH) on the same grid.
 SoilMap soil_from_rasters(const RasterD& sand, const RasterD& silt, const RasterD& clay,

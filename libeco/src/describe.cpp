@@ -100,6 +100,24 @@ std::vector<Section> output_sections() {
         columns("Output: daily series", "One row per day; the water budget over the whole domain.",
                 "/series/daily/", hydro::daily_budget_columns()),
         [] {
+            Section s{"Output: soil maps",
+                      "Rasters [ny, nx] of hydrology and ecosystem runs (hydrology grid).",
+                      {"name", "unit", "type", "meaning"},
+                      {}};
+            for (const auto& i : describe("/soil/", hydro::soil_map_layers()))
+                s.rows.push_back({i.name, i.unit, i.type, i.description});
+            return s;
+        }(),
+        [] {
+            Section s{"Output: water state of a snapshot",
+                      "Rasters [ny, nx] in every snapshot of hydrology and ecosystem runs.",
+                      {"name", "unit", "type", "meaning"},
+                      {}};
+            for (const auto& i : describe("/snapshots/NNNN/", hydro::water_state_layers()))
+                s.rows.push_back({i.name, i.unit, i.type, i.description});
+            return s;
+        }(),
+        [] {
             Section s{"Output: stem CSV (ecoterra export vegetation)",
                       "One row per plant.",
                       {"name", "unit", "type", "meaning"},

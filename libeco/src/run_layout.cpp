@@ -1,5 +1,6 @@
 #include "run_layout.hpp"
 
+#include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
 
 #include <cerrno>
@@ -48,12 +49,7 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path) {
             write(double{});
     }
     const auto& hy = eco.hydrology();
-    h5.raster("/soil_moisture", hy.soil_moisture(), "m3/m3",
-              "volumetric soil water in the root zone");
-    h5.raster("/surface_water_depth_m", hy.surface_water_depth(), "m", "standing water depth");
-    h5.raster("/catchment_id", hy.catchment_ids(), "1", "catchment holding the cell, 0 = dry");
-    h5.raster("/water_table_depth_m", hy.water_table_depth(), "m",
-              "depth of the water table below the surface (NaN without groundwater)");
+    write_layers(h5, "", hydro::water_state_layers(), hy);
     h5.raster("/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
     h5.attribute("/", "year", static_cast<double>(eco.years_done()));

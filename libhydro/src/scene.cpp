@@ -204,19 +204,59 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     return scene;
 }
 
+const std::vector<RasterLayer<SoilMap>>& soil_map_layers() {
+    using S = SoilMap;
+    static const std::vector<RasterLayer<S>> l{
+        raster_layer<S>(
+            "sand_pct", "%", "float32", "sand",
+            [](const S& s) -> const auto& { return s.sand_pct; }),
+        raster_layer<S>(
+            "silt_pct", "%", "float32", "silt",
+            [](const S& s) -> const auto& { return s.silt_pct; }),
+        raster_layer<S>(
+            "clay_pct", "%", "float32", "clay",
+            [](const S& s) -> const auto& { return s.clay_pct; }),
+        raster_layer<S>(
+            "ph", "1", "float32", "soil pH", [](const S& s) -> const auto& { return s.ph; }),
+        raster_layer<S>(
+            "texture_class", "1", "uint8",
+            "USDA texture class: 0 sand, 1 loamy sand, 2 sandy loam, 3 loam, 4 silt loam, 5 silt, "
+            "6 sandy clay loam, 7 clay loam, 8 silty clay loam, 9 sandy clay, 10 silty clay, 11 "
+            "clay",
+            [](const S& s) -> const auto& { return s.texture; }),
+        raster_layer<S>(
+            "porosity", "m3/m3", "float32", "porosity",
+            [](const S& s) -> const auto& { return s.porosity; }),
+        raster_layer<S>(
+            "field_capacity", "m3/m3", "float32", "field capacity (33 kPa)",
+            [](const S& s) -> const auto& { return s.field_capacity; }),
+        raster_layer<S>(
+            "wilting_point", "m3/m3", "float32", "wilting point (1500 kPa)",
+            [](const S& s) -> const auto& { return s.wilting_point; }),
+        raster_layer<S>(
+            "ksat_m_per_s", "m/s", "float32", "saturated hydraulic conductivity",
+            [](const S& s) -> const auto& { return s.ksat_m_per_s; })};
+    return l;
+}
+
+const std::vector<RasterLayer<HydrologyModel>>& water_state_layers() {
+    using H = HydrologyModel;
+    static const std::vector<RasterLayer<H>> l{
+        raster_layer<H>("soil_moisture", "m3/m3", "float32",
+                        "volumetric soil water in the root zone",
+                        [](const H& h) -> const RasterD& { return h.soil_moisture(); }),
+        raster_layer<H>("surface_water_depth_m", "m", "float32", "standing water depth",
+                        [](const H& h) { return h.surface_water_depth(); }),
+        raster_layer<H>("catchment_id", "1", "int32", "catchment holding the cell, 0 = dry",
+                        [](const H& h) { return h.catchment_ids(); }),
+        raster_layer<H>("water_table_depth_m", "m", "float32",
+                        "depth of the water table below the surface (NaN without groundwater)",
+                        [](const H& h) { return h.water_table_depth(); })};
+    return l;
+}
+
 void write_soil_maps(io::Hdf5Writer& h5, const SoilMap& soil) {
-    h5.raster("/soil/sand_pct", soil.sand_pct, "%", "sand");
-    h5.raster("/soil/silt_pct", soil.silt_pct, "%", "silt");
-    h5.raster("/soil/clay_pct", soil.clay_pct, "%", "clay");
-    h5.raster("/soil/ph", soil.ph, "1", "soil pH");
-    h5.raster(
-        "/soil/texture_class", soil.texture, "1",
-        "USDA texture class: 0 sand, 1 loamy sand, 2 sandy loam, 3 loam, 4 silt loam, 5 silt, "
-        "6 sandy clay loam, 7 clay loam, 8 silty clay loam, 9 sandy clay, 10 silty clay, 11 clay");
-    h5.raster("/soil/porosity", soil.porosity, "m3/m3", "porosity");
-    h5.raster("/soil/field_capacity", soil.field_capacity, "m3/m3", "field capacity (33 kPa)");
-    h5.raster("/soil/wilting_point", soil.wilting_point, "m3/m3", "wilting point (1500 kPa)");
-    h5.raster("/soil/ksat_m_per_s", soil.ksat_m_per_s, "m/s", "saturated hydraulic conductivity");
+    write_layers(h5, "/soil", soil_map_layers(), soil);
 }
 
 void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t) {
@@ -241,14 +281,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         char name[32];
         std::snprintf(name, sizeof name, "/snapshots/%04d", snapshot++);
         const std::string base = name;
-        h5.raster(base + "/soil_moisture", model.soil_moisture(), "m3/m3",
-                  "volumetric soil water in the root zone");
-        h5.raster(base + "/surface_water_depth_m", model.surface_water_depth(), "m",
-                  "standing water depth");
-        h5.raster(base + "/catchment_id", model.catchment_ids(), "1",
-                  "catchment holding the cell, 0 = dry");
-        h5.raster(base + "/water_table_depth_m", model.water_table_depth(), "m",
-                  "depth of the water table below the surface (NaN without groundwater)");
+        write_layers(h5, base, water_state_layers(), model);
         h5.attribute(base, "day", static_cast<double>(day));
         h5.attribute(base, "year", static_cast<double>(w.year));
         h5.attribute(base, "day_of_year", static_cast<double>(w.doy));

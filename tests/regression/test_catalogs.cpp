@@ -336,6 +336,52 @@ TEST_CASE("every output column is written and read back") {
     check_table("/series/yearly", e.yearly());
     check_table("/series/daily", e.daily());
     CHECK(e.yearly().names.size() == eco::yearly_columns().size());
+    // Raster layers: the soil maps and the last snapshot's water state, values and units, as the
+    // in-memory engine has them (stored as float32 where the type says so).
+    auto check_layer_in = [&](const H5::H5File& file, const std::string& path,
+                              const std::string& unit, const std::string& type, auto raster) {
+        INFO(path);
+        H5::DataSet ds = file.openDataSet(path);
+        hsize_t dims[2] = {0, 0};
+        ds.getSpace().getSimpleExtentDims(dims);
+        REQUIRE(dims[0] == static_cast<hsize_t>(raster.ny()));
+        REQUIRE(dims[1] == static_cast<hsize_t>(raster.nx()));
+        std::vector<double> v(dims[0] * dims[1]);
+        ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            const double want = type == "float32" ? static_cast<float>(raster.data()[k])
+                                                  : static_cast<double>(raster.data()[k]);
+            if (std::isnan(want) ? !std::isnan(v[k]) : v[k] != want) {
+                FAIL_CHECK("cell " << k << ": " << v[k] << " != " << want);
+                break;
+            }
+        }
+        std::string u;
+        H5::Attribute a = ds.openAttribute("units");
+        a.read(a.getStrType(), u);
+        CHECK(u == unit);
+        const H5T_class_t cls = ds.getTypeClass();
+        CHECK(cls == (type == "float32" ? H5T_FLOAT : H5T_INTEGER));
+    };
+    auto check_layer = [&](const std::string& path, const std::string& unit,
+                           const std::string& type,
+                           auto raster) { check_layer_in(f, path, unit, type, raster); };
+    const auto& soil = e.hydrology().soil();
+    check_layer("/soil/sand_pct", "%", "float32", soil.sand_pct);
+    check_layer("/soil/texture_class", "1", "uint8", soil.texture);
+    check_layer("/soil/ksat_m_per_s", "m/s", "float32", soil.ksat_m_per_s);
+    CHECK(hydro::soil_map_layers().size() == 9);
+    for (const auto& l : hydro::soil_map_layers()) CHECK(f.nameExists("/soil/" + l.name));
+    const auto& hy = e.hydrology();
+    const auto info = eco::read_run_info(dir / "run.h5");
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.h5", info.snapshots - 1);
+    const H5::H5File snapshot((dir / "run.snapshots" / name).string(), H5F_ACC_RDONLY);
+    check_layer_in(snapshot, "/soil_moisture", "m3/m3", "float32", hy.soil_moisture());
+    check_layer_in(snapshot, "/surface_water_depth_m", "m", "float32", hy.surface_water_depth());
+    check_layer_in(snapshot, "/catchment_id", "1", "int32", hy.catchment_ids());
+    check_layer_in(snapshot, "/water_table_depth_m", "m", "float32", hy.water_table_depth());
+    CHECK(hydro::water_state_layers().size() == 4);
     // The stem CSV: the catalogue's header and one row per plant.
     const std::string csv = eco::stem_csv(snap.plants, {"a", "b", "c", "d", "e", "f"});
     std::string header;

@@ -436,6 +436,47 @@ std::vector<ColumnInfo> describe(const std::string& group, const std::vector<Col
     return out;
 }
 
+namespace io {
+class Hdf5Writer;
+}
+
+/// One raster output of a source object (a soil map, the water state): its dataset name, unit,
+/// stored type and description, and how to write it into an HDF5 group.
+template <class Src>
+struct RasterLayer {
+    std::string name, unit, type, description;
+    std::function<void(io::Hdf5Writer&, const std::string& group, const Src&)> write;
+};
+
+/// A raster layer whose raster is `get(src)` (any Raster<T>; doubles are stored as float32).
+template <class Src, class Get>
+RasterLayer<Src> raster_layer(std::string name, std::string unit, std::string type,
+                              std::string description, Get get) {
+    RasterLayer<Src> l{
+        std::move(name), std::move(unit), std::move(type), std::move(description), {}};
+    // A generic lambda: its body is compiled where the writer is a complete type.
+    l.write = [get, name = l.name, unit = l.unit,
+               d = l.description](auto& h5, const std::string& group, const Src& s) {
+        h5.raster(group + "/" + name, get(s), unit, d);
+    };
+    return l;
+}
+
+/// Writes every layer of `src` into `group` ("" = the file's root).
+template <class Src>
+void write_layers(io::Hdf5Writer& h5, const std::string& group,
+                  const std::vector<RasterLayer<Src>>& layers, const Src& src) {
+    for (const auto& l : layers) l.write(h5, group, src);
+}
+
+template <class Src>
+std::vector<ColumnInfo> describe(const std::string& group,
+                                 const std::vector<RasterLayer<Src>>& layers) {
+    std::vector<ColumnInfo> out;
+    for (const auto& l : layers) out.push_back({group + l.name, l.unit, l.type, l.description});
+    return out;
+}
+
 /// A table of equal-length double columns with names, units and descriptions, built from a
 /// column catalogue and filled a whole row at a time.
 struct Table {

@@ -92,6 +92,7 @@ public:
     /// for. Throws Error if the budget breaks.
     DailyFluxes step(const DayWeather& w, const RasterD* transpiration_mm = nullptr);
 
+    const SoilMap& soil() const { return m_soil; }
     const RasterD& soil_moisture() const { return m_theta; }
     RasterD surface_water_depth() const { return m_catch.depth_map(); }
     Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }

@@ -75,6 +75,10 @@ struct HydroRunSummary {
 /// hillshade.png, soil_moisture.png, surface_water_depth.png.
 /// Writes the soil maps under /soil/.
 void write_soil_maps(io::Hdf5Writer& h5, const SoilMap& soil);
+/// The soil maps written under /soil of hydrology and ecosystem runs.
+const std::vector<RasterLayer<SoilMap>>& soil_map_layers();
+/// The water state written in every snapshot of hydrology and ecosystem runs.
+const std::vector<RasterLayer<HydrologyModel>>& water_state_layers();
 
 /// Writes each column of a table as a dataset group/NAME with its units and description.
 void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t);

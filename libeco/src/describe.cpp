@@ -27,11 +27,12 @@ Section params(std::string title, std::string note, const std::vector<ParamInfo>
     return s;
 }
 
-template <class R>
-Section columns(std::string title, std::string note, const std::string& group,
-                const std::vector<Column<R>>& cols) {
+/// An output group: columns (Column<R>) or raster layers (RasterLayer<Src>).
+template <class Catalogue>
+Section outputs(std::string title, std::string note, const std::string& group,
+                const Catalogue& cat) {
     Section s{std::move(title), std::move(note), {"name", "unit", "type", "meaning"}, {}};
-    for (const auto& i : describe(group, cols))
+    for (const auto& i : describe(group, cat))
         s.rows.push_back({i.name, i.unit, i.type, i.description});
     return s;
 }
@@ -93,30 +94,18 @@ std::vector<Section> terrain_sections() {
 
 std::vector<Section> output_sections() {
     return {
-        columns("Output: snapshot plants", "One row per live plant.", "/snapshots/NNNN/plants/",
+        outputs("Output: snapshot plants", "One row per live plant.", "/snapshots/NNNN/plants/",
                 plant_columns()),
-        columns("Output: yearly series", "One row per simulated year.", "/series/yearly/",
+        outputs("Output: yearly series", "One row per simulated year.", "/series/yearly/",
                 yearly_columns()),
-        columns("Output: daily series", "One row per day; the water budget over the whole domain.",
+        outputs("Output: daily series", "One row per day; the water budget over the whole domain.",
                 "/series/daily/", hydro::daily_budget_columns()),
-        [] {
-            Section s{"Output: soil maps",
-                      "Rasters [ny, nx] of hydrology and ecosystem runs (hydrology grid).",
-                      {"name", "unit", "type", "meaning"},
-                      {}};
-            for (const auto& i : describe("/soil/", hydro::soil_map_layers()))
-                s.rows.push_back({i.name, i.unit, i.type, i.description});
-            return s;
-        }(),
-        [] {
-            Section s{"Output: water state of a snapshot",
-                      "Rasters [ny, nx] in every snapshot of hydrology and ecosystem runs.",
-                      {"name", "unit", "type", "meaning"},
-                      {}};
-            for (const auto& i : describe("/snapshots/NNNN/", hydro::water_state_layers()))
-                s.rows.push_back({i.name, i.unit, i.type, i.description});
-            return s;
-        }(),
+        outputs("Output: soil maps",
+                "Rasters [ny, nx] of hydrology and ecosystem runs (hydrology grid).", "/soil/",
+                hydro::soil_map_layers()),
+        outputs("Output: water state of a snapshot",
+                "Rasters [ny, nx] in every snapshot of hydrology and ecosystem runs.",
+                "/snapshots/NNNN/", hydro::water_state_layers()),
         [] {
             Section s{"Output: stem CSV (ecoterra export vegetation)",
                       "One row per plant.",

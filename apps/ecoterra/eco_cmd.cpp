@@ -203,9 +203,10 @@ void add_eco_commands(CLI::App& app) {
 
     auto d = std::make_shared<std::pair<std::string, bool>>("all", false);
     CLI::App* desc = app.add_subcommand(
-        "describe", "every key of scenes, species and terrain generators, and every output column, "
-                    "with unit, default and range");
-    desc->add_option("topic", d->first, "scene, species, terrain, outputs or all")
+        "describe",
+        "every key of scenes, species, terrain generators and vehicles, and every output column, "
+        "with unit, default and range");
+    desc->add_option("topic", d->first, "scene, species, terrain, vehicle, outputs or all")
         ->capture_default_str();
     desc->add_flag("--markdown", d->second, "Markdown tables (as docs/parameters.md)");
     desc->callback([d] { std::fputs(eco::describe(d->first, d->second).c_str(), stdout); });

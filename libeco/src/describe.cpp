@@ -5,6 +5,7 @@
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
+#include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/terrain/generate.hpp"
 
 #include <algorithm>
@@ -171,10 +172,20 @@ std::string text(const std::vector<Section>& sections) {
     return out;
 }
 
+std::vector<Section> vehicle_sections() {
+    Section s =
+        params("Vehicle files",
+               "data/vehicles/*.json. Besides these, `tractive_force_n` (required): rows "
+               "[speed m/s, force N], from speed 0, speeds strictly increasing, forces >= 0; "
+               "linear between rows, 0 beyond the last.",
+               describe(mobility::vehicle_catalog(), mobility::Vehicle{}));
+    return {s};
+}
+
 } // namespace
 
 std::vector<std::string> describe_topics() {
-    return {"scene", "species", "terrain", "outputs", "all"};
+    return {"scene", "species", "terrain", "vehicle", "outputs", "all"};
 }
 
 std::string describe(const std::string& topic, bool md) {
@@ -185,15 +196,16 @@ std::string describe(const std::string& topic, bool md) {
     if (topic == "scene" || topic == "all") add(scene_sections());
     if (topic == "species" || topic == "all") add(species_sections());
     if (topic == "terrain" || topic == "all") add(terrain_sections());
+    if (topic == "vehicle" || topic == "all") add(vehicle_sections());
     if (topic == "outputs" || topic == "all") add(output_sections());
     if (s.empty())
         throw InputError("describe: unknown topic '" + topic +
-                         "' (scene, species, terrain, outputs or all; vehicle files come with "
-                         "`ecoterra mobility`)");
+                         "' (scene, species, terrain, vehicle, outputs or all)");
     if (!md) return text(s);
     if (topic != "all") return markdown(s);
     return "# Parameters and output columns\n\n"
-           "Every scene key, species key and terrain-generator parameter with its unit, default "
+           "Every scene key, species key, terrain-generator parameter and vehicle key with its "
+           "unit, default "
            "and valid range, and every output column with its unit and type. Generated from the "
            "catalogues in the code by `ecoterra describe all --markdown`; a test fails when this "
            "file and the code differ. The structure of the files (which sections exist, "

@@ -6,7 +6,7 @@
 
 namespace ecoterra::eco {
 
-/// The topics: "scene", "species", "terrain", "outputs", or "all".
+/// The topics: "scene", "species", "terrain", "vehicle", "outputs", or "all".
 std::vector<std::string> describe_topics();
 
 /// The catalogues of a topic as text (aligned columns) or as Markdown tables. InputError for an

@@ -1,0 +1,60 @@
+#pragma once
+// Vehicle files (docs/mobility.md s1; data/vehicles/*.json): JSON, strict like scenes. Every key
+// has a unit, a default and a range in vehicle_catalog(); the tractive-force curve is a table of
+// [speed m/s, force N] rows, read and checked by load_vehicle().
+#include "ecoterra/catalog.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ecoterra::mobility {
+
+inline constexpr double kGravity_m_per_s2 = 9.80665;
+
+struct Vehicle {
+    std::string name = "vehicle";
+    std::string source; ///< where the numbers come from (free text)
+    double mass_kg = 1000;
+    double width_m = 1.5;
+    double length_m = 3.5;
+    double wheelbase_m = 2.7;
+    double track_m = 1.3;
+    double wheel_radius_m = 0.33;
+    double cg_height_m = 0.6;
+    double push_height_m = 0.23; ///< height at which the bumper meets a stem
+    double ground_clearance_m = 0.25;
+    /// Tractive force at the wheels against speed: rows [speed m/s, force N], speeds strictly
+    /// increasing from 0, forces >= 0; linear between rows, 0 beyond the last.
+    std::vector<std::pair<double, double>> tractive_force_n;
+    double drag_n_per_m2_s2 = 0;       ///< aerodynamic drag k of F = k v^2, N s2 m-2
+    double rolling_resistance = 0.03;  ///< rolling and soil resistance as a fraction of the weight
+    double traction_coefficient = 0.7; ///< tractive force is limited to this x the weight
+    double top_speed_m_per_s = 20;
+    double max_climb_deg = 30;
+    double max_side_slope_deg = 25;
+    double tip_over_deg = 45;
+
+    /// Gross vehicle weight, N.
+    double weight_n() const { return mass_kg * kGravity_m_per_s2; }
+    /// The tractive force at speed v (the table, capped by the traction limit), N.
+    double tractive_force_at(double v_m_per_s) const;
+    /// Checks rules across keys; throws InputError naming `where` and the keys.
+    void validate(const std::string& where) const;
+};
+
+/// The scalar keys of a vehicle file.
+const ParamCatalog<Vehicle>& vehicle_catalog();
+
+/// Reads a vehicle from JSON (`source` names the file in errors): unknown keys, missing required
+/// keys, values out of range and a tractive-force table that is not a function of speed are
+/// InputErrors naming the source, the key and the value.
+Vehicle parse_vehicle(const nlohmann::json& j, const std::string& source);
+Vehicle load_vehicle(const std::filesystem::path& path);
+/// The vehicle as JSON with every key (the form stored in outputs).
+nlohmann::json to_json(const Vehicle& v);
+
+} // namespace ecoterra::mobility

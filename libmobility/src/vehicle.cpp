@@ -1,0 +1,130 @@
+#include "ecoterra/mobility/vehicle.hpp"
+
+#include "ecoterra/json_util.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace ecoterra::mobility {
+
+namespace {
+using nlohmann::json;
+constexpr const char* kTableKey = "tractive_force_n";
+} // namespace
+
+const ParamCatalog<Vehicle>& vehicle_catalog() {
+    using V = Vehicle;
+    static const ParamCatalog<V> c(
+        "", {text<V>("name", &V::name, "the vehicle's name"),
+             text<V>("source", &V::source, "where the numbers come from"),
+             number<V>("mass_kg", &V::mass_kg, "kg", 1, 1e6, "mass as driven (gross vehicle mass)")
+                 .mandatory(),
+             number<V>("width_m", &V::width_m, "m", 0.05, 20, "overall width").mandatory(),
+             number<V>("length_m", &V::length_m, "m", 0.05, 50, "overall length").mandatory(),
+             number<V>("wheelbase_m", &V::wheelbase_m, "m", 0.05, 50,
+                       "front to rear axle; at most length_m"),
+             number<V>("track_m", &V::track_m, "m", 0.05, 20,
+                       "left to right wheel centres; at most width_m"),
+             number<V>("wheel_radius_m", &V::wheel_radius_m, "m", 0.01, 5, "loaded wheel radius"),
+             number<V>("cg_height_m", &V::cg_height_m, "m", 0.01, 10,
+                       "centre of mass above the ground"),
+             number<V>("push_height_m", &V::push_height_m, "m", 0, 5,
+                       "height at which the bumper meets a stem"),
+             number<V>("ground_clearance_m", &V::ground_clearance_m, "m", 0, 5,
+                       "belly above the wheel-contact plane"),
+             number<V>("drag_n_per_m2_s2", &V::drag_n_per_m2_s2, "N s2/m2", 0, 1e4,
+                       "aerodynamic drag k of F = k v^2"),
+             number<V>("rolling_resistance", &V::rolling_resistance, "1", 0, 1,
+                       "rolling and soil resistance as a fraction of the weight"),
+             number<V>("traction_coefficient", &V::traction_coefficient, "1", 0.01, 2,
+                       "the tractive force is limited to this fraction of the weight"),
+             number<V>("top_speed_m_per_s", &V::top_speed_m_per_s, "m/s", 0.01, 200,
+                       "governed top speed"),
+             number<V>("max_climb_deg", &V::max_climb_deg, "deg", 0, 90, "steepest climb"),
+             number<V>("max_side_slope_deg", &V::max_side_slope_deg, "deg", 0, 90,
+                       "steepest side slope"),
+             number<V>("tip_over_deg", &V::tip_over_deg, "deg", 0, 90,
+                       "roll or pitch at which the vehicle tips over")});
+    return c;
+}
+
+double Vehicle::tractive_force_at(double v) const {
+    const double limit = traction_coefficient * weight_n();
+    const auto& t = tractive_force_n;
+    if (t.empty() || v < 0) return 0.0;
+    if (v >= t.back().first) return v == t.back().first ? std::min(t.back().second, limit) : 0.0;
+    const auto it = std::upper_bound(t.begin(), t.end(), v,
+                                     [](double x, const auto& row) { return x < row.first; });
+    const auto& [v1, f1] = *it;
+    const auto& [v0, f0] = *(it - 1);
+    return std::min(f0 + (f1 - f0) * (v - v0) / (v1 - v0), limit);
+}
+
+void Vehicle::validate(const std::string& where) const {
+    auto bad = [&](const std::string& what) { throw InputError(where + ": " + what); };
+    if (track_m > width_m)
+        bad("track_m = " + format_number(track_m) + " exceeds width_m = " + format_number(width_m));
+    if (wheelbase_m > length_m)
+        bad("wheelbase_m = " + format_number(wheelbase_m) +
+            " exceeds length_m = " + format_number(length_m));
+    if (tractive_force_n.size() < 2)
+        bad(std::string(kTableKey) + ": give at least two rows [speed m/s, force N]");
+    if (tractive_force_n.front().first != 0.0)
+        bad(std::string(kTableKey) + ": the first row must be at speed 0, got " +
+            format_number(tractive_force_n.front().first));
+    for (std::size_t k = 0; k < tractive_force_n.size(); ++k) {
+        const auto [v, f] = tractive_force_n[k];
+        const std::string row = std::string(kTableKey) + " row " + std::to_string(k);
+        if (!std::isfinite(v) || !std::isfinite(f) || f < 0)
+            bad(row + ": [" + format_number(v) + ", " + format_number(f) +
+                "] must be finite with a force >= 0 N");
+        if (k > 0 && !(v > tractive_force_n[k - 1].first))
+            bad(row + ": speed " + format_number(v) + " m/s does not exceed the row before (" +
+                format_number(tractive_force_n[k - 1].first) +
+                " m/s); the force must be a function of speed");
+    }
+    if (!(tractive_force_n.front().second > 0))
+        bad(std::string(kTableKey) + ": the force at standstill must be > 0 N");
+}
+
+Vehicle parse_vehicle(const json& j, const std::string& source) {
+    return with_context(source, [&] {
+        if (!j.is_object()) throw InputError("a vehicle file must be a JSON object");
+        Vehicle v = vehicle_catalog().read(j, Vehicle{}, {kTableKey});
+        if (!j.contains(kTableKey))
+            throw InputError(std::string("missing key '") + kTableKey +
+                             "' (rows [speed m/s, tractive force N])");
+        const json& t = j.at(kTableKey);
+        if (!t.is_array())
+            throw InputError(std::string(kTableKey) + " must be an array of [speed, force] rows");
+        v.tractive_force_n.clear();
+        for (std::size_t k = 0; k < t.size(); ++k) {
+            const json& row = t[k];
+            if (!row.is_array() || row.size() != 2 || !row[0].is_number() || !row[1].is_number())
+                throw InputError(std::string(kTableKey) + " row " + std::to_string(k) + ": " +
+                                 row.dump() + " is not [speed m/s, force N]");
+            v.tractive_force_n.emplace_back(row[0].get<double>(), row[1].get<double>());
+        }
+        v.validate("vehicle");
+        return v;
+    });
+}
+
+Vehicle load_vehicle(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot open the vehicle file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_vehicle(parse_json(ss.str(), path.string()), path.string());
+}
+
+json to_json(const Vehicle& v) {
+    json j = vehicle_catalog().to_json(v);
+    j[kTableKey] = json::array();
+    for (const auto& [s, f] : v.tractive_force_n) j[kTableKey].push_back({s, f});
+    return j;
+}
+
+} // namespace ecoterra::mobility

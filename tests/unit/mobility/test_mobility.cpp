@@ -1,0 +1,144 @@
+// Vehicles and the override law: the published MAVS numbers (reference mobility.md s1.6), closed
+// forms of the steady-state speed, and the vehicle files' strictness.
+#include "support/temp_dir.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/mobility/override.hpp"
+#include "ecoterra/mobility/vehicle.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace ecoterra;
+using namespace ecoterra::mobility;
+using nlohmann::json;
+
+namespace {
+
+Vehicle mrzr() {
+    return load_vehicle(test::data_dir() / "vehicles/mrzr4.json");
+}
+
+/// The MRZR's speed above 14.1 m/s in closed form: the root of
+/// 11520 (57.6 - v) / 43.5 - 18.7 v^2 - R = 0.
+double mrzr_closed_form(double resistance_n) {
+    const double a = 18.7, b = 11520.0 / 43.5, c = resistance_n - 11520.0 * 57.6 / 43.5;
+    return (-b + std::sqrt(b * b - 4 * a * c)) / (2 * a);
+}
+
+} // namespace
+
+TEST_CASE("the override force follows MAVS's cubic law at the published diameters",
+          "[mobility][override]") {
+    // Reference mobility.md s1.6 (MRZR, h = 23.02 cm: tyre radius + CG offset), rounded to 1 N.
+    constexpr double h = 0.2302;
+    const std::vector<std::pair<double, double>> table = {
+        {0.01, 19},   {0.025, 226},  {0.05, 1204}, {0.075, 4063},
+        {0.10, 9631}, {0.15, 32504}, {0.20, 77046}};
+    for (const auto& [d, f] : table) {
+        INFO("d = " << d << " m");
+        CHECK(override_force_n(d, h) == Approx(f).margin(1.0));
+    }
+    CHECK(override_force_n(0.0, h) == 0.0);
+    // Cubic above the small-stem bracket: doubling the diameter multiplies the force by 8.
+    CHECK(override_force_n(0.2, h) / override_force_n(0.1, h) == Approx(8.0).epsilon(1e-6));
+    // The critical diameter of the MRZR (GVW 12.55 kN): 5.07 cm, where F is about a tenth of GVW.
+    const double dc = critical_diameter_m(12550, h);
+    CHECK(dc == Approx(0.0507).margin(5e-5));
+    CHECK(override_force_n(dc, h) == Approx(1255).margin(2));
+    // The Husky's (GVW 490 N, h 19.4 cm): about 1.7 cm.
+    CHECK(critical_diameter_m(490, 0.194) == Approx(0.017).margin(5e-4));
+}
+
+TEST_CASE("the steady-state speed is the root of thrust minus drag and resistance",
+          "[mobility][speed]") {
+    Vehicle v = mrzr();
+    CHECK(v.weight_n() == Approx(12550).margin(5));
+    // An empty flat stand: the top speed (22.3 m/s, the curve's own equilibrium 22.34 m/s).
+    CHECK(steady_speed_m_per_s(v, 0) == Approx(22.3));
+    v.top_speed_m_per_s = 100; // uncapped: the closed form
+    CHECK(steady_speed_m_per_s(v, 0) == Approx(mrzr_closed_form(0)).epsilon(1e-9));
+    // One stem per cell (reference s1.6): 21.2 m/s at 5 cm, 18.4 at 7.5 cm.
+    CHECK(steady_speed_m_per_s(v, override_force_n(0.05, 0.23)) == Approx(21.2).margin(0.05));
+    CHECK(steady_speed_m_per_s(v, override_force_n(0.075, 0.23)) == Approx(18.4).margin(0.05));
+    // A grade lowers the speed as the tractive curve says.
+    for (const double grade : {0.02, 0.05, 0.1, 0.2}) {
+        const double r = grade_resistance_n(v, grade);
+        CHECK(r == Approx(v.weight_n() * grade / std::sqrt(1 + grade * grade)));
+        const double s = steady_speed_m_per_s(v, r);
+        if (s > 14.1) CHECK(s == Approx(mrzr_closed_form(r)).epsilon(1e-9));
+        CHECK(s < steady_speed_m_per_s(v, 0));
+    }
+    // Below 14.1 m/s the thrust is flat: 11520 - 18.7 v^2 = R.
+    const double r = 11520 - 18.7 * 10 * 10;
+    CHECK(steady_speed_m_per_s(v, r) == Approx(10.0).epsilon(1e-9));
+    // More resistance never gives more speed; beyond the thrust at standstill it is NOGO.
+    double last = 1e9;
+    for (double res = 0; res < 13000; res += 250) {
+        const double s = steady_speed_m_per_s(v, res);
+        CHECK(s <= last);
+        last = s;
+    }
+    CHECK(steady_speed_m_per_s(v, 11520) == 0.0);
+    CHECK(steady_speed_m_per_s(v, 2e4) == 0.0);
+    // The traction limit caps the thrust.
+    v.traction_coefficient = 0.5;
+    CHECK(v.tractive_force_at(0) == Approx(0.5 * v.weight_n()));
+    CHECK(steady_speed_m_per_s(v, 0.6 * v.weight_n()) == 0.0);
+}
+
+TEST_CASE("stem diameter at the push height tapers linearly from breast height",
+          "[mobility][override]") {
+    CHECK(diameter_at_height_m(0.3, 20, 1.3) == Approx(0.3));
+    CHECK(diameter_at_height_m(0.3, 20, 0.23) == Approx(0.3 * 19.77 / 18.7));
+    CHECK(diameter_at_height_m(0.3, 20, 20) == 0.0);
+    CHECK(diameter_at_height_m(0.0, 1.0, 0.2) == 0.0); // below breast height
+}
+
+TEST_CASE("vehicle files: the shipped ones load, round-trip, and bad values are named",
+          "[mobility][vehicle][errors]") {
+    for (const char* f : {"mrzr4.json", "husky_a200.json"}) {
+        const Vehicle v = load_vehicle(test::data_dir() / "vehicles" / f);
+        const json j = to_json(v);
+        CHECK(to_json(parse_vehicle(j, f)) == j);
+        for (const auto& p : vehicle_catalog().params()) CHECK(j.contains(p.key));
+    }
+    const Vehicle h = load_vehicle(test::data_dir() / "vehicles/husky_a200.json");
+    CHECK(h.top_speed_m_per_s == 1.0);
+    CHECK(steady_speed_m_per_s(h, 0) == Approx(1.0));
+    const json good = to_json(h);
+    auto fails = [&](json j, const std::string& contains) {
+        INFO(j.dump());
+        CHECK_THROWS_WITH(parse_vehicle(j, "car.json"),
+                          Catch::Contains("car.json") && Catch::Contains(contains));
+    };
+    json j = good;
+    j["width_m"] = 0;
+    fails(j, "width_m");
+    j = good;
+    j["mass_kg"] = -5;
+    fails(j, "-5");
+    j = good;
+    j["widht_m"] = 1;
+    fails(j, "did you mean");
+    j = good;
+    j.erase("tractive_force_n");
+    fails(j, "tractive_force_n");
+    j = good;
+    j["tractive_force_n"] = {{0, 300}, {2, 200}, {1, 100}};
+    fails(j, "function of speed");
+    j = good;
+    j["tractive_force_n"] = {{0, 300}, {1, -1}};
+    fails(j, "row 1");
+    j = good;
+    j["tractive_force_n"] = {{0.5, 300}, {1, 100}};
+    fails(j, "speed 0");
+    j = good;
+    j["track_m"] = 2;
+    fails(j, "track_m");
+    j = good;
+    j.erase("mass_kg");
+    fails(j, "mass_kg");
+    CHECK_THROWS_AS(load_vehicle("/nonexistent/car.json"), InputError);
+}

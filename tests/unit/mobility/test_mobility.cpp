@@ -4,11 +4,14 @@
 
 #include "ecoterra/error.hpp"
 #include "ecoterra/mobility/override.hpp"
+#include "ecoterra/mobility/smg.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
+#include "ecoterra/random.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numbers>
 
 using namespace ecoterra;
 using namespace ecoterra::mobility;
@@ -141,4 +144,94 @@ TEST_CASE("vehicle files: the shipped ones load, round-trip, and bad values are 
     j.erase("mass_kg");
     fails(j, "mass_kg");
     CHECK_THROWS_AS(load_vehicle("/nonexistent/car.json"), InputError);
+}
+
+namespace {
+
+LineResult drive(const std::vector<Stem>& stems, const RasterD* dem = nullptr, Point a = {0, 0},
+                 Point b = {100, 0}) {
+    return drive_line(mrzr(), StemIndex(stems, 2.0), dem, a, b);
+}
+
+/// Stems of one diameter at uniform random positions over [x0, x1] x [y0, y1].
+std::vector<Stem> random_stand(std::uint64_t seed, std::size_t n, double d, double x0, double y0,
+                               double x1, double y1) {
+    Rng rng(seed, "test.stand");
+    std::vector<Stem> s;
+    for (std::size_t k = 0; k < n; ++k) s.push_back({rng.uniform(x0, x1), rng.uniform(y0, y1), d});
+    return s;
+}
+
+} // namespace
+
+TEST_CASE("speed made good: an empty flat stand gives the top speed, a slope what the curve says",
+          "[mobility][smg]") {
+    const Vehicle v = mrzr();
+    const auto empty = drive({});
+    CHECK_FALSE(empty.nogo);
+    CHECK(empty.path_m == Approx(100));
+    CHECK(empty.smg_m_per_s == Approx(steady_speed_m_per_s(v, 0)));
+    // A tilted plane z = 0.1 x: uphill at the speed of grade 0.1, downhill faster (capped).
+    RasterD plane(GridSpec{300, 100, 1.0, -50.0, -50.0});
+    for (int j = 0; j < plane.ny(); ++j)
+        for (int i = 0; i < plane.nx(); ++i) plane(i, j) = 0.1 * plane.grid().x_of(i);
+    const double up =
+        steady_speed_m_per_s(v, rolling_resistance_n(v, 0.1) + grade_resistance_n(v, 0.1));
+    CHECK(drive({}, &plane).smg_m_per_s == Approx(up).epsilon(1e-9));
+    CHECK(drive({}, &plane, {100, 0}, {0, 0}).smg_m_per_s >= up);
+    CHECK_THROWS_WITH(drive({}, &plane, {0, 0}, {400, 0}), Catch::Contains("leaves the terrain"));
+}
+
+TEST_CASE("speed made good: one thick stem costs the detour around it, a wall is NOGO",
+          "[mobility][smg]") {
+    const Vehicle v = mrzr();
+    // A 30 cm stem on the line's middle: the shortest path hugs a disk of radius R = d/2 + W/2.
+    const auto one = drive({{50, 0, 0.3}});
+    REQUIRE_FALSE(one.nogo);
+    const double R = 0.15 + 0.5 * v.width_m, D = 50;
+    const double alpha = std::acos(R / D);
+    const double expect = 2 * std::sqrt(D * D - R * R) + R * (std::numbers::pi - 2 * alpha);
+    CHECK(one.path_m == Approx(expect).epsilon(2e-3));
+    CHECK(one.avoided == 1);
+    CHECK(one.overridden == 0);
+    CHECK(one.smg_m_per_s == Approx(100 / (one.path_m / v.top_speed_m_per_s)).epsilon(1e-9));
+    // A row of 20 cm stems every 0.5 m across the whole planning area: no way through.
+    std::vector<Stem> wall;
+    for (double y = -40; y <= 40; y += 0.5) wall.push_back({50, y, 0.2});
+    const auto blocked = drive(wall);
+    CHECK(blocked.nogo);
+    CHECK(blocked.smg_m_per_s == 0.0);
+    // Thin stems across the line are pushed over, more slowly than the open stand.
+    std::vector<Stem> thin;
+    for (double y = -40; y <= 40; y += 0.5) thin.push_back({50, y, 0.03});
+    const auto pushed = drive(thin);
+    CHECK_FALSE(pushed.nogo);
+    CHECK(pushed.overridden >= 3);
+    CHECK(pushed.path_m == Approx(100));
+    CHECK(pushed.smg_m_per_s < drive({}).smg_m_per_s);
+    CHECK(pushed.override_m == Approx(v.width_m).margin(1e-9));
+}
+
+TEST_CASE("speed made good never rises as stems are added, and the cubic law ranks stands",
+          "[mobility][smg][property]") {
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+        CAPTURE(seed);
+        auto stems = random_stand(seed, 30, 0.12, 0, -20, 100, 20);
+        double last = drive({}).smg_m_per_s;
+        for (const std::size_t extra : {10u, 20u, 40u}) {
+            auto more = random_stand(seed + 100 * extra, extra, 0.04, 0, -20, 100, 20);
+            stems.insert(stems.end(), more.begin(), more.end());
+            const double s = drive(stems).smg_m_per_s;
+            CHECK(s <= last * (1 + 1e-9));
+            last = s;
+        }
+    }
+    // Equal basal area, stems all below the critical diameter: the force per basal area grows
+    // with d (F ~ d^3, count ~ 1/d^2), so thicker stems slow the vehicle more.
+    const double area = 100.0 * 40.0, ba = 11.48e-4 * area; // 11.48 m2/ha (50 ft2/acre)
+    auto stand = [&](double d) {
+        const auto n = static_cast<std::size_t>(ba / (std::numbers::pi * d * d / 4));
+        return drive(random_stand(7, n, d, 0, -20, 100, 20)).smg_m_per_s;
+    };
+    CHECK(stand(0.045) < stand(0.02));
 }

@@ -1,0 +1,284 @@
+#include "ecoterra/mobility/smg.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/mobility/override.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace ecoterra::mobility {
+
+namespace {
+
+/// The planning grid refuses areas larger than this many cells.
+constexpr double kMaxPlanningCells = 4e7;
+/// Replanning rounds (a heavy cluster found on the path becomes obstacles each round).
+constexpr int kMaxReplans = 16;
+/// The smallest planning cell, m.
+constexpr double kMinPlanningCell_m = 0.02;
+
+struct Grid {
+    double x0 = 0, y0 = 0, r = 1;
+    int nx = 0, ny = 0;
+    std::vector<char> blocked;
+    int col(double x) const { return static_cast<int>(std::floor((x - x0) / r)); }
+    int row(double y) const { return static_cast<int>(std::floor((y - y0) / r)); }
+    bool inside(int i, int j) const { return i >= 0 && j >= 0 && i < nx && j < ny; }
+    bool blocked_at(double x, double y) const {
+        const int i = col(x), j = row(y);
+        return !inside(i, j) || blocked[static_cast<std::size_t>(j) * nx + i] != 0;
+    }
+    Point centre(std::int64_t c) const {
+        return {x0 + (static_cast<double>(c % nx) + 0.5) * r,
+                y0 + (static_cast<double>(c / nx) + 0.5) * r};
+    }
+};
+
+double distance(Point p, Point q) {
+    return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
+}
+
+/// True when the segment p-q crosses no blocked cell (sampled at a quarter cell).
+bool line_of_sight(const Grid& g, Point p, Point q) {
+    const double len = distance(p, q);
+    const int n = std::max(1, static_cast<int>(std::ceil(len / (0.25 * g.r))));
+    for (int k = 0; k <= n; ++k) {
+        const double t = static_cast<double>(k) / n;
+        if (g.blocked_at(p.x_m + t * (q.x_m - p.x_m), p.y_m + t * (q.y_m - p.y_m))) return false;
+    }
+    return true;
+}
+
+/// Shortest 8-connected path of cells from a to b (A*, octile heuristic), pulled taut by line of
+/// sight; empty when there is none.
+std::vector<Point> plan(const Grid& g, Point a, Point b) {
+    if (g.blocked_at(a.x_m, a.y_m) || g.blocked_at(b.x_m, b.y_m)) return {};
+    const std::int64_t n = static_cast<std::int64_t>(g.nx) * g.ny;
+    const std::int64_t start = static_cast<std::int64_t>(g.row(a.y_m)) * g.nx + g.col(a.x_m);
+    const std::int64_t goal = static_cast<std::int64_t>(g.row(b.y_m)) * g.nx + g.col(b.x_m);
+    std::vector<float> cost(static_cast<std::size_t>(n), std::numeric_limits<float>::infinity());
+    std::vector<std::int64_t> parent(static_cast<std::size_t>(n), -1);
+    std::vector<char> done(static_cast<std::size_t>(n), 0);
+    const int gi = static_cast<int>(goal % g.nx), gj = static_cast<int>(goal / g.nx);
+    auto h = [&](std::int64_t c) {
+        const double dx = std::abs(static_cast<double>(c % g.nx - gi));
+        const double dy = std::abs(static_cast<double>(c / g.nx - gj));
+        return (std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy)) * g.r;
+    };
+    using Entry = std::pair<double, std::int64_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+    cost[static_cast<std::size_t>(start)] = 0;
+    open.push({h(start), start});
+    while (!open.empty()) {
+        const std::int64_t c = open.top().second;
+        open.pop();
+        if (done[static_cast<std::size_t>(c)]) continue;
+        done[static_cast<std::size_t>(c)] = 1;
+        if (c == goal) break;
+        const int ci = static_cast<int>(c % g.nx), cj = static_cast<int>(c / g.nx);
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                if (!di && !dj) continue;
+                const int i = ci + di, j = cj + dj;
+                if (!g.inside(i, j)) continue;
+                const std::int64_t m = static_cast<std::int64_t>(j) * g.nx + i;
+                if (g.blocked[static_cast<std::size_t>(m)] || done[static_cast<std::size_t>(m)])
+                    continue;
+                // No corner cutting between two blocked cells.
+                if (di && dj &&
+                    (g.blocked[static_cast<std::size_t>(cj) * g.nx + i] ||
+                     g.blocked[static_cast<std::size_t>(j) * g.nx + ci]))
+                    continue;
+                const double step = (di && dj ? std::sqrt(2.0) : 1.0) * g.r;
+                const double nc = cost[static_cast<std::size_t>(c)] + step;
+                if (nc < cost[static_cast<std::size_t>(m)]) {
+                    cost[static_cast<std::size_t>(m)] = static_cast<float>(nc);
+                    parent[static_cast<std::size_t>(m)] = c;
+                    open.push({nc + h(m), m});
+                }
+            }
+    }
+    if (!done[static_cast<std::size_t>(goal)]) return {};
+    std::vector<Point> cells;
+    for (std::int64_t c = goal; c != -1; c = parent[static_cast<std::size_t>(c)])
+        cells.push_back(g.centre(c));
+    std::reverse(cells.begin(), cells.end());
+    cells.front() = a;
+    cells.back() = b;
+    // Pull taut: from each kept point, jump to the furthest point still in sight.
+    std::vector<Point> path{a};
+    std::size_t at = 0;
+    while (at + 1 < cells.size()) {
+        std::size_t next = at + 1;
+        for (std::size_t k = cells.size() - 1; k > at + 1; --k)
+            if (line_of_sight(g, cells[at], cells[k])) {
+                next = k;
+                break;
+            }
+        path.push_back(cells[next]);
+        at = next;
+    }
+    return path;
+}
+
+} // namespace
+
+StemIndex::StemIndex(std::vector<Stem> stems, double bucket_m)
+    : m_stems(std::move(stems)), m_size(bucket_m) {
+    if (!(bucket_m > 0)) throw InputError("stem index: bucket size must be > 0 m");
+    if (m_stems.empty()) return;
+    double x1 = -std::numeric_limits<double>::infinity(), y1 = x1;
+    m_x0 = m_y0 = std::numeric_limits<double>::infinity();
+    for (const auto& s : m_stems) {
+        if (!std::isfinite(s.x_m) || !std::isfinite(s.y_m) || !(s.diameter_m >= 0))
+            throw InputError("stem index: a stem at (" + format_number(s.x_m) + ", " +
+                             format_number(s.y_m) + ") has diameter " +
+                             format_number(s.diameter_m) + " m");
+        m_x0 = std::min(m_x0, s.x_m), m_y0 = std::min(m_y0, s.y_m);
+        x1 = std::max(x1, s.x_m), y1 = std::max(y1, s.y_m);
+    }
+    m_nx = bucket(x1, m_x0) + 1;
+    m_ny = bucket(y1, m_y0) + 1;
+    m_buckets.resize(static_cast<std::size_t>(m_nx) * m_ny);
+    for (std::size_t k = 0; k < m_stems.size(); ++k)
+        m_buckets[static_cast<std::size_t>(bucket(m_stems[k].y_m, m_y0)) * m_nx +
+                  bucket(m_stems[k].x_m, m_x0)]
+            .push_back(static_cast<std::int64_t>(k));
+}
+
+LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a,
+                      Point b, const SmgOptions& opt) {
+    LineResult out;
+    out.straight_m = distance(a, b);
+    if (!(out.straight_m > 0)) throw InputError("a line must have two different ends");
+    const double w = v.width_m;
+    const auto& stems = index.stems();
+    const double d_crit = critical_diameter_m(v.weight_n(), v.push_height_m);
+    std::vector<char> avoid(stems.size(), 0);
+    for (std::size_t k = 0; k < stems.size(); ++k) avoid[k] = stems[k].diameter_m >= d_crit;
+    auto elevation = [&](Point p) {
+        if (!dem) return 0.0;
+        const double z = dem->sample_bilinear(p.x_m, p.y_m);
+        if (std::isnan(z))
+            throw InputError("the line from (" + format_number(a.x_m) + ", " +
+                             format_number(a.y_m) + ") to (" + format_number(b.x_m) + ", " +
+                             format_number(b.y_m) + ") leaves the terrain at (" +
+                             format_number(p.x_m) + ", " + format_number(p.y_m) + ")");
+        return z;
+    };
+    Grid g;
+    g.r = std::max(opt.grid_fraction_of_width * w, kMinPlanningCell_m);
+    g.x0 = std::min(a.x_m, b.x_m) - opt.margin_m;
+    g.y0 = std::min(a.y_m, b.y_m) - opt.margin_m;
+    g.nx = static_cast<int>(std::ceil((std::abs(b.x_m - a.x_m) + 2 * opt.margin_m) / g.r));
+    g.ny = static_cast<int>(std::ceil((std::abs(b.y_m - a.y_m) + 2 * opt.margin_m) / g.r));
+    if (static_cast<double>(g.nx) * g.ny > kMaxPlanningCells)
+        throw InputError("a line of " + format_number(out.straight_m) +
+                         " m needs a planning grid of " + std::to_string(g.nx) + " x " +
+                         std::to_string(g.ny) + " cells; use shorter lines or a smaller margin");
+    const double straight = out.straight_m;
+    bool settled = false;
+    for (int round = 0; round < kMaxReplans && !settled; ++round) {
+        out = LineResult{};
+        out.straight_m = straight;
+        g.blocked.assign(static_cast<std::size_t>(g.nx) * g.ny, 0);
+        for (std::size_t k = 0; k < stems.size(); ++k) {
+            if (!avoid[k]) continue;
+            const Stem& s = stems[k];
+            const double rad = 0.5 * s.diameter_m + 0.5 * w;
+            for (int j = std::max(0, g.row(s.y_m - rad));
+                 j <= std::min(g.ny - 1, g.row(s.y_m + rad)); ++j)
+                for (int i = std::max(0, g.col(s.x_m - rad));
+                     i <= std::min(g.nx - 1, g.col(s.x_m + rad)); ++i) {
+                    const Point c = g.centre(static_cast<std::int64_t>(j) * g.nx + i);
+                    if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
+                        g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
+                }
+        }
+        const std::vector<Point> path = plan(g, a, b);
+        if (path.empty()) {
+            out.nogo = true;
+            out.nogo_reason = "no path around the stems it cannot override";
+            settled = true;
+            break;
+        }
+        // Drive the path cell by cell (cells of one vehicle width along each segment).
+        std::vector<char> pushed(stems.size(), 0);
+        bool replan = false;
+        for (std::size_t s = 0; s + 1 < path.size() && !replan && !out.nogo; ++s) {
+            const Point p = path[s], q = path[s + 1];
+            const double seg = distance(p, q);
+            const double ux = (q.x_m - p.x_m) / seg, uy = (q.y_m - p.y_m) / seg;
+            for (double along = 0; along < seg; along += w) {
+                const double len = std::min(w, seg - along);
+                const Point c0{p.x_m + along * ux, p.y_m + along * uy};
+                const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
+                double force = 0;
+                std::vector<std::int64_t> here;
+                index.for_each_in_box(std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
+                                      std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,
+                                      [&](std::int64_t k) {
+                                          const Stem& st = stems[static_cast<std::size_t>(k)];
+                                          const double dx = st.x_m - c0.x_m, dy = st.y_m - c0.y_m;
+                                          const double t = dx * ux + dy * uy,
+                                                       lat = -dx * uy + dy * ux;
+                                          if (avoid[static_cast<std::size_t>(k)] || t < 0 ||
+                                              t >= len || std::abs(lat) > 0.5 * w)
+                                              return;
+                                          force += override_force_n(st.diameter_m, v.push_height_m);
+                                          here.push_back(k);
+                                      });
+                const double grade = (elevation(c1) - elevation(c0)) / len;
+                const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
+                const double speed = steady_speed_m_per_s(v, base + force);
+                if (speed <= 0) {
+                    if (force > 0 && steady_speed_m_per_s(v, base) > 0) {
+                        for (const auto k : here) avoid[static_cast<std::size_t>(k)] = 1;
+                        replan = true; // a cluster too heavy to push: go around it
+                    } else {
+                        out.nogo = true;
+                        out.nogo_reason = "a grade of " + format_number(grade) +
+                                          " it cannot climb at (" + format_number(c0.x_m) + ", " +
+                                          format_number(c0.y_m) + ")";
+                    }
+                    break;
+                }
+                out.time_s += len / speed;
+                out.path_m += len;
+                if (force > 0) out.override_m += len;
+                for (const auto k : here) pushed[static_cast<std::size_t>(k)] = 1;
+            }
+        }
+        if (replan) continue;
+        for (std::size_t k = 0; k < stems.size(); ++k) {
+            out.overridden += pushed[k];
+            // Avoided: an obstacle whose inflated disk meets the straight line.
+            if (!avoid[k]) continue;
+            const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
+            const double t =
+                std::clamp(((stems[k].x_m - a.x_m) * dx + (stems[k].y_m - a.y_m) * dy) /
+                               (out.straight_m * out.straight_m),
+                           0.0, 1.0);
+            const double dist =
+                std::hypot(a.x_m + t * dx - stems[k].x_m, a.y_m + t * dy - stems[k].y_m);
+            out.avoided += dist <= 0.5 * (stems[k].diameter_m + w);
+        }
+        settled = true;
+    }
+    if (!settled) {
+        out.nogo = true;
+        out.nogo_reason = "clusters too heavy to push kept closing the path after " +
+                          std::to_string(kMaxReplans) + " plans";
+    }
+    if (out.nogo) {
+        out.time_s = std::numeric_limits<double>::infinity();
+        out.smg_m_per_s = 0;
+    } else {
+        out.smg_m_per_s = out.straight_m / out.time_s;
+    }
+    return out;
+}
+
+} // namespace ecoterra::mobility

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     ecoterra::app::add_terrain_command(app);
     ecoterra::app::add_hydro_command(app);
     ecoterra::app::add_eco_commands(app);
+    ecoterra::app::add_mobility_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -9,5 +9,7 @@ void add_terrain_command(CLI::App& app);
 void add_hydro_command(CLI::App& app);
 /// `ecoterra run`, `ecoterra stand`, `ecoterra export vegetation`.
 void add_eco_commands(CLI::App& app);
+/// `ecoterra mobility`.
+void add_mobility_command(CLI::App& app);
 
 } // namespace ecoterra::app

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <queue>
 
 namespace ecoterra::mobility {
@@ -170,10 +171,23 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
     };
     Grid g;
     g.r = std::max(opt.grid_fraction_of_width * w, kMinPlanningCell_m);
-    g.x0 = std::min(a.x_m, b.x_m) - opt.margin_m;
-    g.y0 = std::min(a.y_m, b.y_m) - opt.margin_m;
-    g.nx = static_cast<int>(std::ceil((std::abs(b.x_m - a.x_m) + 2 * opt.margin_m) / g.r));
-    g.ny = static_cast<int>(std::ceil((std::abs(b.y_m - a.y_m) + 2 * opt.margin_m) / g.r));
+    double x0 = std::min(a.x_m, b.x_m) - opt.margin_m, x1 = std::max(a.x_m, b.x_m) + opt.margin_m;
+    double y0 = std::min(a.y_m, b.y_m) - opt.margin_m, y1 = std::max(a.y_m, b.y_m) + opt.margin_m;
+    if (opt.bounds_m) {
+        const auto& bb = *opt.bounds_m;
+        for (const Point p : {a, b})
+            if (p.x_m < bb[0] || p.x_m > bb[2] || p.y_m < bb[1] || p.y_m > bb[3])
+                throw InputError("the line end (" + format_number(p.x_m) + ", " +
+                                 format_number(p.y_m) + ") is outside the terrain [" +
+                                 format_number(bb[0]) + ", " + format_number(bb[2]) + "] x [" +
+                                 format_number(bb[1]) + ", " + format_number(bb[3]) + "]");
+        x0 = std::max(x0, bb[0]), y0 = std::max(y0, bb[1]);
+        x1 = std::min(x1, bb[2]), y1 = std::min(y1, bb[3]);
+    }
+    g.x0 = x0;
+    g.y0 = y0;
+    g.nx = std::max(1, static_cast<int>(std::ceil((x1 - x0) / g.r)));
+    g.ny = std::max(1, static_cast<int>(std::ceil((y1 - y0) / g.r)));
     if (static_cast<double>(g.nx) * g.ny > kMaxPlanningCells)
         throw InputError("a line of " + format_number(out.straight_m) +
                          " m needs a planning grid of " + std::to_string(g.nx) + " x " +
@@ -196,6 +210,12 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                     if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
                         g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
                 }
+        }
+        if (g.blocked_at(a.x_m, a.y_m) || g.blocked_at(b.x_m, b.y_m)) {
+            out.nogo = true;
+            out.nogo_reason = "the line starts or ends next to a stem it cannot override";
+            settled = true;
+            break;
         }
         const std::vector<Point> path = plan(g, a, b);
         if (path.empty()) {
@@ -231,6 +251,13 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                                           here.push_back(k);
                                       });
                 const double grade = (elevation(c1) - elevation(c0)) / len;
+                if (std::atan(grade) > v.max_climb_deg * std::numbers::pi / 180) {
+                    out.nogo = true;
+                    out.nogo_reason = "a grade of " + format_number(grade) +
+                                      " beyond the vehicle's climb limit at (" +
+                                      format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
+                    break;
+                }
                 const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
                 const double speed = steady_speed_m_per_s(v, base + force);
                 if (speed <= 0) {

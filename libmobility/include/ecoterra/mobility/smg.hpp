@@ -10,8 +10,10 @@
 #include "ecoterra/raster.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,8 @@ struct SmgOptions {
     /// The planning area reaches this far beyond the line's bounding box, m (a detour wider than
     /// it counts as no path).
     double margin_m = 25;
+    /// When set, the planning area is also kept inside [x0, x1] x [y0, y1] (the terrain), m.
+    std::optional<std::array<double, 4>> bounds_m;
 };
 
 /// Stems in buckets of a fixed size, for queries by rectangle and disk.

@@ -1,0 +1,114 @@
+// `ecoterra mobility`: speed made good through a stand (a run's snapshot, or a stem list over a
+// DEM).
+#include "common.hpp"
+#include "subcommands.hpp"
+
+#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace ecoterra::app {
+
+namespace {
+
+using nlohmann::json;
+
+struct MobilityArgs {
+    std::string run, stems, dem, vehicle, json_out, layout = "random";
+    int snapshot = -1, lines = 200;
+    long long seed = 1;
+    double length_m = 50;
+};
+
+void run_mobility(const MobilityArgs& a) {
+    if (a.run.empty() == a.stems.empty())
+        throw InputError("mobility: give a run file, or --stems FILE.csv with --dem");
+    if (!a.stems.empty() && a.dem.empty())
+        throw InputError("mobility: --stems needs --dem (the terrain the stems stand on)");
+    if (!a.json_out.empty()) {
+        std::vector<std::string> inputs{a.vehicle};
+        for (const auto& p : {a.run, a.stems, a.dem})
+            if (!p.empty()) inputs.push_back(p);
+        refuse_output_over_input("--json", a.json_out, inputs);
+        io::AtomicOutput probe(a.json_out); // the folder exists: fail now, not after the lines
+    }
+    const mobility::Vehicle v = mobility::load_vehicle(a.vehicle);
+    mobility::StandLinesOptions opt;
+    opt.lines = a.lines;
+    opt.seed = static_cast<std::uint64_t>(a.seed);
+    opt.length_m = a.length_m;
+    if (a.layout == "transects")
+        opt.layout = mobility::LineLayout::transects;
+    else if (a.layout != "random")
+        throw InputError("--layout must be random or transects, got '" + a.layout + "'");
+    std::vector<mobility::StandStem> stems;
+    RasterD dem;
+    json source;
+    if (!a.run.empty()) {
+        const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
+        for (const auto& p : s.plants) stems.push_back({p.x_m, p.y_m, p.dbh_m, p.height_m});
+        dem = terrain::io::read_hdf5(a.run, "/terrain/elevation");
+        source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
+    } else {
+        stems = mobility::read_stem_csv(a.stems);
+        std::vector<std::string> warnings;
+        dem = terrain::io::read_raster(a.dem, &warnings);
+        print_warnings(warnings);
+        source = {{"stems", a.stems}, {"dem", a.dem}};
+    }
+    Stopwatch sw;
+    const auto m = with_context(a.run.empty() ? a.stems : a.run,
+                                [&] { return mobility::analyse_stand(v, stems, dem, opt); });
+    const double seconds = sw.seconds();
+    std::printf("%s through %lld trees on %.4g ha: basal area %.2f m2/ha (%.1f ft2/acre); "
+                "critical diameter %.2f cm\n",
+                v.name.c_str(), static_cast<long long>(m.trees), m.area_ha, m.basal_area_m2_per_ha,
+                m.basal_area_m2_per_ha * 4.356, m.critical_diameter_m * 100);
+    std::printf("%d lines of %.4g m: SMG mean %.3f m/s, median %.3f, p10 %.3f, p90 %.3f; NOGO "
+                "%.1f %%; distance overriding %.1f %%, detouring %.1f %%\n",
+                opt.lines, opt.length_m, m.smg_mean_m_per_s, m.smg_median_m_per_s,
+                m.smg_p10_m_per_s, m.smg_p90_m_per_s, 100 * m.nogo_fraction,
+                100 * m.override_fraction, 100 * m.detour_fraction);
+    std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
+    if (!a.json_out.empty()) {
+        json j = mobility::to_json(m, v);
+        j["source"] = source;
+        j["lines_layout"] = a.layout;
+        j["line_length_m"] = opt.length_m;
+        j["seed"] = opt.seed;
+        j["provenance"] = provenance();
+        io::write_text_atomic(a.json_out, j.dump(2) + "\n");
+        std::printf("wrote %s\n", a.json_out.c_str());
+    }
+}
+
+} // namespace
+
+void add_mobility_command(CLI::App& app) {
+    auto a = std::make_shared<MobilityArgs>();
+    CLI::App* m = app.add_subcommand(
+        "mobility", "speed made good of a vehicle through a stand (NRMM-style override and "
+                    "avoidance)");
+    m->add_option("run", a->run, "ecosystem run file (its snapshot's plants and its terrain)");
+    m->add_option("--snapshot", a->snapshot, "snapshot of the run (negative: from the last)")
+        ->capture_default_str();
+    m->add_option("--stems", a->stems,
+                  "stem list CSV (x_m, y_m, dbh_cm or dbh_m, optional height_m) instead of a run");
+    m->add_option("--dem", a->dem, "terrain raster under the stem list");
+    m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json)")->required();
+    m->add_option("--lines", a->lines, "number of straight lines")->capture_default_str();
+    m->add_option("--length", a->length_m, "length of each line, m")->capture_default_str();
+    m->add_option("--layout", a->layout,
+                  "random (random positions and headings) | transects (parallel, west to east)")
+        ->capture_default_str();
+    m->add_option("--seed", a->seed, "seed of the random lines")->capture_default_str();
+    m->add_option("--json", a->json_out, "write the figures and every line as JSON");
+    m->callback([a] { run_mobility(*a); });
+}
+
+} // namespace ecoterra::app

@@ -1,0 +1,68 @@
+#pragma once
+// Speed made good over a whole stand (docs/mobility.md s5): many straight lines (random headings
+// and positions as paper 000's missions, or parallel transects) driven by drive_line(), and their
+// distribution, beside the stand's basal area.
+#include "ecoterra/mobility/smg.hpp"
+#include "ecoterra/mobility/vehicle.hpp"
+#include "ecoterra/raster.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ecoterra::mobility {
+
+/// One plant of a stand as mobility sees it.
+struct StandStem {
+    double x_m = 0, y_m = 0;
+    double dbh_m = 0;    ///< at breast height (1.3 m); 0 below it
+    double height_m = 0; ///< NaN when unknown: the DBH is then taken at the push height
+};
+
+/// Reads a stem list: CSV with a header naming at least x_m, y_m and dbh_cm (or dbh_m), and
+/// optionally height_m (the CSV of `ecoterra export vegetation` is one); other columns are
+/// ignored. Non-numeric, non-finite or negative values are InputErrors naming the file, the line,
+/// the column and the value.
+std::vector<StandStem> read_stem_csv(const std::filesystem::path& path);
+
+enum class LineLayout { random, transects };
+
+struct StandLinesOptions {
+    int lines = 200;
+    std::uint64_t seed = 1;
+    double length_m = 50;
+    LineLayout layout = LineLayout::random;
+    SmgOptions smg;
+};
+
+struct LineRecord {
+    Point a, b;
+    LineResult result;
+};
+
+struct StandMobility {
+    std::vector<LineRecord> lines;
+    double smg_mean_m_per_s = 0, smg_median_m_per_s = 0, smg_p10_m_per_s = 0, smg_p90_m_per_s = 0;
+    double smg_mean_go_m_per_s = 0; ///< over the lines that are not NOGO
+    double nogo_fraction = 0;
+    double override_fraction = 0; ///< of the distance driven, spent pushing stems
+    double detour_fraction = 0;   ///< of the distance driven, beyond the straight lines
+    double basal_area_m2_per_ha = 0;
+    std::int64_t trees = 0; ///< stems that reach breast height
+    double area_ha = 0;
+    double critical_diameter_m = 0;
+};
+
+/// Drives `opt.lines` lines over the terrain `dem` (which also sets the stand's area) through
+/// `stems`. Lines are drawn from the seed; a random line is drawn again while one of its ends is
+/// not clear of the stems the vehicle cannot override (a vehicle has to stand there).
+StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
+                            const RasterD& dem, const StandLinesOptions& opt);
+
+/// The report: the figures above, the vehicle, and one record per line.
+nlohmann::json to_json(const StandMobility& m, const Vehicle& v);
+
+} // namespace ecoterra::mobility

@@ -1,0 +1,262 @@
+#include "ecoterra/mobility/stand.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/mobility/override.hpp"
+#include "ecoterra/random.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace ecoterra::mobility {
+
+namespace {
+
+using nlohmann::json;
+constexpr double kM2PerHa = 1e4;
+constexpr double kCmPerM = 100.0;
+constexpr double kFt2PerAcrePerM2PerHa = 4.356;
+/// Random lines: draws per line before the length is declared not to fit.
+constexpr int kMaxDraws = 10000;
+/// Stems thicker than this are refused (a line end's clearance looks this far), m.
+constexpr double kMaxObstacleDiameter_m = 10.0;
+
+std::vector<std::string> split_csv(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) out.push_back(f);
+    if (!line.empty() && line.back() == ',') out.emplace_back();
+    return out;
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+} // namespace
+
+std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot open the stem list");
+    std::string line;
+    if (!std::getline(in, line)) throw InputError(path.string() + ": the stem list is empty");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto header = split_csv(line);
+    auto column = [&](const std::string& name) {
+        const auto it = std::find(header.begin(), header.end(), name);
+        return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+    };
+    const int cx = column("x_m"), cy = column("y_m"), ccm = column("dbh_cm"), cm = column("dbh_m"),
+              ch = column("height_m");
+    if (cx < 0 || cy < 0 || (ccm < 0 && cm < 0))
+        throw InputError(path.string() +
+                         ": the header must name x_m, y_m and dbh_cm (or dbh_m), "
+                         "got '" +
+                         line + "'");
+    std::vector<StandStem> out;
+    int lineno = 1;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty()) continue;
+        const auto f = split_csv(line);
+        const std::string where = path.string() + " line " + std::to_string(lineno);
+        auto number = [&](int c, const std::string& name, bool non_negative) {
+            if (c >= static_cast<int>(f.size()))
+                throw InputError(where + ": no value in column " + name);
+            const std::string& t = f[static_cast<std::size_t>(c)];
+            double v = 0;
+            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+            if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
+                throw InputError(where + ": " + name + " = '" + t + "' is not a number");
+            if (non_negative && v < 0)
+                throw InputError(where + ": " + name + " = " + t + " is negative");
+            return v;
+        };
+        StandStem s;
+        s.x_m = number(cx, "x_m", false);
+        s.y_m = number(cy, "y_m", false);
+        s.dbh_m = ccm >= 0 ? number(ccm, "dbh_cm", true) / kCmPerM : number(cm, "dbh_m", true);
+        s.height_m =
+            ch >= 0 ? number(ch, "height_m", true) : std::numeric_limits<double>::quiet_NaN();
+        out.push_back(s);
+    }
+    return out;
+}
+
+StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
+                            const RasterD& dem, const StandLinesOptions& opt) {
+    if (opt.lines < 1) throw InputError("--lines must be >= 1, got " + std::to_string(opt.lines));
+    if (!(opt.length_m > 0))
+        throw InputError("--length must be > 0 m, got " + format_number(opt.length_m));
+    const GridSpec& g = dem.grid();
+    const double c = g.cell_size_m; // lines keep a cell from the edge (bilinear elevations)
+    const std::array<double, 4> bounds{g.origin_x_m + c, g.origin_y_m + c,
+                                       g.origin_x_m + g.width_m() - c,
+                                       g.origin_y_m + g.height_m() - c};
+    StandMobility m;
+    m.area_ha = g.width_m() * g.height_m() / kM2PerHa;
+    m.critical_diameter_m = critical_diameter_m(v.weight_n(), v.push_height_m);
+    std::vector<Stem> pushable;
+    double basal_m2 = 0;
+    std::int64_t inside = 0;
+    for (const auto& s : stems) {
+        if (g.contains_point(s.x_m, s.y_m)) ++inside;
+        if (s.dbh_m > 0) {
+            ++m.trees;
+            basal_m2 += std::numbers::pi * s.dbh_m * s.dbh_m / 4;
+        }
+        if (s.dbh_m > kMaxObstacleDiameter_m)
+            throw InputError("a stem at (" + format_number(s.x_m) + ", " + format_number(s.y_m) +
+                             ") has a DBH of " + format_number(s.dbh_m) + " m (more than " +
+                             format_number(kMaxObstacleDiameter_m) + " m: cm given as m?)");
+        const double d = std::isnan(s.height_m)
+                             ? s.dbh_m
+                             : diameter_at_height_m(s.dbh_m, s.height_m, v.push_height_m);
+        if (d > 0) pushable.push_back({s.x_m, s.y_m, d});
+    }
+    if (!stems.empty() && inside == 0)
+        throw InputError("none of the " + std::to_string(stems.size()) +
+                         " stems lies on the terrain [" + format_number(g.origin_x_m) + ", " +
+                         format_number(g.origin_x_m + g.width_m()) + "] x [" +
+                         format_number(g.origin_y_m) + ", " +
+                         format_number(g.origin_y_m + g.height_m()) + "] m");
+    m.basal_area_m2_per_ha = basal_m2 / m.area_ha;
+    const StemIndex index(std::move(pushable), std::max(v.width_m, 1.0));
+    // A vehicle stands at a line's end: clear of every stem it cannot override.
+    auto clear = [&](Point p) {
+        bool ok = true;
+        const double reach = 0.5 * v.width_m + 0.5 * kMaxObstacleDiameter_m;
+        index.for_each_in_box(
+            p.x_m - reach, p.y_m - reach, p.x_m + reach, p.y_m + reach, [&](std::int64_t k) {
+                const Stem& s = index.stems()[static_cast<std::size_t>(k)];
+                if (s.diameter_m >= m.critical_diameter_m &&
+                    std::hypot(s.x_m - p.x_m, s.y_m - p.y_m) <= 0.5 * (s.diameter_m + v.width_m))
+                    ok = false;
+            });
+        return ok;
+    };
+    // The lines, drawn from the seed; random lines are drawn again while an end is not clear.
+    const double w = bounds[2] - bounds[0], h = bounds[3] - bounds[1];
+    m.lines.resize(static_cast<std::size_t>(opt.lines));
+    if (opt.layout == LineLayout::transects) {
+        if (opt.length_m > w)
+            throw InputError("--length " + format_number(opt.length_m) +
+                             " m is longer than the terrain is wide (" + format_number(w) + " m)");
+        for (int k = 0; k < opt.lines; ++k) {
+            const double y = bounds[1] + (k + 0.5) * h / opt.lines;
+            const double x = bounds[0] + 0.5 * (w - opt.length_m);
+            m.lines[static_cast<std::size_t>(k)].a = {x, y};
+            m.lines[static_cast<std::size_t>(k)].b = {x + opt.length_m, y};
+        }
+    } else {
+        Rng rng(opt.seed, "mobility.lines");
+        for (auto& l : m.lines) {
+            int draws = 0;
+            for (;; ++draws) {
+                if (draws == kMaxDraws)
+                    throw InputError(
+                        "lines of " + format_number(opt.length_m) +
+                        " m with both ends clear of stems do not fit in the terrain (" +
+                        format_number(w) + " x " + format_number(h) +
+                        " m inside a cell of the edge)");
+                const double x = bounds[0] + rng.uniform() * w, y = bounds[1] + rng.uniform() * h;
+                const double t = 2 * std::numbers::pi * rng.uniform();
+                const Point b{x + opt.length_m * std::cos(t), y + opt.length_m * std::sin(t)};
+                if (b.x_m >= bounds[0] && b.x_m <= bounds[2] && b.y_m >= bounds[1] &&
+                    b.y_m <= bounds[3] && clear({x, y}) && clear(b)) {
+                    l.a = {x, y};
+                    l.b = b;
+                    break;
+                }
+            }
+        }
+    }
+    SmgOptions smg = opt.smg;
+    smg.bounds_m = bounds;
+    std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic)
+    for (int k = 0; k < opt.lines; ++k) {
+        try {
+            auto& l = m.lines[static_cast<std::size_t>(k)];
+            l.result = drive_line(v, index, &dem, l.a, l.b, smg);
+        } catch (...) {
+#pragma omp critical
+            if (!failure) failure = std::current_exception();
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
+    std::vector<double> smg_all, smg_go;
+    double driven = 0, straight = 0, pushed = 0;
+    for (const auto& l : m.lines) {
+        smg_all.push_back(l.result.smg_m_per_s);
+        if (l.result.nogo) continue;
+        smg_go.push_back(l.result.smg_m_per_s);
+        driven += l.result.path_m;
+        straight += l.result.straight_m;
+        pushed += l.result.override_m;
+    }
+    auto mean = [](const std::vector<double>& xs) {
+        double sum = 0;
+        for (const double x : xs) sum += x;
+        return xs.empty() ? 0.0 : sum / static_cast<double>(xs.size());
+    };
+    m.smg_mean_m_per_s = mean(smg_all);
+    m.smg_mean_go_m_per_s = mean(smg_go);
+    m.smg_median_m_per_s = quantile(smg_all, 0.5);
+    m.smg_p10_m_per_s = quantile(smg_all, 0.1);
+    m.smg_p90_m_per_s = quantile(smg_all, 0.9);
+    m.nogo_fraction = 1.0 - static_cast<double>(smg_go.size()) / static_cast<double>(opt.lines);
+    m.override_fraction = driven > 0 ? pushed / driven : 0.0;
+    m.detour_fraction = driven > 0 ? (driven - straight) / driven : 0.0;
+    return m;
+}
+
+json to_json(const StandMobility& m, const Vehicle& v) {
+    json lines = json::array();
+    for (const auto& l : m.lines) {
+        const auto& r = l.result;
+        json j = {{"x0_m", l.a.x_m},
+                  {"y0_m", l.a.y_m},
+                  {"x1_m", l.b.x_m},
+                  {"y1_m", l.b.y_m},
+                  {"straight_m", r.straight_m},
+                  {"nogo", r.nogo},
+                  {"smg_m_per_s", r.smg_m_per_s},
+                  {"path_m", r.nogo ? json() : json(r.path_m)},
+                  {"time_s", r.nogo ? json() : json(r.time_s)},
+                  {"override_m", r.override_m},
+                  {"stems_overridden", r.overridden},
+                  {"stems_avoided", r.avoided}};
+        if (r.nogo) j["nogo_reason"] = r.nogo_reason;
+        lines.push_back(std::move(j));
+    }
+    return {{"smg_mean_m_per_s", m.smg_mean_m_per_s},
+            {"smg_median_m_per_s", m.smg_median_m_per_s},
+            {"smg_p10_m_per_s", m.smg_p10_m_per_s},
+            {"smg_p90_m_per_s", m.smg_p90_m_per_s},
+            {"smg_mean_go_m_per_s", m.smg_mean_go_m_per_s},
+            {"nogo_fraction", m.nogo_fraction},
+            {"override_fraction_of_distance", m.override_fraction},
+            {"detour_fraction_of_distance", m.detour_fraction},
+            {"basal_area_m2_per_ha", m.basal_area_m2_per_ha},
+            {"basal_area_ft2_per_acre", m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa},
+            {"trees", m.trees},
+            {"area_ha", m.area_ha},
+            {"critical_diameter_m", m.critical_diameter_m},
+            {"vehicle", to_json(v)},
+            {"lines", std::move(lines)}};
+}
+
+} // namespace ecoterra::mobility

@@ -1,0 +1,125 @@
+// `ecoterra mobility` as a user runs it: the issue's invocations, the report's keys against the
+// stand, determinism across seeds and thread counts, and bad input.
+#include "support/run_cli.hpp"
+#include "support/scenes.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/random.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <omp.h>
+
+using namespace ecoterra;
+using namespace ecoterra::mobility;
+using nlohmann::json;
+
+namespace {
+
+json read_json(const std::filesystem::path& p) {
+    return json::parse(io::read_text(p));
+}
+
+RasterD flat(double side_m, double cell_m) {
+    const int n = static_cast<int>(side_m / cell_m);
+    return RasterD(GridSpec{n, n, cell_m, 0.0, 0.0}, 0.0);
+}
+
+} // namespace
+
+TEST_CASE("mobility: a stand's report, on any number of threads", "[mobility][stand]") {
+    const Vehicle v = load_vehicle(test::data_dir() / "vehicles/mrzr4.json");
+    const RasterD dem = flat(100, 1);
+    StandLinesOptions opt;
+    opt.lines = 40;
+    // No stems: every line at the top speed, no basal area.
+    const auto empty = analyse_stand(v, {}, dem, opt);
+    CHECK(empty.nogo_fraction == 0);
+    CHECK(empty.smg_mean_m_per_s == Approx(v.top_speed_m_per_s));
+    CHECK(empty.basal_area_m2_per_ha == 0);
+    // 400 stems of 20 cm on 1 ha: basal area 400 pi 0.01 = 12.57 m2/ha; thin ones below breast
+    // height do not count.
+    std::vector<StandStem> stems;
+    Rng rng(3, "test");
+    for (int k = 0; k < 400; ++k)
+        stems.push_back({rng.uniform(0, 100), rng.uniform(0, 100), 0.2, 18});
+    for (int k = 0; k < 100; ++k) stems.push_back({rng.uniform(0, 100), rng.uniform(0, 100), 0, 1});
+    const auto m = analyse_stand(v, stems, dem, opt);
+    CHECK(m.basal_area_m2_per_ha == Approx(400 * std::numbers::pi * 0.01));
+    CHECK(m.trees == 400);
+    CHECK(m.smg_mean_m_per_s < empty.smg_mean_m_per_s);
+    CHECK(m.detour_fraction > 0);
+    const json j = to_json(m, v);
+    for (const char* k : {"smg_mean_m_per_s", "smg_median_m_per_s", "nogo_fraction", "lines",
+                          "basal_area_m2_per_ha", "basal_area_ft2_per_acre"})
+        CHECK(j.contains(k));
+    CHECK(j["lines"].size() == 40);
+    // The same on one thread as on two.
+    const int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const json one = to_json(analyse_stand(v, stems, dem, opt), v);
+    omp_set_num_threads(std::max(2, threads));
+    const json two = to_json(analyse_stand(v, stems, dem, opt), v);
+    omp_set_num_threads(threads);
+    CHECK(one == two);
+    CHECK(one == j);
+    // Transects: parallel lines west to east.
+    opt.layout = LineLayout::transects;
+    const auto t = analyse_stand(v, stems, dem, opt);
+    for (const auto& l : t.lines) CHECK(l.a.y_m == l.b.y_m);
+    // Stems that miss the terrain, lines longer than it.
+    std::vector<StandStem> away{{500, 500, 0.2, 10}};
+    CHECK_THROWS_WITH(analyse_stand(v, away, dem, opt), Catch::Contains("none of the 1 stems"));
+    opt.length_m = 500;
+    CHECK_THROWS_WITH(analyse_stand(v, stems, dem, opt), Catch::Contains("longer than"));
+}
+
+TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]") {
+    test::TempDir dir;
+    std::ofstream(dir / "scene.json") << test::small_scene(3).dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
+    const std::string veh = (test::data_dir() / "vehicles/mrzr4.json").string();
+    auto r = test::run(dir, "mobility run.h5 --vehicle " + veh +
+                                " --lines 50 --length 20 --seed 1 --json smg.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json a = read_json(dir / "smg.json");
+    CHECK(a["lines"].size() == 50);
+    CHECK(a["smg_mean_m_per_s"].get<double>() > 0);
+    CHECK(a["smg_mean_m_per_s"].get<double>() <= 22.3 + 1e-9);
+    // The exported stems over the run's own terrain (generated again from its specification) give
+    // the same figures.
+    REQUIRE(test::run(dir, "export vegetation run.h5 -o stems.csv").code == 0);
+    REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 20 --cell 2 --rms 0.8 "
+                           "--seed 5 -o dem.h5")
+                .code == 0);
+    r = test::run(dir, "mobility --stems stems.csv --dem dem.h5 --vehicle " + veh +
+                           " --lines 50 --length 20 --seed 1 --json smg2.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json b = read_json(dir / "smg2.json");
+    CHECK(b["basal_area_m2_per_ha"].get<double>() ==
+          Approx(a["basal_area_m2_per_ha"].get<double>()).epsilon(1e-6));
+    CHECK(b["smg_mean_m_per_s"].get<double>() ==
+          Approx(a["smg_mean_m_per_s"].get<double>()).epsilon(1e-6));
+    CHECK(b["nogo_fraction"] == a["nogo_fraction"]);
+    // Bad input: exit 2, a message naming the file, and nothing written.
+    std::ofstream(dir / "bad.csv") << "x_m,y_m,dbh_cm\n1,2,-3\n";
+    r = test::run(dir,
+                  "mobility --stems bad.csv --dem dem.h5 --vehicle " + veh + " --json out.json");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("bad.csv line 2") && Catch::Contains("negative"));
+    CHECK_FALSE(std::filesystem::exists(dir / "out.json"));
+    r = test::run(dir, "mobility run.h5 --stems stems.csv --vehicle " + veh);
+    CHECK(r.code == 2);
+    std::ofstream(dir / "car.json") << R"({"mass_kg": 100, "width_m": 0, "length_m": 2,
+        "tractive_force_n": [[0, 100], [1, 0]]})";
+    r = test::run(dir, "mobility run.h5 --vehicle car.json");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("car.json") && Catch::Contains("width_m"));
+}

@@ -123,3 +123,32 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("car.json") && Catch::Contains("width_m"));
 }
+
+TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli]") {
+    test::TempDir dir;
+    REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 1000 --cell 0.05 "
+                           "--rms 0.1 --seed 2 -o mf.h5")
+                .code == 0);
+    REQUIRE(test::run(dir, "terrain missions mf.h5 --count 6 -o missions.csv").code == 0);
+    const std::string veh = (test::data_dir() / "vehicles/husky_a200.json").string();
+    auto r = test::run(dir, "terrain traverse mf.h5 --vehicle " + veh +
+                                " --missions missions.csv --json traverse.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json t = read_json(dir / "traverse.json");
+    REQUIRE(t["records"].size() == 6);
+    int ok = 0;
+    for (const auto& rec : t["records"]) {
+        ok += rec["success"].get<bool>();
+        CHECK((rec["success"].get<bool>() ? rec.contains("time_s") : rec.contains("failure")));
+    }
+    CHECK(t["success_rate"].get<double>() == Approx(ok / 6.0));
+    // Planned missions without a file, and bad input.
+    r = test::run(dir, "terrain traverse mf.h5 --vehicle " + veh + " --count 4");
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("of 4 missions"));
+    std::ofstream(dir / "far.csv") << "id,start_x_m,start_y_m,goal_x_m,goal_y_m\n1,10,10,90,10\n";
+    r = test::run(dir, "terrain traverse mf.h5 --vehicle " + veh + " --missions far.csv");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("far.csv") && Catch::Contains("leaves the terrain"));
+}

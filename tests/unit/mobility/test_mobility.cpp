@@ -5,12 +5,14 @@
 #include "ecoterra/error.hpp"
 #include "ecoterra/mobility/override.hpp"
 #include "ecoterra/mobility/smg.hpp"
+#include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/random.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 using namespace ecoterra;
@@ -234,4 +236,81 @@ TEST_CASE("speed made good never rises as stems are added, and the cubic law ran
         return drive(random_stand(7, n, d, 0, -20, 100, 20)).smg_m_per_s;
     };
     CHECK(stand(0.045) < stand(0.02));
+}
+
+namespace {
+
+/// A 20 x 20 m terrain of 5 cm cells from z(x, y).
+template <class F>
+RasterD surface(F z) {
+    RasterD r(GridSpec{400, 400, 0.05, 0.0, 0.0});
+    for (int j = 0; j < r.ny(); ++j)
+        for (int i = 0; i < r.nx(); ++i) r(i, j) = z(r.grid().x_of(i), r.grid().y_of(j));
+    return r;
+}
+
+Vehicle husky() {
+    return load_vehicle(test::data_dir() / "vehicles/husky_a200.json");
+}
+
+} // namespace
+
+TEST_CASE("traversal: planes, a corrugation and a bar against their closed forms",
+          "[mobility][traverse]") {
+    const Vehicle v = husky();
+    const MissionLine east{1, 2, 10, 18, 10};
+    // Flat: success in length / speed, no motion of the chassis.
+    const auto flat = traverse(v, surface([](double, double) { return 0.0; }), east);
+    REQUIRE(flat.success);
+    CHECK(flat.time_s == Approx(16.0));
+    CHECK(flat.rms_vertical_acceleration_m_per_s2 == Approx(0).margin(1e-9));
+    CHECK(flat.rms_pitch_rate_deg_per_s == Approx(0).margin(1e-9));
+    // A climb of 20 % along the path: pitch atan(0.2), no rates (a plane), success.
+    const auto ramp = traverse(v, surface([](double x, double) { return 0.2 * x; }), east);
+    REQUIRE(ramp.success);
+    CHECK(ramp.max_abs_pitch_deg == Approx(std::atan(0.2) * 180 / std::numbers::pi));
+    CHECK(ramp.rms_pitch_rate_deg_per_s == Approx(0).margin(1e-6));
+    CHECK(ramp.rms_vertical_acceleration_m_per_s2 == Approx(0).margin(1e-6));
+    // Steeper than the Husky's 45 degree climb: fails at the first pose; across it, the 30
+    // degree side-slope limit fails first.
+    const auto steep = traverse(v, surface([](double x, double) { return 1.1 * x; }), east);
+    CHECK_FALSE(steep.success);
+    CHECK(steep.failure == "climb limit");
+    CHECK(steep.failed_at_m == 0.0);
+    const auto side = traverse(v, surface([](double, double y) { return 0.7 * y; }), east);
+    CHECK(side.failure == "side-slope limit");
+    // A corrugation z = A sin(k x): the chassis (mean of the wheels at x +- L/2) moves as
+    // A cos(k L/2) sin(k x), so its RMS vertical acceleration is A cos(k L / 2) (k v)^2 / sqrt 2.
+    const double A = 0.01, lambda = 2.0, k = 2 * std::numbers::pi / lambda;
+    const auto wave =
+        traverse(v, surface([&](double x, double) { return A * std::sin(k * x); }), east);
+    REQUIRE(wave.success);
+    const double expect = A * std::abs(std::cos(k * v.wheelbase_m / 2)) * k * k / std::sqrt(2.0);
+    CHECK(wave.rms_vertical_acceleration_m_per_s2 == Approx(expect).epsilon(0.02));
+    CHECK(wave.rms_roll_rate_deg_per_s == Approx(0).margin(1e-9));
+    // A bar 20 cm high and 15 cm wide across the path: it passes between the axles and lifts the
+    // belly (clearance 13 cm).
+    const auto bar = traverse(
+        v, surface([](double x, double) { return std::abs(x - 10) < 0.075 ? 0.2 : 0.0; }), east);
+    CHECK(bar.failure == "high-centred");
+    CHECK(bar.failed_at_m == Approx(8).margin(0.3));
+    // Off the terrain.
+    CHECK_THROWS_WITH(traverse(v, surface([](double, double) { return 0.0; }), {2, 2, 10, 30, 10}),
+                      Catch::Contains("leaves the terrain"));
+}
+
+TEST_CASE("traversal: missions files are read by their header, bad values are named",
+          "[mobility][traverse][errors]") {
+    test::TempDir dir;
+    std::ofstream(dir / "m.csv") << "id,start_x_m,start_y_m,goal_x_m,goal_y_m,heading_deg\n"
+                                    "7,1,2,3,4,45\n";
+    const auto m = read_missions_csv(dir / "m.csv");
+    REQUIRE(m.size() == 1);
+    CHECK(m[0].id == 7);
+    CHECK(m[0].goal_y_m == 4);
+    std::ofstream(dir / "bad.csv") << "id,start_x_m,start_y_m,goal_x_m,goal_y_m\n1,1,2,x,4\n";
+    CHECK_THROWS_WITH(read_missions_csv(dir / "bad.csv"),
+                      Catch::Contains("bad.csv line 2") && Catch::Contains("goal_x_m"));
+    std::ofstream(dir / "short.csv") << "id,start_x_m\n";
+    CHECK_THROWS_WITH(read_missions_csv(dir / "short.csv"), Catch::Contains("start_y_m"));
 }

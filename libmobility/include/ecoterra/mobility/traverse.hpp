@@ -1,0 +1,52 @@
+#pragma once
+// Terrain traversal without a game engine (docs/mobility.md s6): a kinematic proxy, not a physics
+// engine. Along a straight mission the vehicle's quasi-static pose is taken every `dt` at its
+// speed: the four wheel contacts (+-L/2 along, +-T/2 across) on the heightmap (bilinear), pitch
+// = atan2((z_FL + z_FR - z_RL - z_RR) / 2, L), roll = atan2((z_FL + z_RL - z_FR - z_RR) / 2, T),
+// chassis height = the mean of the four. A mission fails at the first pose whose |pitch| or
+// |roll| passes the tip-over angle (and the paper's 75 degrees), whose pitch passes the climb
+// limit, whose |roll| passes the side-slope limit, or whose belly (the centre line between the
+// axles) touches the ground (terrain above the wheel-contact plane by more than the ground
+// clearance). For a successful mission: the RMS vertical acceleration (second differences of the
+// chassis height), the RMS pitch and roll rates (first differences), as paper 000 defines them at
+// its 20 Hz, and the traversal time.
+#include "ecoterra/mobility/vehicle.hpp"
+#include "ecoterra/raster.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ecoterra::mobility {
+
+struct MissionLine {
+    int id = 0;
+    double start_x_m = 0, start_y_m = 0, goal_x_m = 0, goal_y_m = 0;
+};
+
+/// Reads missions: CSV with a header naming id, start_x_m, start_y_m, goal_x_m and goal_y_m (the
+/// CSV of `ecoterra terrain missions`); errors name the file, the line, the column and the value.
+std::vector<MissionLine> read_missions_csv(const std::filesystem::path& path);
+
+struct TraverseOptions {
+    double dt_s = 0.05;             ///< pose interval (paper 000 logs at 20 Hz)
+    double speed_m_per_s = 0;       ///< 0: the vehicle's top speed
+    double tip_over_limit_deg = 75; ///< the paper's criterion, besides the vehicle's own
+};
+
+struct TraverseResult {
+    int id = 0;
+    bool success = false;
+    std::string failure;    ///< tip-over, climb limit, side-slope limit, high-centred
+    double failed_at_m = 0; ///< distance along the mission of the failing pose
+    double distance_m = 0, time_s = 0;
+    double rms_vertical_acceleration_m_per_s2 = 0;
+    double rms_pitch_rate_deg_per_s = 0, rms_roll_rate_deg_per_s = 0;
+    double max_abs_pitch_deg = 0, max_abs_roll_deg = 0;
+};
+
+/// Drives one mission; InputError when it leaves the terrain (with the vehicle's footprint).
+TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
+                        const TraverseOptions& opt = {});
+
+} // namespace ecoterra::mobility

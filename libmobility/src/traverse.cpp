@@ -1,0 +1,156 @@
+#include "ecoterra/mobility/traverse.hpp"
+
+#include "ecoterra/error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace ecoterra::mobility {
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+/// Points sampled along the belly, between the axles.
+constexpr int kBellySamples = 5;
+
+struct Pose {
+    double z_m = 0, pitch_rad = 0, roll_rad = 0;
+    bool belly_touches = false;
+};
+
+} // namespace
+
+std::vector<MissionLine> read_missions_csv(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot open the missions file");
+    std::string line;
+    if (!std::getline(in, line)) throw InputError(path.string() + ": the missions file is empty");
+    auto split = [](const std::string& l) {
+        std::vector<std::string> out;
+        std::stringstream ss(l);
+        std::string f;
+        while (std::getline(ss, f, ',')) out.push_back(f);
+        return out;
+    };
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto header = split(line);
+    const std::vector<std::string> names = {"id", "start_x_m", "start_y_m", "goal_x_m", "goal_y_m"};
+    std::vector<std::size_t> col;
+    for (const auto& n : names) {
+        const auto it = std::find(header.begin(), header.end(), n);
+        if (it == header.end())
+            throw InputError(path.string() + ": the header lacks column " + n + " (got '" + line +
+                             "')");
+        col.push_back(static_cast<std::size_t>(it - header.begin()));
+    }
+    std::vector<MissionLine> out;
+    int lineno = 1;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty()) continue;
+        const auto f = split(line);
+        double v[5];
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            const std::string t = col[k] < f.size() ? f[col[k]] : "";
+            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v[k]);
+            if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v[k]))
+                throw InputError(path.string() + " line " + std::to_string(lineno) + ": " +
+                                 names[k] + " = '" + t + "' is not a number");
+        }
+        out.push_back({static_cast<int>(v[0]), v[1], v[2], v[3], v[4]});
+    }
+    return out;
+}
+
+TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
+                        const TraverseOptions& opt) {
+    TraverseResult r;
+    r.id = m.id;
+    const double dx = m.goal_x_m - m.start_x_m, dy = m.goal_y_m - m.start_y_m;
+    const double length = std::hypot(dx, dy);
+    if (!(length > 0)) throw InputError("mission " + std::to_string(m.id) + " has no length");
+    const double speed = opt.speed_m_per_s > 0 ? opt.speed_m_per_s : v.top_speed_m_per_s;
+    if (!(opt.dt_s > 0)) throw InputError("the pose interval must be > 0 s");
+    const double ux = dx / length, uy = dy / length; // forward
+    const double nx = -uy, ny = ux;                  // left
+    const double half_l = 0.5 * v.wheelbase_m, half_t = 0.5 * v.track_m;
+    auto height = [&](double x, double y) {
+        const double z = dem.sample_bilinear(x, y);
+        if (std::isnan(z))
+            throw InputError("mission " + std::to_string(m.id) + " leaves the terrain at (" +
+                             format_number(x) + ", " + format_number(y) + ")");
+        return z;
+    };
+    auto pose = [&](double s) {
+        const double cx = m.start_x_m + s * ux, cy = m.start_y_m + s * uy;
+        const double fl = height(cx + half_l * ux + half_t * nx, cy + half_l * uy + half_t * ny);
+        const double fr = height(cx + half_l * ux - half_t * nx, cy + half_l * uy - half_t * ny);
+        const double rl = height(cx - half_l * ux + half_t * nx, cy - half_l * uy + half_t * ny);
+        const double rr = height(cx - half_l * ux - half_t * nx, cy - half_l * uy - half_t * ny);
+        Pose p;
+        p.z_m = 0.25 * (fl + fr + rl + rr);
+        p.pitch_rad = std::atan2(0.5 * (fl + fr - rl - rr), v.wheelbase_m);
+        p.roll_rad = std::atan2(0.5 * (fl + rl - fr - rr), v.track_m);
+        // The belly: the centre line between the axles against the contact plane there.
+        for (int k = 0; k < kBellySamples && !p.belly_touches; ++k) {
+            const double t = -half_l + (k + 0.5) * v.wheelbase_m / kBellySamples;
+            const double plane = p.z_m + t * 0.5 * (fl + fr - rl - rr) / v.wheelbase_m;
+            p.belly_touches = height(cx + t * ux, cy + t * uy) > plane + v.ground_clearance_m;
+        }
+        return p;
+    };
+    const double step = speed * opt.dt_s;
+    const int n = static_cast<int>(std::floor(length / step + 1e-9));
+    const double tip = std::min(v.tip_over_deg, opt.tip_over_limit_deg) / kDegPerRad;
+    std::vector<Pose> poses;
+    for (int k = 0; k <= n; ++k) {
+        const double s = std::min(k * step, length);
+        const Pose p = pose(s);
+        r.max_abs_pitch_deg = std::max(r.max_abs_pitch_deg, std::abs(p.pitch_rad) * kDegPerRad);
+        r.max_abs_roll_deg = std::max(r.max_abs_roll_deg, std::abs(p.roll_rad) * kDegPerRad);
+        const char* why = nullptr;
+        if (std::abs(p.pitch_rad) > tip || std::abs(p.roll_rad) > tip)
+            why = "tip-over";
+        else if (p.pitch_rad > v.max_climb_deg / kDegPerRad)
+            why = "climb limit";
+        else if (std::abs(p.roll_rad) > v.max_side_slope_deg / kDegPerRad)
+            why = "side-slope limit";
+        else if (p.belly_touches)
+            why = "high-centred";
+        if (why) {
+            r.failure = why;
+            r.failed_at_m = s;
+            return r;
+        }
+        poses.push_back(p);
+    }
+    r.success = true;
+    r.distance_m = length;
+    r.time_s = length / speed;
+    const double dt = opt.dt_s;
+    double az2 = 0, pr2 = 0, rr2 = 0;
+    std::size_t na = 0, nr = 0;
+    for (std::size_t k = 1; k < poses.size(); ++k) {
+        const double pitch_rate = (poses[k].pitch_rad - poses[k - 1].pitch_rad) / dt * kDegPerRad;
+        const double roll_rate = (poses[k].roll_rad - poses[k - 1].roll_rad) / dt * kDegPerRad;
+        pr2 += pitch_rate * pitch_rate;
+        rr2 += roll_rate * roll_rate;
+        ++nr;
+        if (k + 1 < poses.size()) {
+            const double a = (poses[k + 1].z_m - 2 * poses[k].z_m + poses[k - 1].z_m) / (dt * dt);
+            az2 += a * a;
+            ++na;
+        }
+    }
+    r.rms_vertical_acceleration_m_per_s2 = na ? std::sqrt(az2 / static_cast<double>(na)) : 0.0;
+    r.rms_pitch_rate_deg_per_s = nr ? std::sqrt(pr2 / static_cast<double>(nr)) : 0.0;
+    r.rms_roll_rate_deg_per_s = nr ? std::sqrt(rr2 / static_cast<double>(nr)) : 0.0;
+    return r;
+}
+
+} // namespace ecoterra::mobility

@@ -138,6 +138,7 @@ StemIndex::StemIndex(std::vector<Stem> stems, double bucket_m)
                              format_number(s.y_m) + ") has diameter " +
                              format_number(s.diameter_m) + " m");
         m_x0 = std::min(m_x0, s.x_m), m_y0 = std::min(m_y0, s.y_m);
+        m_max_d = std::max(m_max_d, s.diameter_m);
         x1 = std::max(x1, s.x_m), y1 = std::max(y1, s.y_m);
     }
     m_nx = bucket(x1, m_x0) + 1;
@@ -157,8 +158,14 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
     const double w = v.width_m;
     const auto& stems = index.stems();
     const double d_crit = critical_diameter_m(v.weight_n(), v.push_height_m);
-    std::vector<char> avoid(stems.size(), 0);
-    for (std::size_t k = 0; k < stems.size(); ++k) avoid[k] = stems[k].diameter_m >= d_crit;
+    // Stems to avoid: those of d >= d_crit, and those of clusters found too heavy (kept sorted).
+    // Only the stems near the line are ever looked at (through the index).
+    std::vector<std::int64_t> heavy;
+    auto avoided = [&](std::int64_t k) {
+        return stems[static_cast<std::size_t>(k)].diameter_m >= d_crit ||
+               std::binary_search(heavy.begin(), heavy.end(), k);
+    };
+    const double reach = 0.5 * (index.max_diameter_m() + w); // the farthest a stem blocks
     auto elevation = [&](Point p) {
         if (!dem) return 0.0;
         const double z = dem->sample_bilinear(p.x_m, p.y_m);
@@ -198,19 +205,21 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
         out = LineResult{};
         out.straight_m = straight;
         g.blocked.assign(static_cast<std::size_t>(g.nx) * g.ny, 0);
-        for (std::size_t k = 0; k < stems.size(); ++k) {
-            if (!avoid[k]) continue;
-            const Stem& s = stems[k];
-            const double rad = 0.5 * s.diameter_m + 0.5 * w;
-            for (int j = std::max(0, g.row(s.y_m - rad));
-                 j <= std::min(g.ny - 1, g.row(s.y_m + rad)); ++j)
-                for (int i = std::max(0, g.col(s.x_m - rad));
-                     i <= std::min(g.nx - 1, g.col(s.x_m + rad)); ++i) {
-                    const Point c = g.centre(static_cast<std::int64_t>(j) * g.nx + i);
-                    if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
-                        g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
-                }
-        }
+        index.for_each_in_box(g.x0 - reach, g.y0 - reach, g.x0 + g.nx * g.r + reach,
+                              g.y0 + g.ny * g.r + reach, [&](std::int64_t k) {
+                                  if (!avoided(k)) return;
+                                  const Stem& s = stems[static_cast<std::size_t>(k)];
+                                  const double rad = 0.5 * s.diameter_m + 0.5 * w;
+                                  for (int j = std::max(0, g.row(s.y_m - rad));
+                                       j <= std::min(g.ny - 1, g.row(s.y_m + rad)); ++j)
+                                      for (int i = std::max(0, g.col(s.x_m - rad));
+                                           i <= std::min(g.nx - 1, g.col(s.x_m + rad)); ++i) {
+                                          const Point c =
+                                              g.centre(static_cast<std::int64_t>(j) * g.nx + i);
+                                          if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
+                                              g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
+                                      }
+                              });
         if (g.blocked_at(a.x_m, a.y_m) || g.blocked_at(b.x_m, b.y_m)) {
             out.nogo = true;
             out.nogo_reason = "the line starts or ends next to a stem it cannot override";
@@ -225,7 +234,7 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
             break;
         }
         // Drive the path cell by cell (cells of one vehicle width along each segment).
-        std::vector<char> pushed(stems.size(), 0);
+        std::vector<std::int64_t> pushed;
         bool replan = false;
         for (std::size_t s = 0; s + 1 < path.size() && !replan && !out.nogo; ++s) {
             const Point p = path[s], q = path[s + 1];
@@ -237,19 +246,17 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                 const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
                 double force = 0;
                 std::vector<std::int64_t> here;
-                index.for_each_in_box(std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
-                                      std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,
-                                      [&](std::int64_t k) {
-                                          const Stem& st = stems[static_cast<std::size_t>(k)];
-                                          const double dx = st.x_m - c0.x_m, dy = st.y_m - c0.y_m;
-                                          const double t = dx * ux + dy * uy,
-                                                       lat = -dx * uy + dy * ux;
-                                          if (avoid[static_cast<std::size_t>(k)] || t < 0 ||
-                                              t >= len || std::abs(lat) > 0.5 * w)
-                                              return;
-                                          force += override_force_n(st.diameter_m, v.push_height_m);
-                                          here.push_back(k);
-                                      });
+                index.for_each_in_box(
+                    std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
+                    std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,
+                    [&](std::int64_t k) {
+                        const Stem& st = stems[static_cast<std::size_t>(k)];
+                        const double dx = st.x_m - c0.x_m, dy = st.y_m - c0.y_m;
+                        const double t = dx * ux + dy * uy, lat = -dx * uy + dy * ux;
+                        if (avoided(k) || t < 0 || t >= len || std::abs(lat) > 0.5 * w) return;
+                        force += override_force_n(st.diameter_m, v.push_height_m);
+                        here.push_back(k);
+                    });
                 const double grade = (elevation(c1) - elevation(c0)) / len;
                 if (std::atan(grade) > v.max_climb_deg * std::numbers::pi / 180) {
                     out.nogo = true;
@@ -262,7 +269,8 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                 const double speed = steady_speed_m_per_s(v, base + force);
                 if (speed <= 0) {
                     if (force > 0 && steady_speed_m_per_s(v, base) > 0) {
-                        for (const auto k : here) avoid[static_cast<std::size_t>(k)] = 1;
+                        heavy.insert(heavy.end(), here.begin(), here.end());
+                        std::sort(heavy.begin(), heavy.end());
                         replan = true; // a cluster too heavy to push: go around it
                     } else {
                         out.nogo = true;
@@ -275,23 +283,27 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                 out.time_s += len / speed;
                 out.path_m += len;
                 if (force > 0) out.override_m += len;
-                for (const auto k : here) pushed[static_cast<std::size_t>(k)] = 1;
+                pushed.insert(pushed.end(), here.begin(), here.end());
             }
         }
         if (replan) continue;
-        for (std::size_t k = 0; k < stems.size(); ++k) {
-            out.overridden += pushed[k];
-            // Avoided: an obstacle whose inflated disk meets the straight line.
-            if (!avoid[k]) continue;
-            const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
-            const double t =
-                std::clamp(((stems[k].x_m - a.x_m) * dx + (stems[k].y_m - a.y_m) * dy) /
-                               (out.straight_m * out.straight_m),
-                           0.0, 1.0);
-            const double dist =
-                std::hypot(a.x_m + t * dx - stems[k].x_m, a.y_m + t * dy - stems[k].y_m);
-            out.avoided += dist <= 0.5 * (stems[k].diameter_m + w);
-        }
+        std::sort(pushed.begin(), pushed.end());
+        out.overridden = std::unique(pushed.begin(), pushed.end()) - pushed.begin();
+        // Avoided: an obstacle whose inflated disk meets the straight line.
+        index.for_each_in_box(
+            std::min(a.x_m, b.x_m) - reach, std::min(a.y_m, b.y_m) - reach,
+            std::max(a.x_m, b.x_m) + reach, std::max(a.y_m, b.y_m) + reach, [&](std::int64_t kk) {
+                if (!avoided(kk)) return;
+                const auto k = static_cast<std::size_t>(kk);
+                const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
+                const double t =
+                    std::clamp(((stems[k].x_m - a.x_m) * dx + (stems[k].y_m - a.y_m) * dy) /
+                                   (out.straight_m * out.straight_m),
+                               0.0, 1.0);
+                const double dist =
+                    std::hypot(a.x_m + t * dx - stems[k].x_m, a.y_m + t * dy - stems[k].y_m);
+                out.avoided += dist <= 0.5 * (stems[k].diameter_m + w);
+            });
         settled = true;
     }
     if (!settled) {

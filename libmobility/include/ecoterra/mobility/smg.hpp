@@ -54,6 +54,8 @@ class StemIndex {
 public:
     StemIndex(std::vector<Stem> stems, double bucket_m);
     const std::vector<Stem>& stems() const { return m_stems; }
+    /// The largest diameter of the stems, m (0 without stems).
+    double max_diameter_m() const { return m_max_d; }
     /// Calls f(k) for every stem k within the axis-aligned box [x0, x1] x [y0, y1].
     template <class F>
     void for_each_in_box(double x0, double y0, double x1, double y1, F&& f) const {
@@ -72,7 +74,7 @@ private:
         return static_cast<int>(std::floor((v - origin) / m_size));
     }
     std::vector<Stem> m_stems;
-    double m_size = 1, m_x0 = 0, m_y0 = 0;
+    double m_size = 1, m_x0 = 0, m_y0 = 0, m_max_d = 0;
     int m_nx = 0, m_ny = 0;
     std::vector<std::vector<std::int64_t>> m_buckets;
 };

@@ -3,6 +3,7 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
@@ -23,11 +24,21 @@ namespace {
 using nlohmann::json;
 
 struct MobilityArgs {
-    std::string run, stems, dem, vehicle, json_out, layout = "random";
+    std::string run, stems, dem, vehicle, json_out, layout = "random", pictures;
+    bool no_pictures = false;
     int snapshot = -1, lines = 200;
     long long seed = 1;
     double length_m = 50;
 };
+
+/// Where pictures go: --pictures DIR, else NAME.pictures beside --json NAME.json, else nowhere.
+std::filesystem::path picture_dir(const std::string& given, bool none, const std::string& json_file) {
+    if (none) return {};
+    if (!given.empty()) return given;
+    if (json_file.empty()) return {};
+    std::filesystem::path p(json_file);
+    return p.parent_path() / (p.stem().string() + ".pictures");
+}
 
 void run_mobility(const MobilityArgs& a) {
     if (a.run.empty() == a.stems.empty())
@@ -89,10 +100,16 @@ void run_mobility(const MobilityArgs& a) {
         io::write_text_atomic(a.json_out, j.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
+    const auto pics = picture_dir(a.pictures, a.no_pictures, a.json_out);
+    if (!pics.empty()) {
+        eco::draw_mobility_pictures(m, v, dem, pics);
+        std::printf("pictures: %s/{smg_lines,smg_histogram}.png\n", pics.string().c_str());
+    }
 }
 
 struct TraverseArgs {
-    std::string dem, vehicle, missions, json_out;
+    std::string dem, vehicle, missions, json_out, pictures;
+    bool no_pictures = false;
     double speed = 0;
     int count = 20;
     long long seed = 1;
@@ -189,6 +206,15 @@ void run_traverse(const TraverseArgs& a) {
         io::write_text_atomic(a.json_out, doc.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
+    const auto pics = picture_dir(a.pictures, a.no_pictures, a.json_out);
+    if (!pics.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(pics, ec);
+        if (ec)
+            throw IoError(pics.string() + ": cannot create the picture folder: " + ec.message());
+        eco::draw_traverse_picture(missions, rs, dem, pics / "missions.png");
+        std::printf("picture: %s/missions.png\n", pics.string().c_str());
+    }
 }
 
 } // namespace
@@ -207,6 +233,9 @@ void add_mobility_command(CLI::App& app) {
     tr->add_option("--seed", t->seed, "seed of the planned missions")->capture_default_str();
     tr->add_option("--speed", t->speed, "driving speed, m/s (default: the vehicle's top speed)");
     tr->add_option("--json", t->json_out, "write the figures and every mission as JSON");
+    tr->add_option("--pictures", t->pictures,
+                   "picture folder (default: NAME.pictures beside --json NAME.json)");
+    tr->add_flag("--no-pictures", t->no_pictures, "write no picture");
     tr->callback([t] { run_traverse(*t); });
 
     auto a = std::make_shared<MobilityArgs>();
@@ -227,6 +256,9 @@ void add_mobility_command(CLI::App& app) {
         ->capture_default_str();
     m->add_option("--seed", a->seed, "seed of the random lines")->capture_default_str();
     m->add_option("--json", a->json_out, "write the figures and every line as JSON");
+    m->add_option("--pictures", a->pictures,
+                  "picture folder (default: NAME.pictures beside --json NAME.json)");
+    m->add_flag("--no-pictures", a->no_pictures, "write no pictures");
     m->callback([a] { run_mobility(*a); });
 }
 

@@ -1,6 +1,7 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
 #include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/terrain/picture.hpp"
+#include "ecoterra/terrain/roughness.hpp"
 
 #include <cairo.h>
 
@@ -101,6 +102,48 @@ void white(cairo_t* cr) {
     cairo_paint(cr);
 }
 
+/// Paints an image scaled to w x h pixels at (x, y).
+void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h) {
+    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
+    unsigned char* data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int r = 0; r < im.height; ++r)
+        for (int c = 0; c < im.width; ++c) {
+            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
+            auto* q = reinterpret_cast<std::uint32_t*>(data + r * stride) + c;
+            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
+                 p.b;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_scale(cr, w / im.width, h / im.height);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+}
+
+/// A map of the grid `g` in a square of about kMapPx pixels: metres to pixels, y up.
+struct MapFrame {
+    GridSpec g;
+    double scale = 1, top = 30;
+    int w = 0, h = 0;
+    explicit MapFrame(const GridSpec& grid, double px = 760.0) : g(grid) {
+        scale = px / std::max(g.width_m(), g.height_m());
+        w = static_cast<int>(std::ceil(g.width_m() * scale));
+        h = static_cast<int>(std::ceil(g.height_m() * scale));
+    }
+    double x(double xm) const { return (xm - g.origin_x_m) * scale; }
+    double y(double ym) const { return top + (g.height_m() - (ym - g.origin_y_m)) * scale; }
+};
+
+/// Speed colours: red (0) through yellow to green (the top speed).
+void speed_colour(cairo_t* cr, double fraction) {
+    const double f = std::clamp(fraction, 0.0, 1.0);
+    cairo_set_source_rgb(cr, f < 0.5 ? 0.85 : 0.85 * (1 - f) * 2, f < 0.5 ? 1.6 * f : 0.75, 0.1);
+}
+
 void draw_stems(const Ecosystem& eco, const fs::path& path) {
     const auto& g = eco.plant_grid();
     const auto& dem = eco.scene().hydro.dem;
@@ -111,26 +154,7 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
     SurfaceOwner s(mw + static_cast<int>(kLegendPx), mh + 40);
     cairo_t* cr = s.cr;
     white(cr);
-    // Hillshade, scaled to the map.
-    const terrain::Image hs = terrain::hillshade_image(dem);
-    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, hs.width, hs.height);
-    unsigned char* data = cairo_image_surface_get_data(img);
-    const int stride = cairo_image_surface_get_stride(img);
-    for (int y = 0; y < hs.height; ++y)
-        for (int x = 0; x < hs.width; ++x) {
-            const auto& p = hs.pixels[static_cast<std::size_t>(y) * hs.width + x];
-            auto* q = reinterpret_cast<std::uint32_t*>(data + y * stride) + x;
-            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
-                 p.b;
-        }
-    cairo_surface_mark_dirty(img);
-    cairo_save(cr);
-    cairo_translate(cr, 0, 30);
-    cairo_scale(cr, static_cast<double>(mw) / hs.width, static_cast<double>(mh) / hs.height);
-    cairo_set_source_surface(cr, img, 0, 0);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(img);
+    paint_image(cr, terrain::hillshade_image(dem), 0, 30, mw, mh);
     // Crowns, largest first so small plants stay visible.
     std::vector<std::size_t> order(eco.plants().size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -204,11 +228,11 @@ void draw_histogram(const Ecosystem& eco, const fs::path& path) {
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0, 0, 0);
         text(cr, f.x0 + f.w - 10, f.y0 + 20,
-             "N = k exp(-" + fmt(st.rate_per_cm, 3) + " d), q = " +
-                 fmt(std::exp(st.rate_per_cm * 5), 2) + " per 5 cm, R2 = " + fmt(st.r2, 2),
+             "N = k exp(-" + fmt(st.rate_per_cm, 3) + " d), q = " + fmt(st.q_per_class, 2) +
+                 " per " + fmt(st.class_width_cm, 0) + " cm, R2 = " + fmt(st.r2, 2),
              12, 1.0);
     }
-    f.draw(cr, "trunk diameter at breast height (cm), 5 cm classes", "stems per ha",
+    f.draw(cr, "trunk diameter at breast height (cm), " + fmt(w, 0) + " cm classes", "stems per ha",
            "Year " + std::to_string(eco.years_done()) + ", BA " + fmt(st.basal_area_m2_per_ha) +
                " m2/ha, " + fmt(st.stems_per_ha, 0) + " stems/ha");
     s.save(path);
@@ -260,6 +284,162 @@ void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
     terrain::write_png_rgb(terrain::colormap_image(hy.soil_moisture()), dir / "soil_moisture.png");
     terrain::write_png_rgb(terrain::colormap_image(hy.surface_water_depth()),
                            dir / "surface_water_depth.png");
+}
+
+void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
+                            const RasterD& dem, const fs::path& dir) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    {
+        const MapFrame f(dem.grid());
+        SurfaceOwner s(f.w + 230, f.h + 40);
+        cairo_t* cr = s.cr;
+        white(cr);
+        paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h);
+        std::vector<char> pushed(m.stems.size(), 0);
+        for (const auto& l : m.lines)
+            for (const auto k : l.result.pushed_stems) pushed[static_cast<std::size_t>(k)] = 1;
+        // Stems: obstacles dark red, stems pushed over orange, the rest grey; true size, at
+        // least a pixel.
+        for (std::size_t k = 0; k < m.stems.size(); ++k) {
+            const auto& st = m.stems[k];
+            const bool obstacle = st.diameter_m >= m.critical_diameter_m;
+            cairo_arc(cr, f.x(st.x_m), f.y(st.y_m), std::max(1.0, 0.5 * st.diameter_m * f.scale), 0,
+                      2 * M_PI);
+            if (obstacle)
+                cairo_set_source_rgb(cr, 0.55, 0.05, 0.05);
+            else if (pushed[k])
+                cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+            else
+                cairo_set_source_rgba(cr, 0.3, 0.3, 0.3, 0.6);
+            cairo_fill(cr);
+        }
+        // Lines: the straight line thin and dashed, the path driven coloured by its SMG; NOGO
+        // lines black.
+        for (const auto& l : m.lines) {
+            const auto& r = l.result;
+            cairo_set_line_width(cr, 0.8);
+            const double dash[] = {3.0, 3.0};
+            cairo_set_dash(cr, dash, 2, 0);
+            cairo_set_source_rgba(cr, 0, 0, 0, r.nogo ? 0.9 : 0.35);
+            cairo_move_to(cr, f.x(l.a.x_m), f.y(l.a.y_m));
+            cairo_line_to(cr, f.x(l.b.x_m), f.y(l.b.y_m));
+            cairo_stroke(cr);
+            cairo_set_dash(cr, nullptr, 0, 0);
+            if (r.nogo || r.path.empty()) continue;
+            cairo_set_line_width(cr, 2);
+            speed_colour(cr, r.smg_m_per_s / v.top_speed_m_per_s);
+            cairo_move_to(cr, f.x(r.path.front().x_m), f.y(r.path.front().y_m));
+            for (const auto& p : r.path) cairo_line_to(cr, f.x(p.x_m), f.y(p.y_m));
+            cairo_stroke(cr);
+        }
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, 10, 20,
+             v.name + ": " + std::to_string(m.lines.size()) + " lines, SMG mean " +
+                 fmt(m.smg_mean_m_per_s, 2) + " m/s, NOGO " + fmt(100 * m.nogo_fraction) +
+                 " %, BA " + fmt(m.basal_area_m2_per_ha) + " m2/ha",
+             14);
+        const double lx = f.w + 14;
+        double ly = 56;
+        auto legend = [&](double r, double g, double b, const std::string& label) {
+            cairo_set_source_rgb(cr, r, g, b);
+            cairo_arc(cr, lx + 6, ly - 4, 6, 0, 2 * M_PI);
+            cairo_fill(cr);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text(cr, lx + 18, ly, label, 12);
+            ly += 22;
+        };
+        legend(0.55, 0.05, 0.05, "stem avoided (d >= " + fmt(100 * m.critical_diameter_m) + " cm)");
+        legend(0.95, 0.55, 0.0, "stem pushed over");
+        legend(0.3, 0.3, 0.3, "other stem");
+        for (const double frac : {1.0, 0.5, 0.0}) {
+            cairo_set_line_width(cr, 3);
+            speed_colour(cr, frac);
+            cairo_move_to(cr, lx, ly - 4);
+            cairo_line_to(cr, lx + 14, ly - 4);
+            cairo_stroke(cr);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text(cr, lx + 18, ly, "path at SMG " + fmt(frac * v.top_speed_m_per_s) + " m/s", 12);
+            ly += 22;
+        }
+        text(cr, lx, ly, "dashed: the straight line", 12);
+        s.save(dir / "smg_lines.png");
+    }
+    {
+        SurfaceOwner s(720, 460);
+        cairo_t* cr = s.cr;
+        white(cr);
+        constexpr int kBins = 20;
+        const double top = v.top_speed_m_per_s;
+        std::vector<double> count(kBins, 0);
+        for (const auto& l : m.lines) {
+            const int b = std::min(kBins - 1, static_cast<int>(l.result.smg_m_per_s / top * kBins));
+            count[static_cast<std::size_t>(std::max(b, 0))] += 1;
+        }
+        double ymax = 1;
+        for (const double c : count) ymax = std::max(ymax, c);
+        Frame f{80, 40, 600, 340, 0, top, 0, ymax * 1.1};
+        for (int b = 0; b < kBins; ++b) {
+            const double c = count[static_cast<std::size_t>(b)];
+            cairo_rectangle(cr, f.px(b * top / kBins) + 1, f.py(c), f.px(top / kBins) - f.px(0) - 2,
+                            f.py(0) - f.py(c));
+            speed_colour(cr, (b + 0.5) / kBins);
+            cairo_fill(cr);
+        }
+        f.draw(cr, "speed made good (m/s); NOGO lines at 0", "lines",
+               "SMG of " + std::to_string(m.lines.size()) + " lines: mean " +
+                   fmt(m.smg_mean_m_per_s, 2) + ", median " + fmt(m.smg_median_m_per_s, 2) +
+                   " m/s");
+        s.save(dir / "smg_histogram.png");
+    }
+}
+
+void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
+                           const std::vector<mobility::TraverseResult>& results, const RasterD& dem,
+                           const fs::path& path) {
+    const MapFrame f(dem.grid());
+    SurfaceOwner s(f.w + 200, f.h + 40);
+    cairo_t* cr = s.cr;
+    white(cr);
+    // The slope map (maximum gradient to a neighbour, as the roughness classes use), 0 to 1.
+    paint_image(cr, terrain::colormap_image(terrain::max_gradient_map(dem), 0.0, 1.0), 0, f.top,
+                f.w, f.h);
+    int ok = 0;
+    for (std::size_t k = 0; k < missions.size() && k < results.size(); ++k) {
+        const auto& m = missions[k];
+        const auto& r = results[k];
+        ok += r.success;
+        cairo_set_line_width(cr, 2);
+        if (r.success)
+            cairo_set_source_rgb(cr, 0.1, 0.85, 0.2);
+        else
+            cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
+        cairo_move_to(cr, f.x(m.start_x_m), f.y(m.start_y_m));
+        cairo_line_to(cr, f.x(m.goal_x_m), f.y(m.goal_y_m));
+        cairo_stroke(cr);
+        if (!r.success) {
+            const double len = std::hypot(m.goal_x_m - m.start_x_m, m.goal_y_m - m.start_y_m);
+            const double t = len > 0 ? r.failed_at_m / len : 0;
+            const double x = f.x(m.start_x_m + t * (m.goal_x_m - m.start_x_m));
+            const double y = f.y(m.start_y_m + t * (m.goal_y_m - m.start_y_m));
+            cairo_set_source_rgb(cr, 1, 1, 1);
+            cairo_move_to(cr, x - 5, y - 5);
+            cairo_line_to(cr, x + 5, y + 5);
+            cairo_move_to(cr, x + 5, y - 5);
+            cairo_line_to(cr, x - 5, y + 5);
+            cairo_stroke(cr);
+        }
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, 10, 20,
+         std::to_string(ok) + " of " + std::to_string(results.size()) +
+             " missions succeed (green); failed (red, x where)",
+         14);
+    text(cr, f.w + 12, 56, "slope map:", 12);
+    text(cr, f.w + 12, 76, "max gradient 0 (dark)", 12);
+    text(cr, f.w + 12, 96, "to 1 (yellow)", 12);
+    s.save(path);
 }
 
 } // namespace ecoterra::eco

@@ -288,7 +288,10 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
         }
         if (replan) continue;
         std::sort(pushed.begin(), pushed.end());
-        out.overridden = std::unique(pushed.begin(), pushed.end()) - pushed.begin();
+        pushed.erase(std::unique(pushed.begin(), pushed.end()), pushed.end());
+        out.overridden = static_cast<std::int64_t>(pushed.size());
+        out.pushed_stems = std::move(pushed);
+        out.path = path;
         // Avoided: an obstacle whose inflated disk meets the straight line.
         index.for_each_in_box(
             std::min(a.x_m, b.x_m) - reach, std::min(a.y_m, b.y_m) - reach,

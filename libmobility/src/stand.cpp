@@ -133,7 +133,8 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
                          format_number(g.origin_y_m) + ", " +
                          format_number(g.origin_y_m + g.height_m()) + "] m");
     m.basal_area_m2_per_ha = basal_m2 / m.area_ha;
-    const StemIndex index(std::move(pushable), std::max(v.width_m, 1.0));
+    const StemIndex index(pushable, std::max(v.width_m, 1.0));
+    m.stems = std::move(pushable);
     // A vehicle stands at a line's end: clear of every stem it cannot override.
     auto clear = [&](Point p) {
         bool ok = true;

@@ -89,6 +89,9 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     INFO(r.out);
     REQUIRE(r.code == 0);
     const json a = read_json(dir / "smg.json");
+    // Pictures by default beside the JSON: the lines over the stem map and the SMG histogram.
+    for (const char* png : {"smg_lines.png", "smg_histogram.png"})
+        CHECK(std::filesystem::file_size(dir / "smg.pictures" / png) > 1000);
     CHECK(a["lines"].size() == 50);
     CHECK(a["smg_mean_m_per_s"].get<double>() > 0);
     CHECK(a["smg_mean_m_per_s"].get<double>() <= 22.3 + 1e-9);
@@ -99,7 +102,7 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
                            "--seed 5 -o dem.h5")
                 .code == 0);
     r = test::run(dir, "mobility --stems stems.csv --dem dem.h5 --vehicle " + veh +
-                           " --lines 50 --length 20 --seed 1 --json smg2.json");
+                           " --lines 50 --length 20 --seed 1 --json smg2.json --no-pictures");
     INFO(r.out);
     REQUIRE(r.code == 0);
     const json b = read_json(dir / "smg2.json");
@@ -108,6 +111,7 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK(b["smg_mean_m_per_s"].get<double>() ==
           Approx(a["smg_mean_m_per_s"].get<double>()).epsilon(1e-6));
     CHECK(b["nogo_fraction"] == a["nogo_fraction"]);
+    CHECK_FALSE(std::filesystem::exists(dir / "smg2.pictures"));
     // Bad input: exit 2, a message naming the file, and nothing written.
     std::ofstream(dir / "bad.csv") << "x_m,y_m,dbh_cm\n1,2,-3\n";
     r = test::run(dir,
@@ -136,6 +140,7 @@ TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobilit
     INFO(r.out);
     REQUIRE(r.code == 0);
     const json t = read_json(dir / "traverse.json");
+    CHECK(std::filesystem::file_size(dir / "traverse.pictures" / "missions.png") > 1000);
     REQUIRE(t["records"].size() == 6);
     int ok = 0;
     for (const auto& rec : t["records"]) {

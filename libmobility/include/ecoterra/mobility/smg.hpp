@@ -37,6 +37,8 @@ struct LineResult {
     std::string nogo_reason;
     double override_m = 0;                    ///< path length with a stem force to push
     std::int64_t overridden = 0, avoided = 0; ///< stems pushed over, stems avoided
+    std::vector<Point> path;                  ///< the path driven, A to B (empty when NOGO)
+    std::vector<std::int64_t> pushed_stems;   ///< indices (in the StemIndex) of stems pushed over
 };
 
 struct SmgOptions {

@@ -45,6 +45,7 @@ struct LineRecord {
 
 struct StandMobility {
     std::vector<LineRecord> lines;
+    std::vector<Stem> stems; ///< the stems with a diameter at the push height (LineResult indices)
     double smg_mean_m_per_s = 0, smg_median_m_per_s = 0, smg_p10_m_per_s = 0, smg_p90_m_per_s = 0;
     double smg_mean_go_m_per_s = 0; ///< over the lines that are not NOGO
     double nogo_fraction = 0;

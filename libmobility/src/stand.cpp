@@ -1,17 +1,15 @@
 #include "ecoterra/mobility/stand.hpp"
 
+#include "ecoterra/csv.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/mobility/override.hpp"
 #include "ecoterra/random.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <exception>
-#include <fstream>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 namespace ecoterra::mobility {
 
@@ -26,15 +24,6 @@ constexpr int kMaxDraws = 10000;
 /// Stems thicker than this are refused (a line end's clearance looks this far), m.
 constexpr double kMaxObstacleDiameter_m = 10.0;
 
-std::vector<std::string> split_csv(const std::string& line) {
-    std::vector<std::string> out;
-    std::stringstream ss(line);
-    std::string f;
-    while (std::getline(ss, f, ',')) out.push_back(f);
-    if (!line.empty() && line.back() == ',') out.emplace_back();
-    return out;
-}
-
 double quantile(std::vector<double> v, double q) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
@@ -47,49 +36,23 @@ double quantile(std::vector<double> v, double q) {
 } // namespace
 
 std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot open the stem list");
-    std::string line;
-    if (!std::getline(in, line)) throw InputError(path.string() + ": the stem list is empty");
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto header = split_csv(line);
-    auto column = [&](const std::string& name) {
-        const auto it = std::find(header.begin(), header.end(), name);
-        return it == header.end() ? -1 : static_cast<int>(it - header.begin());
-    };
-    const int cx = column("x_m"), cy = column("y_m"), ccm = column("dbh_cm"), cm = column("dbh_m"),
-              ch = column("height_m");
+    CsvReader csv(path, "stem list");
+    const int cx = csv.column("x_m"), cy = csv.column("y_m"), ccm = csv.column("dbh_cm"),
+              cm = csv.column("dbh_m"), ch = csv.column("height_m");
     if (cx < 0 || cy < 0 || (ccm < 0 && cm < 0))
         throw InputError(path.string() +
                          ": the header must name x_m, y_m and dbh_cm (or dbh_m), "
                          "got '" +
-                         line + "'");
+                         csv.header_line() + "'");
     std::vector<StandStem> out;
-    int lineno = 1;
-    while (std::getline(in, line)) {
-        ++lineno;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (line.empty()) continue;
-        const auto f = split_csv(line);
-        const std::string where = path.string() + " line " + std::to_string(lineno);
-        auto number = [&](int c, const std::string& name, bool non_negative) {
-            if (c >= static_cast<int>(f.size()))
-                throw InputError(where + ": no value in column " + name);
-            const std::string& t = f[static_cast<std::size_t>(c)];
-            double v = 0;
-            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-            if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
-                throw InputError(where + ": " + name + " = '" + t + "' is not a number");
-            if (non_negative && v < 0)
-                throw InputError(where + ": " + name + " = " + t + " is negative");
-            return v;
-        };
+    while (csv.next()) {
         StandStem s;
-        s.x_m = number(cx, "x_m", false);
-        s.y_m = number(cy, "y_m", false);
-        s.dbh_m = ccm >= 0 ? number(ccm, "dbh_cm", true) / kCmPerM : number(cm, "dbh_m", true);
+        s.x_m = csv.number(cx, "x_m");
+        s.y_m = csv.number(cy, "y_m");
+        s.dbh_m =
+            ccm >= 0 ? csv.number(ccm, "dbh_cm", true) / kCmPerM : csv.number(cm, "dbh_m", true);
         s.height_m =
-            ch >= 0 ? number(ch, "height_m", true) : std::numeric_limits<double>::quiet_NaN();
+            ch >= 0 ? csv.number(ch, "height_m", true) : std::numeric_limits<double>::quiet_NaN();
         out.push_back(s);
     }
     return out;

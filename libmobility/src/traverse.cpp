@@ -1,13 +1,11 @@
 #include "ecoterra/mobility/traverse.hpp"
 
+#include "ecoterra/csv.hpp"
 #include "ecoterra/error.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
 namespace ecoterra::mobility {
 
@@ -25,43 +23,14 @@ struct Pose {
 } // namespace
 
 std::vector<MissionLine> read_missions_csv(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot open the missions file");
-    std::string line;
-    if (!std::getline(in, line)) throw InputError(path.string() + ": the missions file is empty");
-    auto split = [](const std::string& l) {
-        std::vector<std::string> out;
-        std::stringstream ss(l);
-        std::string f;
-        while (std::getline(ss, f, ',')) out.push_back(f);
-        return out;
-    };
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto header = split(line);
+    CsvReader csv(path, "missions file");
     const std::vector<std::string> names = {"id", "start_x_m", "start_y_m", "goal_x_m", "goal_y_m"};
-    std::vector<std::size_t> col;
-    for (const auto& n : names) {
-        const auto it = std::find(header.begin(), header.end(), n);
-        if (it == header.end())
-            throw InputError(path.string() + ": the header lacks column " + n + " (got '" + line +
-                             "')");
-        col.push_back(static_cast<std::size_t>(it - header.begin()));
-    }
+    std::vector<int> col;
+    for (const auto& n : names) col.push_back(csv.require(n));
     std::vector<MissionLine> out;
-    int lineno = 1;
-    while (std::getline(in, line)) {
-        ++lineno;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (line.empty()) continue;
-        const auto f = split(line);
+    while (csv.next()) {
         double v[5];
-        for (std::size_t k = 0; k < names.size(); ++k) {
-            const std::string t = col[k] < f.size() ? f[col[k]] : "";
-            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v[k]);
-            if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v[k]))
-                throw InputError(path.string() + " line " + std::to_string(lineno) + ": " +
-                                 names[k] + " = '" + t + "' is not a number");
-        }
+        for (std::size_t k = 0; k < names.size(); ++k) v[k] = csv.number(col[k], names[k]);
         out.push_back({static_cast<int>(v[0]), v[1], v[2], v[3], v[4]});
     }
     return out;

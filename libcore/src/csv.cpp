@@ -1,0 +1,79 @@
+#include "ecoterra/csv.hpp"
+
+#include "ecoterra/error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+namespace ecoterra {
+
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) out.push_back(f);
+    if (!line.empty() && line.back() == ',') out.emplace_back();
+    return out;
+}
+
+bool read_line(std::ifstream& in, std::string& line) {
+    if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+}
+
+} // namespace
+
+CsvReader::CsvReader(const std::filesystem::path& path, const std::string& what)
+    : m_path(path), m_in(path) {
+    if (!m_in) throw InputError(path.string() + ": cannot open the " + what);
+    if (!read_line(m_in, m_header_line))
+        throw InputError(path.string() + ": the " + what + " is empty");
+    m_header = split(m_header_line);
+}
+
+int CsvReader::column(const std::string& name) const {
+    const auto it = std::find(m_header.begin(), m_header.end(), name);
+    return it == m_header.end() ? -1 : static_cast<int>(it - m_header.begin());
+}
+
+int CsvReader::require(const std::string& name) const {
+    const int c = column(name);
+    if (c < 0)
+        throw InputError(m_path.string() + ": the header lacks column " + name + " (got '" +
+                         m_header_line + "')");
+    return c;
+}
+
+bool CsvReader::next() {
+    std::string line;
+    while (read_line(m_in, line)) {
+        ++m_line;
+        if (line.empty()) continue;
+        m_row = split(line);
+        return true;
+    }
+    return false;
+}
+
+double CsvReader::number(int col, const std::string& name, bool non_negative) const {
+    const std::string t = col >= 0 && col < static_cast<int>(m_row.size())
+                              ? m_row[static_cast<std::size_t>(col)]
+                              : std::string();
+    double v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
+        throw InputError(where() + ": " + name + " = '" + t + "' is not a number");
+    if (non_negative && v < 0) throw InputError(where() + ": " + name + " = " + t + " is negative");
+    return v;
+}
+
+std::string CsvReader::where() const {
+    return m_path.string() + " line " + std::to_string(m_line);
+}
+
+} // namespace ecoterra

@@ -19,6 +19,8 @@ constexpr double kMaxPlanningCells = 4e7;
 constexpr int kMaxReplans = 16;
 /// The smallest planning cell, m.
 constexpr double kMinPlanningCell_m = 0.02;
+/// Heading changes below this are straight on, rad.
+constexpr double kMinTurn_rad = 1e-6;
 
 struct Grid {
     double x0 = 0, y0 = 0, r = 1;
@@ -125,6 +127,24 @@ std::vector<Point> plan(const Grid& g, Point a, Point b) {
 }
 
 } // namespace
+
+double profile_time_s(const std::vector<double>& len, std::vector<double> u, double acc,
+                      double dec) {
+    if (u.size() != len.size() + 1)
+        throw Error("profile_time_s: " + std::to_string(len.size()) + " cells need " +
+                    std::to_string(len.size() + 1) + " node speeds");
+    for (std::size_t k = 0; k < len.size(); ++k)
+        u[k + 1] = std::min(u[k + 1], std::sqrt(u[k] * u[k] + 2 * acc * len[k]));
+    for (std::size_t k = len.size(); k-- > 0;)
+        u[k] = std::min(u[k], std::sqrt(u[k + 1] * u[k + 1] + 2 * dec * len[k]));
+    double t = 0;
+    for (std::size_t k = 0; k < len.size(); ++k) {
+        const double mean = 0.5 * (u[k] + u[k + 1]);
+        if (!(mean > 0)) return std::numeric_limits<double>::infinity();
+        t += len[k] / mean;
+    }
+    return t;
+}
 
 StemIndex::StemIndex(std::vector<Stem> stems, double bucket_m)
     : m_stems(std::move(stems)), m_size(bucket_m) {
@@ -236,10 +256,27 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
         // Drive the path cell by cell (cells of one vehicle width along each segment).
         std::vector<std::int64_t> pushed;
         bool replan = false;
+        // Cells along the path and the speed limits at their boundaries: the steady speeds of the
+        // cells on either side and, at a turn of the path, sqrt(a_lat R) with R the largest arc
+        // that fits half the shorter leg (at least the vehicle's tightest turn).
+        std::vector<double> cell_len, node_cap{std::numeric_limits<double>::infinity()};
         for (std::size_t s = 0; s + 1 < path.size() && !replan && !out.nogo; ++s) {
             const Point p = path[s], q = path[s + 1];
             const double seg = distance(p, q);
+            if (!(seg > 0)) continue;
             const double ux = (q.x_m - p.x_m) / seg, uy = (q.y_m - p.y_m) / seg;
+            if (s > 0) {
+                const Point o = path[s - 1];
+                const double prev = distance(o, p);
+                const double turn = std::acos(
+                    std::clamp(((p.x_m - o.x_m) * ux + (p.y_m - o.y_m) * uy) / prev, -1.0, 1.0));
+                if (turn > kMinTurn_rad) {
+                    const double radius = std::max(0.5 * std::min(prev, seg) / std::tan(0.5 * turn),
+                                                   v.min_turn_radius_m);
+                    node_cap.back() = std::min(
+                        node_cap.back(), std::sqrt(v.max_lateral_acceleration_m_per_s2 * radius));
+                }
+            }
             for (double along = 0; along < seg; along += w) {
                 const double len = std::min(w, seg - along);
                 const Point c0{p.x_m + along * ux, p.y_m + along * uy};
@@ -280,13 +317,18 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                     }
                     break;
                 }
-                out.time_s += len / speed;
+                node_cap.back() = std::min(node_cap.back(), speed);
+                node_cap.push_back(speed);
+                cell_len.push_back(len);
                 out.path_m += len;
                 if (force > 0) out.override_m += len;
                 pushed.insert(pushed.end(), here.begin(), here.end());
             }
         }
         if (replan) continue;
+        if (!out.nogo)
+            out.time_s = profile_time_s(cell_len, node_cap, v.max_acceleration_m_per_s2,
+                                        v.max_deceleration_m_per_s2);
         std::sort(pushed.begin(), pushed.end());
         pushed.erase(std::unique(pushed.begin(), pushed.end()), pushed.end());
         out.overridden = static_cast<std::int64_t>(pushed.size());

@@ -314,3 +314,28 @@ TEST_CASE("traversal: missions files are read by their header, bad values are na
     std::ofstream(dir / "short.csv") << "id,start_x_m\n";
     CHECK_THROWS_WITH(read_missions_csv(dir / "short.csv"), Catch::Contains("start_y_m"));
 }
+
+TEST_CASE("speed made good: turns slow the vehicle as its lateral acceleration allows",
+          "[mobility][smg]") {
+    // The speed profile in closed form: two 50 m cells at 20 m/s around a 10 m/s boundary,
+    // 1 m/s2 either way: the vehicle brakes from sqrt(200) m/s and speeds up to it again.
+    CHECK(profile_time_s({100}, {20, 20}, 1, 1) == Approx(5.0));
+    const double u = std::sqrt(200.0);
+    CHECK(profile_time_s({50, 50}, {20, 10, 20}, 1, 1) == Approx(2 * 100 / (u + 10)));
+    CHECK_THROWS_AS(profile_time_s({50, 50}, {20, 20}, 1, 1), Error);
+    // Through a field of obstacles, SMG grows with the lateral acceleration allowed in turns
+    // and never exceeds the length-only figure.
+    const auto stems = random_stand(11, 150, 0.15, 5, -6, 95, 6);
+    Vehicle v = mrzr();
+    double last = 0, first = 0;
+    for (const double a_lat : {0.5, 2.0, 8.0, 20.0}) {
+        v.max_lateral_acceleration_m_per_s2 = a_lat;
+        const auto r = drive_line(v, StemIndex(stems, 2.0), nullptr, {0, 0}, {100, 0});
+        REQUIRE_FALSE(r.nogo);
+        CHECK(r.smg_m_per_s >= last);
+        CHECK(r.smg_m_per_s <= 100 / (r.path_m / v.top_speed_m_per_s) * (1 + 1e-12));
+        last = r.smg_m_per_s;
+        if (first == 0) first = last;
+    }
+    CHECK(first < 0.9 * last); // the turns matter in this field
+}

@@ -81,6 +81,13 @@ private:
     std::vector<std::vector<std::int64_t>> m_buckets;
 };
 
+/// Time to drive cells of lengths `len_m` (m) whose boundaries (one more than cells) may be
+/// passed at most at `node_cap_m_per_s`, speeding up at `acc` and braking at `dec` (m/s2) between
+/// them: the speed profile of the forward and backward passes, with v^2 linear in distance in
+/// each cell, t = 2 len / (u_in + u_out).
+double profile_time_s(const std::vector<double>& len_m, std::vector<double> node_cap_m_per_s,
+                      double acc, double dec);
+
 /// Drives from `a` to `b` through the stems of `index` over `dem` (nullptr: flat ground).
 LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a,
                       Point b, const SmgOptions& opt = {});

@@ -34,6 +34,10 @@ struct Vehicle {
     double rolling_resistance = 0.03;  ///< rolling and soil resistance as a fraction of the weight
     double traction_coefficient = 0.7; ///< tractive force is limited to this x the weight
     double top_speed_m_per_s = 20;
+    double min_turn_radius_m = 5;                 ///< tightest turn (0: turns in place)
+    double max_lateral_acceleration_m_per_s2 = 3; ///< sets the speed through a turn
+    double max_acceleration_m_per_s2 = 2;
+    double max_deceleration_m_per_s2 = 4;
     double max_climb_deg = 30;
     double max_side_slope_deg = 25;
     double tip_over_deg = 45;

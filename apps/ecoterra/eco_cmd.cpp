@@ -93,7 +93,7 @@ void run_run(const RunArgs& a) {
     std::printf("stand: %lld stems, %.1f stems/ha, basal area %.2f m2/ha (%.1f ft2/acre), Dq "
                 "%.1f cm, SDI %.0f per ha\n",
                 static_cast<long long>(st.stems), st.stems_per_ha, st.basal_area_m2_per_ha,
-                st.basal_area_m2_per_ha * eco::kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * 100,
+                st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * kCmPerM,
                 st.sdi_per_ha);
     std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
                 sum.water_residual_relative, sum.carbon_residual_relative);
@@ -125,8 +125,8 @@ void run_stand(const StandArgs& a) {
         std::printf("%-24s %7lld stems %9.1f /ha  BA %7.2f m2/ha %7.1f ft2/acre  Dq %6.1f cm  "
                     "SDI %6.0f /ha\n",
                     label.c_str(), static_cast<long long>(m.stems), m.stems_per_ha,
-                    m.basal_area_m2_per_ha, m.basal_area_m2_per_ha * eco::kFt2PerAcrePerM2PerHa,
-                    m.quadratic_mean_dbh_m * 100, m.sdi_per_ha);
+                    m.basal_area_m2_per_ha, m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa,
+                    m.quadratic_mean_dbh_m * kCmPerM, m.sdi_per_ha);
     };
     print("all species", all);
     json per = json::object();

@@ -12,6 +12,7 @@
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
 #include "ecoterra/terrain/roughness.hpp"
+#include "ecoterra/units.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -32,7 +33,8 @@ struct MobilityArgs {
 };
 
 /// Where pictures go: --pictures DIR, else NAME.pictures beside --json NAME.json, else nowhere.
-std::filesystem::path picture_dir(const std::string& given, bool none, const std::string& json_file) {
+std::filesystem::path picture_dir(const std::string& given, bool none,
+                                  const std::string& json_file) {
     if (none) return {};
     if (!given.empty()) return given;
     if (json_file.empty()) return {};
@@ -83,7 +85,7 @@ void run_mobility(const MobilityArgs& a) {
     std::printf("%s through %lld trees on %.4g ha: basal area %.2f m2/ha (%.1f ft2/acre); "
                 "critical diameter %.2f cm\n",
                 v.name.c_str(), static_cast<long long>(m.trees), m.area_ha, m.basal_area_m2_per_ha,
-                m.basal_area_m2_per_ha * 4.356, m.critical_diameter_m * 100);
+                m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, m.critical_diameter_m * kCmPerM);
     std::printf("%d lines of %.4g m: SMG mean %.3f m/s, median %.3f, p10 %.3f, p90 %.3f; NOGO "
                 "%.1f %%; distance overriding %.1f %%, detouring %.1f %%\n",
                 opt.lines, opt.length_m, m.smg_mean_m_per_s, m.smg_median_m_per_s,

@@ -1,4 +1,5 @@
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/units.hpp"
 
 #include "ecoterra/eco/dispersal.hpp"
 #include "ecoterra/eco/growth.hpp"
@@ -15,7 +16,6 @@
 namespace ecoterra::eco {
 
 namespace {
-constexpr double kMmPerM = 1000.0;
 /// Light-only mode: diameters approach the one at which H = 95 % of Hmax (MAVS's saturating
 /// growth curve applied to the stem, see docs/ecosystem.md s6).
 constexpr double kLightOnlyHeightFraction = 0.95;

@@ -350,7 +350,8 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
             text(cr, lx + 18, ly, label, 12);
             ly += 22;
         };
-        legend(0.55, 0.05, 0.05, "stem avoided (d >= " + fmt(100 * m.critical_diameter_m) + " cm)");
+        legend(0.55, 0.05, 0.05,
+               "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
         legend(0.95, 0.55, 0.0, "stem pushed over");
         legend(0.3, 0.3, 0.3, "other stem");
         for (const double frac : {1.0, 0.5, 0.0}) {

@@ -1,4 +1,5 @@
 #include "ecoterra/hydro/hydrology.hpp"
+#include "ecoterra/units.hpp"
 
 #include "ecoterra/hydro/groundwater.hpp"
 #include "ecoterra/hydro/kernels.hpp"
@@ -13,7 +14,6 @@
 namespace ecoterra::hydro {
 
 namespace {
-constexpr double kMmPerM = 1000.0;
 
 /// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
 /// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close

@@ -1,4 +1,5 @@
 #include "ecoterra/hydro/kernels.hpp"
+#include "ecoterra/units.hpp"
 
 #include "ecoterra/hydro/groundwater.hpp"
 #include "ecoterra/hydro/hydrology.hpp"
@@ -11,7 +12,6 @@
 namespace ecoterra::hydro {
 
 namespace {
-constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerDay = 86400.0;
 } // namespace
 

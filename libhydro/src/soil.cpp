@@ -207,7 +207,8 @@ SoilMap soil_from_rasters(const RasterD& sand, const RasterD& silt, const Raster
     SoilMap m = empty_map(sand.grid());
     for (int j = 0; j < sand.ny(); ++j)
         for (int i = 0; i < sand.nx(); ++i) {
-            SoilComposition c{sand(i, j), silt(i, j), clay(i, j), ph ? (*ph)(i, j) : SoilComposition{}.ph, {}};
+            SoilComposition c{
+                sand(i, j), silt(i, j), clay(i, j), ph ? (*ph)(i, j) : SoilComposition{}.ph, {}};
             c.validate(source_name + " cell (" + std::to_string(i) + ", " + std::to_string(j) +
                        ")");
             set_cell(m, i, j, c);

@@ -1,4 +1,5 @@
 #include "ecoterra/mobility/override.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,6 @@
 namespace ecoterra::mobility {
 
 namespace {
-constexpr double kCmPerM = 100.0;
-constexpr double kBreastHeightM = 1.3;
 // MAVS's override law (reference mobility.md s1.2): F = [2 - logistic(5 (d - 2.5))] (a - b h) d^3
 // with d and h in cm; the critical diameter uses ten times a and b.
 constexpr double kForceA = 10.86;       // N cm^-3

@@ -4,6 +4,7 @@
 #include "ecoterra/error.hpp"
 #include "ecoterra/mobility/override.hpp"
 #include "ecoterra/random.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,9 +17,6 @@ namespace ecoterra::mobility {
 namespace {
 
 using nlohmann::json;
-constexpr double kM2PerHa = 1e4;
-constexpr double kCmPerM = 100.0;
-constexpr double kFt2PerAcrePerM2PerHa = 4.356;
 /// Random lines: draws per line before the length is declared not to fit.
 constexpr int kMaxDraws = 10000;
 /// Stems thicker than this are refused (a line end's clearance looks this far), m.

@@ -88,7 +88,7 @@ TEST_CASE("ecosystem: budgets close, plants live, die and recruit", "[eco][engin
     for (const auto& p : e.plants()) {
         CHECK(p.dbh_m > 0);
         CHECK(p.reserve_kg > 0);
-        CHECK(p.height_m > eco::kBreastHeightM - 1e-12);
+        CHECK(p.height_m > kBreastHeightM - 1e-12);
     }
 }
 

@@ -12,6 +12,7 @@
 // rho = wood_density_kg_per_m3.
 // clang-format on
 #include "ecoterra/eco/species.hpp"
+#include "ecoterra/units.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -19,8 +20,6 @@
 
 namespace ecoterra::eco {
 
-inline constexpr double kBreastHeightM = 1.3;
-inline constexpr double kCmPerM = 100.0;
 /// Stem form factor: stem volume / (basal area x height); 0.5 for a paraboloid (Husch, Beers &
 /// Kershaw 2003, Forest Mensuration, ch. 6).
 inline constexpr double kStemFormFactor = 0.5;

@@ -6,6 +6,8 @@
 //   reverse-J fit     ln N_i = ln k0 - k1 d_i over 5 cm classes with N_i > 0 (least squares);
 //                     q = exp(5 k1) per 5 cm class (de Liocourt; Meyer 1952), R2 of the log fit.
 // Only stems that reached breast height (D > 0) count.
+#include "ecoterra/units.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -13,8 +15,6 @@
 
 namespace ecoterra::eco {
 
-inline constexpr double kFt2PerAcrePerM2PerHa = 4.356; ///< 1 m2/ha in ft2/acre
-inline constexpr double kM2PerHa = 1e4;
 inline constexpr double kReinekeExponent = 1.605;
 inline constexpr double kReinekeReferenceDbhCm = 25.4;
 

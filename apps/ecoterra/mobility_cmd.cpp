@@ -11,7 +11,6 @@
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
-#include "ecoterra/terrain/roughness.hpp"
 #include "ecoterra/units.hpp"
 
 #include <cmath>
@@ -130,91 +129,40 @@ void run_traverse(const TraverseArgs& a) {
     if (!a.missions.empty()) {
         missions = mobility::read_missions_csv(a.missions);
     } else {
-        // Paper 000's missions on this terrain (as `ecoterra terrain missions` plans them).
-        const terrain::AnalysisOptions ao;
+        // Paper 000's missions on this terrain, as `ecoterra terrain missions` plans them.
         terrain::MissionOptions mo;
         mo.count = a.count;
         mo.seed = static_cast<std::uint64_t>(a.seed);
-        mo.border_m = ao.border_m;
-        mo.validate();
-        const RasterU8 classes =
-            terrain::classify_gradient(terrain::max_gradient_map(dem), ao.thresholds);
-        const RasterU8 closed = terrain::close_classes(classes, ao.closing_radius_m);
-        for (const auto& m : terrain::plan_missions(closed, classes, mo))
+        for (const auto& m : terrain::plan_missions(dem, terrain::AnalysisOptions{}, mo))
             missions.push_back({m.id, m.start_x_m, m.start_y_m, m.goal_x_m, m.goal_y_m});
     }
-    if (missions.empty()) throw InputError(a.missions + ": no missions");
     mobility::TraverseOptions opt;
     opt.speed_m_per_s = a.speed;
     Stopwatch sw;
-    std::vector<mobility::TraverseResult> rs;
-    for (const auto& m : missions)
-        rs.push_back(with_context(a.missions.empty() ? a.dem : a.missions,
-                                  [&] { return mobility::traverse(v, dem, m, opt); }));
+    const auto rep = with_context(a.missions.empty() ? a.dem : a.missions, [&] {
+        return mobility::traverse_missions(v, dem, missions, opt);
+    });
     const double seconds = sw.seconds();
-    int ok = 0;
-    std::vector<double> az, pr, rr, tt;
-    json records = json::array();
-    for (const auto& r : rs) {
-        json j = {{"id", r.id},
-                  {"success", r.success},
-                  {"max_abs_pitch_deg", r.max_abs_pitch_deg},
-                  {"max_abs_roll_deg", r.max_abs_roll_deg}};
-        if (r.success) {
-            ++ok;
-            az.push_back(r.rms_vertical_acceleration_m_per_s2);
-            pr.push_back(r.rms_pitch_rate_deg_per_s);
-            rr.push_back(r.rms_roll_rate_deg_per_s);
-            tt.push_back(r.time_s);
-            j["rms_vertical_acceleration_m_per_s2"] = r.rms_vertical_acceleration_m_per_s2;
-            j["rms_pitch_rate_deg_per_s"] = r.rms_pitch_rate_deg_per_s;
-            j["rms_roll_rate_deg_per_s"] = r.rms_roll_rate_deg_per_s;
-            j["time_s"] = r.time_s;
-        } else {
-            j["failure"] = r.failure;
-            j["failed_at_m"] = r.failed_at_m;
-        }
-        records.push_back(std::move(j));
-    }
-    auto median = [](std::vector<double> x) {
-        if (x.empty()) return 0.0;
-        std::sort(x.begin(), x.end());
-        const std::size_t n = x.size();
-        return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
-    };
-    const double rate = static_cast<double>(ok) / static_cast<double>(rs.size());
     std::printf("%s over %s: %d of %zu missions succeed (%.1f %%); medians of the successful: RMS "
                 "vertical acceleration %.3f m/s2, RMS pitch rate %.2f deg/s, RMS roll rate %.2f "
                 "deg/s, time %.2f s\n",
-                v.name.c_str(), a.dem.c_str(), ok, rs.size(), 100 * rate, median(az), median(pr),
-                median(rr), median(tt));
+                v.name.c_str(), a.dem.c_str(), rep.successes, rep.results.size(),
+                100 * rep.success_rate, rep.median_rms_vertical_acceleration_m_per_s2,
+                rep.median_rms_pitch_rate_deg_per_s, rep.median_rms_roll_rate_deg_per_s,
+                rep.median_time_s);
     std::printf("%.3f s (%.3g missions/s)\n", seconds,
-                static_cast<double>(rs.size()) / std::max(seconds, 1e-9));
+                static_cast<double>(rep.results.size()) / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
-        const json doc = {{"dem", a.dem},
-                          {"missions_file", a.missions},
-                          {"vehicle", mobility::to_json(v)},
-                          {"model", "kinematic proxy: quasi-static four-wheel pose on the "
-                                    "heightmap every 0.05 s at constant speed, no dynamics"},
-                          {"success_rate", rate},
-                          {"successes", ok},
-                          {"missions", rs.size()},
-                          {"median_rms_vertical_acceleration_m_per_s2", median(az)},
-                          {"median_rms_pitch_rate_deg_per_s", median(pr)},
-                          {"median_rms_roll_rate_deg_per_s", median(rr)},
-                          {"median_time_s", median(tt)},
-                          {"records", records},
-                          {"provenance", provenance()}};
+        json doc = mobility::to_json(rep, v);
+        doc["dem"] = a.dem;
+        doc["missions_file"] = a.missions;
+        doc["provenance"] = provenance();
         io::write_text_atomic(a.json_out, doc.dump(2) + "\n");
         std::printf("wrote %s\n", a.json_out.c_str());
     }
     const auto pics = picture_dir(a.pictures, a.no_pictures, a.json_out);
     if (!pics.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(pics, ec);
-        if (ec)
-            throw IoError(pics.string() + ": cannot create the picture folder: " + ec.message());
-        eco::draw_traverse_picture(missions, rs, dem, pics / "missions.png");
+        eco::draw_traverse_picture(missions, rep.results, dem, pics);
         std::printf("picture: %s/missions.png\n", pics.string().c_str());
     }
 }

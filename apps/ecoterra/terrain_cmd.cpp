@@ -216,9 +216,7 @@ void run_missions(MissionArgs& a) {
     std::vector<std::string> warnings;
     const RasterD z = terrain::io::read_raster(a.input, &warnings);
     print_warnings(warnings);
-    const RasterU8 classes = classify_gradient(max_gradient_map(z), a.opt.thresholds);
-    const RasterU8 closed = close_classes(classes, a.opt.closing_radius_m);
-    const auto missions = plan_missions(closed, classes, a.m);
+    const auto missions = plan_missions(z, a.opt, a.m);
     json arr = json::array();
     for (const auto& m : missions)
         arr.push_back({{"id", m.id},

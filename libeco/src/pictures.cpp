@@ -1,5 +1,6 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
 #include "ecoterra/eco/pictures.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/picture.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 
@@ -274,9 +275,7 @@ void draw_history(const Ecosystem& eco, const fs::path& path) {
 } // namespace
 
 void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    io::create_folder(dir, "the picture folder");
     draw_stems(eco, dir / "stems.png");
     draw_histogram(eco, dir / "dbh_histogram.png");
     draw_history(eco, dir / "stand_history.png");
@@ -288,9 +287,7 @@ void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
 
 void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
                             const RasterD& dem, const fs::path& dir) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    io::create_folder(dir, "the picture folder");
     {
         const MapFrame f(dem.grid());
         SurfaceOwner s(f.w + 230, f.h + 40);
@@ -398,7 +395,8 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
 
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
                            const std::vector<mobility::TraverseResult>& results, const RasterD& dem,
-                           const fs::path& path) {
+                           const fs::path& dir) {
+    io::create_folder(dir, "the picture folder");
     const MapFrame f(dem.grid());
     SurfaceOwner s(f.w + 200, f.h + 40);
     cairo_t* cr = s.cr;
@@ -440,7 +438,7 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
     text(cr, f.w + 12, 56, "slope map:", 12);
     text(cr, f.w + 12, 76, "max gradient 0 (dark)", 12);
     text(cr, f.w + 12, 96, "to 1 (yellow)", 12);
-    s.save(path);
+    s.save(dir / "missions.png");
 }
 
 } // namespace ecoterra::eco

@@ -206,9 +206,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     const fs::path work = staged ? parent / staging : out;
     const fs::path snap_dir = parent / snapshot_dir_name(work);
     if (staged) fs::remove_all(snap_dir, ec); // left by a killed process of the same id
-    fs::create_directories(snap_dir, ec);
-    if (ec)
-        throw IoError(snap_dir.string() + ": cannot create the snapshot folder: " + ec.message());
+    io::create_folder(snap_dir, "the snapshot folder");
 
     RunSummary sum;
     sum.picture_dir = picture_dir;

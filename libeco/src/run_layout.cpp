@@ -124,9 +124,8 @@ H5::H5File open_run(const fs::path& run) {
 
 /// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
 void require_writable_folder(const fs::path& dir, const std::string& what) {
+    io::create_folder(dir, what);
     std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create " + what + ": " + ec.message());
     std::string probe(".write-test-");
     probe.append(std::to_string(::getpid()));
     const fs::path file = dir / probe;

@@ -7,8 +7,7 @@
 
 namespace ecoterra::eco {
 
-namespace {
-}
+namespace {}
 
 StandMetrics stand_metrics(const std::vector<double>& dbh, double area_m2, double width_cm) {
     StandMetrics m;

@@ -316,10 +316,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     h5.attribute("/provenance", "json", p.dump());
     h5.commit();
     if (!png_dir.empty()) {
-        std::error_code ec;
-        fs::create_directories(png_dir, ec);
-        if (ec)
-            throw IoError(png_dir.string() + ": cannot create the picture folder: " + ec.message());
+        io::create_folder(png_dir, "the picture folder");
         terrain::write_png_rgb(terrain::hillshade_image(sc.dem), png_dir / "hillshade.png");
         terrain::write_png_rgb(terrain::colormap_image(model.soil_moisture()),
                                png_dir / "soil_moisture.png");

@@ -254,7 +254,7 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
             break;
         }
         // Drive the path cell by cell (cells of one vehicle width along each segment).
-        std::vector<std::int64_t> pushed;
+        std::vector<std::int64_t> pushed, here; // `here`: the stems of the current cell
         bool replan = false;
         // Cells along the path and the speed limits at their boundaries: the steady speeds of the
         // cells on either side and, at a turn of the path, sqrt(a_lat R) with R the largest arc
@@ -282,7 +282,7 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                 const Point c0{p.x_m + along * ux, p.y_m + along * uy};
                 const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
                 double force = 0;
-                std::vector<std::int64_t> here;
+                here.clear();
                 index.for_each_in_box(
                     std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
                     std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,

@@ -5,6 +5,7 @@
 #include "ecoterra/mobility/override.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/units.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,20 +17,13 @@ namespace ecoterra::mobility {
 
 namespace {
 
+using detail::mean;
+using detail::quantile;
 using nlohmann::json;
 /// Random lines: draws per line before the length is declared not to fit.
 constexpr int kMaxDraws = 10000;
 /// Stems thicker than this are refused (a line end's clearance looks this far), m.
 constexpr double kMaxObstacleDiameter_m = 10.0;
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const double pos = q * static_cast<double>(v.size() - 1);
-    const auto lo = static_cast<std::size_t>(std::floor(pos));
-    const std::size_t hi = std::min(lo + 1, v.size() - 1);
-    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
 
 } // namespace
 
@@ -169,11 +163,6 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
         straight += l.result.straight_m;
         pushed += l.result.override_m;
     }
-    auto mean = [](const std::vector<double>& xs) {
-        double sum = 0;
-        for (const double x : xs) sum += x;
-        return xs.empty() ? 0.0 : sum / static_cast<double>(xs.size());
-    };
     m.smg_mean_m_per_s = mean(smg_all);
     m.smg_mean_go_m_per_s = mean(smg_go);
     m.smg_median_m_per_s = quantile(smg_all, 0.5);

@@ -2,6 +2,7 @@
 
 #include "ecoterra/csv.hpp"
 #include "ecoterra/error.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -120,6 +121,62 @@ TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine&
     r.rms_pitch_rate_deg_per_s = nr ? std::sqrt(pr2 / static_cast<double>(nr)) : 0.0;
     r.rms_roll_rate_deg_per_s = nr ? std::sqrt(rr2 / static_cast<double>(nr)) : 0.0;
     return r;
+}
+
+TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
+                                 const std::vector<MissionLine>& missions,
+                                 const TraverseOptions& opt) {
+    if (missions.empty()) throw InputError("no missions to drive");
+    TraverseReport rep;
+    std::vector<double> az, pr, rr, tt;
+    for (const auto& m : missions) {
+        rep.results.push_back(traverse(v, dem, m, opt));
+        const auto& r = rep.results.back();
+        if (!r.success) continue;
+        ++rep.successes;
+        az.push_back(r.rms_vertical_acceleration_m_per_s2);
+        pr.push_back(r.rms_pitch_rate_deg_per_s);
+        rr.push_back(r.rms_roll_rate_deg_per_s);
+        tt.push_back(r.time_s);
+    }
+    rep.success_rate = static_cast<double>(rep.successes) / static_cast<double>(missions.size());
+    rep.median_rms_vertical_acceleration_m_per_s2 = detail::quantile(az, 0.5);
+    rep.median_rms_pitch_rate_deg_per_s = detail::quantile(pr, 0.5);
+    rep.median_rms_roll_rate_deg_per_s = detail::quantile(rr, 0.5);
+    rep.median_time_s = detail::quantile(tt, 0.5);
+    return rep;
+}
+
+nlohmann::json to_json(const TraverseReport& rep, const Vehicle& v) {
+    nlohmann::json records = nlohmann::json::array();
+    for (const auto& r : rep.results) {
+        nlohmann::json j = {{"id", r.id},
+                            {"success", r.success},
+                            {"max_abs_pitch_deg", r.max_abs_pitch_deg},
+                            {"max_abs_roll_deg", r.max_abs_roll_deg}};
+        if (r.success) {
+            j["rms_vertical_acceleration_m_per_s2"] = r.rms_vertical_acceleration_m_per_s2;
+            j["rms_pitch_rate_deg_per_s"] = r.rms_pitch_rate_deg_per_s;
+            j["rms_roll_rate_deg_per_s"] = r.rms_roll_rate_deg_per_s;
+            j["time_s"] = r.time_s;
+        } else {
+            j["failure"] = r.failure;
+            j["failed_at_m"] = r.failed_at_m;
+        }
+        records.push_back(std::move(j));
+    }
+    return {{"vehicle", to_json(v)},
+            {"model", "kinematic proxy: quasi-static four-wheel pose on the heightmap every "
+                      "0.05 s at constant speed, no dynamics"},
+            {"success_rate", rep.success_rate},
+            {"successes", rep.successes},
+            {"missions", rep.results.size()},
+            {"median_rms_vertical_acceleration_m_per_s2",
+             rep.median_rms_vertical_acceleration_m_per_s2},
+            {"median_rms_pitch_rate_deg_per_s", rep.median_rms_pitch_rate_deg_per_s},
+            {"median_rms_roll_rate_deg_per_s", rep.median_rms_roll_rate_deg_per_s},
+            {"median_time_s", rep.median_time_s},
+            {"records", std::move(records)}};
 }
 
 } // namespace ecoterra::mobility

@@ -1,11 +1,10 @@
 #include "ecoterra/mobility/vehicle.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 namespace ecoterra::mobility {
 
@@ -121,11 +120,7 @@ Vehicle parse_vehicle(const json& j, const std::string& source) {
 }
 
 Vehicle load_vehicle(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot open the vehicle file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_vehicle(parse_json(ss.str(), path.string()), path.string());
+    return parse_vehicle(parse_json(io::read_text(path), path.string()), path.string());
 }
 
 json to_json(const Vehicle& v) {

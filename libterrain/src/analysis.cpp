@@ -1,5 +1,7 @@
 #include "ecoterra/terrain/analysis.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
+
 #include "ecoterra/terrain/picture.hpp"
 
 #include <cstdio>
@@ -119,9 +121,7 @@ std::vector<std::filesystem::path> write_analysis_pictures(const RasterD& z,
                                                            const TerrainAnalysis& a,
                                                            const AnalysisOptions& opt,
                                                            const std::filesystem::path& dir) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create the picture folder: " + ec.message());
+    io::create_folder(dir, "the picture folder");
     std::vector<std::filesystem::path> out;
     auto put = [&](const Image& img, const char* name) {
         out.push_back(dir / name);
@@ -135,6 +135,15 @@ std::vector<std::filesystem::path> write_analysis_pictures(const RasterD& z,
     put(classes_image(a.class_map, &shade, border), "gradient_classes.png");
     put(classes_image(a.closed_class_map, &shade, border), "closed_classes.png");
     return out;
+}
+
+std::vector<Mission> plan_missions(const RasterD& z, const AnalysisOptions& opt, MissionOptions m) {
+    opt.validate();
+    m.border_m = opt.border_m;
+    m.validate();
+    const RasterU8 classes = classify_gradient(max_gradient_map(z), opt.thresholds);
+    const RasterU8 closed = close_classes(classes, opt.closing_radius_m);
+    return plan_missions(closed, classes, m);
 }
 
 } // namespace ecoterra::terrain

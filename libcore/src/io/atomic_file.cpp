@@ -79,6 +79,12 @@ void write_text_atomic(const fs::path& target, const std::string& text) {
     out.commit();
 }
 
+void create_folder(const fs::path& dir, const std::string& what) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(dir.string() + ": cannot create " + what + ": " + ec.message());
+}
+
 std::string read_text(const fs::path& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw InputError(path.string() + ": cannot open for reading: " + std::strerror(errno));

@@ -29,6 +29,9 @@ private:
 /// Writes `text` to `target` atomically.
 void write_text_atomic(const std::filesystem::path& target, const std::string& text);
 
+/// Creates the folder `dir` and its parents if needed; IoError "DIR: cannot create WHAT: reason".
+void create_folder(const std::filesystem::path& dir, const std::string& what);
+
 /// Reads a whole file; throws IoError naming it.
 std::string read_text(const std::filesystem::path& path);
 

@@ -16,9 +16,10 @@ void draw_run_pictures(const Ecosystem& eco, const std::filesystem::path& dir);
 /// marked, the paths driven coloured by SMG) and smg_histogram.png, into `dir`.
 void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
                             const RasterD& dem, const std::filesystem::path& dir);
-/// `ecoterra terrain traverse`: the missions over the slope map, coloured by outcome.
+/// `ecoterra terrain traverse`: missions.png in `dir`, the missions over the slope map coloured by
+/// outcome.
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
                            const std::vector<mobility::TraverseResult>& results, const RasterD& dem,
-                           const std::filesystem::path& path);
+                           const std::filesystem::path& dir);
 
 } // namespace ecoterra::eco

@@ -13,6 +13,8 @@
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/raster.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -48,5 +50,22 @@ struct TraverseResult {
 /// Drives one mission; InputError when it leaves the terrain (with the vehicle's footprint).
 TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
                         const TraverseOptions& opt = {});
+
+/// Many missions and their summary; the medians are over the successful missions (as paper 000
+/// reports them), 0 when none succeeds.
+struct TraverseReport {
+    std::vector<TraverseResult> results;
+    int successes = 0;
+    double success_rate = 0;
+    double median_rms_vertical_acceleration_m_per_s2 = 0;
+    double median_rms_pitch_rate_deg_per_s = 0, median_rms_roll_rate_deg_per_s = 0;
+    double median_time_s = 0;
+};
+/// Drives every mission (InputError when there is none).
+TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
+                                 const std::vector<MissionLine>& missions,
+                                 const TraverseOptions& opt = {});
+/// The summary, the vehicle, the model's description and one record per mission.
+nlohmann::json to_json(const TraverseReport& r, const Vehicle& v);
 
 } // namespace ecoterra::mobility

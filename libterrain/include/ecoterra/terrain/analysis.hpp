@@ -2,6 +2,7 @@
 // The full terrain analysis behind `ecoterra terrain analyze`: RMS roughness, gradient classes
 // (raw and closed), radial PSD and fractal dimension, slope statistics; as JSON and text.
 #include "ecoterra/terrain/fractal_dimension.hpp"
+#include "ecoterra/terrain/missions.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,10 @@ struct AnalysisOptions {
     FractalDimensionOptions fd;
     void validate() const;
 };
+
+/// Paper 000's missions on a terrain: the Moore-gradient classes of `z`, their closing, and
+/// plan_missions() with `m` (its border taken from `opt`). Checks both option sets.
+std::vector<Mission> plan_missions(const RasterD& z, const AnalysisOptions& opt, MissionOptions m);
 
 struct TerrainAnalysis {
     RasterStats elevation;

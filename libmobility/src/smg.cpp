@@ -196,6 +196,11 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                              format_number(p.x_m) + ", " + format_number(p.y_m) + ")");
         return z;
     };
+    auto side_elevation = [&](Point p, Point centre) {
+        if (!dem) return 0.0;
+        const double z = dem->sample_bilinear(p.x_m, p.y_m);
+        return std::isnan(z) ? elevation(centre) : z;
+    };
     Grid g;
     g.r = std::max(opt.grid_fraction_of_width * w, kMinPlanningCell_m);
     double x0 = std::min(a.x_m, b.x_m) - opt.margin_m, x1 = std::max(a.x_m, b.x_m) + opt.margin_m;
@@ -300,6 +305,20 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
                     out.nogo_reason = "a grade of " + format_number(grade) +
                                       " beyond the vehicle's climb limit at (" +
                                       format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
+                    break;
+                }
+                // Side slope: the height difference across the vehicle's track at the cell's
+                // middle (a wheel off the DEM's edge falls back to the centre line).
+                const Point mid{0.5 * (c0.x_m + c1.x_m), 0.5 * (c0.y_m + c1.y_m)};
+                const double half = 0.5 * v.track_m;
+                const double zl = side_elevation({mid.x_m - half * uy, mid.y_m + half * ux}, mid);
+                const double zr = side_elevation({mid.x_m + half * uy, mid.y_m - half * ux}, mid);
+                const double side = std::abs(zl - zr) / v.track_m;
+                if (std::atan(side) > v.max_side_slope_deg * std::numbers::pi / 180) {
+                    out.nogo = true;
+                    out.nogo_reason = "a side slope of " + format_number(side) +
+                                      " beyond the vehicle's side-slope limit at (" +
+                                      format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
                     break;
                 }
                 const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);

@@ -182,6 +182,20 @@ TEST_CASE("speed made good: an empty flat stand gives the top speed, a slope wha
     CHECK(drive({}, &plane).smg_m_per_s == Approx(up).epsilon(1e-9));
     CHECK(drive({}, &plane, {100, 0}, {0, 0}).smg_m_per_s >= up);
     CHECK_THROWS_WITH(drive({}, &plane, {0, 0}, {400, 0}), Catch::Contains("leaves the terrain"));
+    // Across a slope: below the side-slope limit the line runs level at the flat speed; above it,
+    // NOGO (the MRZR's limit is 25 degrees; tan 25 deg = 0.466).
+    for (const double tilt : {0.1, 0.3, 0.45, 0.48, 0.7}) {
+        RasterD across(GridSpec{300, 100, 1.0, -50.0, -50.0});
+        for (int j = 0; j < across.ny(); ++j)
+            for (int i = 0; i < across.nx(); ++i) across(i, j) = tilt * across.grid().y_of(j);
+        const auto r = drive({}, &across);
+        CAPTURE(tilt);
+        CHECK(r.nogo == (std::atan(tilt) > v.max_side_slope_deg * std::numbers::pi / 180));
+        if (r.nogo)
+            CHECK_THAT(r.nogo_reason, Catch::Contains("side-slope limit"));
+        else
+            CHECK(r.smg_m_per_s == Approx(empty.smg_m_per_s).epsilon(1e-9));
+    }
 }
 
 TEST_CASE("speed made good: one thick stem costs the detour around it, a wall is NOGO",

@@ -191,6 +191,13 @@ const ParamCatalog<Species>& physiology_catalog() {
             number<S>("temperature_optimum_c", &S::temperature_optimum_c, "degC", -20, 50,
                       "production is full above it; above temperature_base_c"),
             flag<S>("evergreen", &S::evergreen, "leaves all year (else leaf_on_doy..leaf_off_doy)"),
+            choice<S>("crown_shape", &S::crown_shape,
+                      std::vector<std::pair<std::string, CrownShape>>{
+                          {"cone", CrownShape::cone},
+                          {"ellipsoid", CrownShape::ellipsoid},
+                          {"umbrella", CrownShape::umbrella}},
+                      "outline of the crown in scene exports (`ecoterra export scene`); growth "
+                      "uses only the crown radius"),
             integer<S>("leaf_on_doy", &S::leaf_on_doy, "day", 1, 366, "deciduous: leaves out"),
             integer<S>("leaf_off_doy", &S::leaf_off_doy, "day", 1, 366,
                        "deciduous: leaves fall; after leaf_on_doy"),

@@ -35,6 +35,10 @@ struct DispersalKernel {
     double long_fraction = 0.1;
 };
 
+/// The outline of a crown: a cone (conifers), an ellipsoid (most broadleaves) or an umbrella (a
+/// flat-topped spreading crown: acacia, mesquite).
+enum class CrownShape { cone, ellipsoid, umbrella };
+
 struct Species {
     // --- MAVS keys ---
     std::string mesh_file;           ///< "Mesh File": the species identity in MAVS
@@ -55,6 +59,8 @@ struct Species {
     double max_crown_radius_m = 10.0;
     double wood_density_kg_per_m3 = 600.0; ///< dry wood mass per fresh volume
     double leaf_area_per_crown_area = 4.0; ///< leaf area index of the crown, m2/m2
+    /// Outline of the crown in scene exports (geometry only; growth uses the crown radius).
+    CrownShape crown_shape = CrownShape::ellipsoid;
 
     // --- carbon ---
     double max_production_kg_per_m2_leaf_per_day = 0.004;   ///< carbohydrate, full conditions

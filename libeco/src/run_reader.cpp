@@ -2,6 +2,8 @@
 
 #include "run_layout.hpp"
 
+#include "ecoterra/terrain/io/raster_io.hpp"
+
 namespace ecoterra::eco {
 
 using nlohmann::json;
@@ -42,13 +44,62 @@ std::vector<double> SnapshotPlants::values(const std::string& name) const {
     throw Error("snapshot plants: no column '" + name + "'");
 }
 
-SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
+int resolve_snapshot_index(const fs::path& run, int index) {
     const RunInfo info = read_run_info(run);
     if (info.snapshots == 0) throw InputError(run.string() + ": the run has no snapshots");
     const int k = index < 0 ? info.snapshots + index : index;
     if (k < 0 || k >= info.snapshots)
         throw InputError(run.string() + ": --snapshot " + std::to_string(index) +
                          " is outside 0.." + std::to_string(info.snapshots - 1));
+    return k;
+}
+
+std::vector<Species> read_run_species(const fs::path& run) {
+    H5::H5File f = open_run(run);
+    try {
+        const json j = json::parse(read_string_attr(f.openGroup("/species"), "json"));
+        return parse_ecosystem({{"name", "run"}, {"Species", j}}, run.string() + ": /species")
+            .species;
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": incomplete ecoterra run file (" + e.getDetailMsg() +
+                         ")");
+    } catch (const json::exception& e) {
+        throw InputError(run.string() + ": /species json is damaged (" + e.what() + ")");
+    }
+}
+
+RasterD read_run_terrain(const fs::path& run) {
+    open_run(run); // names the file if it is not a run
+    return terrain::io::read_hdf5(run, "/terrain/elevation");
+}
+
+RasterD read_snapshot_raster(const fs::path& run, int index, const std::string& name,
+                             const GridSpec& grid) {
+    const int k = resolve_snapshot_index(run, index);
+    RasterD r(grid);
+    open_snapshot(run, k, [&](const H5::Group& g) {
+        const std::string what =
+            run.string() + ": snapshot " + std::to_string(k) + ": dataset " + name;
+        if (!g.nameExists(name)) throw InputError(what + " is missing");
+        H5::DataSet ds = g.openDataSet(name);
+        hsize_t dims[2] = {0, 0};
+        if (ds.getSpace().getSimpleExtentNdims() != 2 ||
+            (ds.getSpace().getSimpleExtentDims(dims),
+             dims[0] != static_cast<hsize_t>(grid.ny) || dims[1] != static_cast<hsize_t>(grid.nx)))
+            throw InputError(what + " is not " + std::to_string(grid.ny) + " x " +
+                             std::to_string(grid.nx) + " (the terrain's grid)");
+        // Row-major [ny][nx], row 0 the south edge, as the raster stores it.
+        std::vector<double> v(static_cast<std::size_t>(grid.nx) * grid.ny);
+        ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i)
+                r(i, j) = v[static_cast<std::size_t>(j) * grid.nx + i];
+    });
+    return r;
+}
+
+SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
+    const int k = resolve_snapshot_index(run, index);
     SnapshotPlants s;
     s.index = k;
     open_snapshot(run, k, [&](const H5::Group& g) {

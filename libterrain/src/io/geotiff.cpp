@@ -122,7 +122,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     return z;
 }
 
-void write_geotiff(const RasterD& z, const std::filesystem::path& path) {
+void write_geotiff(const RasterD& z, const std::filesystem::path& path, const std::string& units) {
     init_gdal();
     QuietGdal quiet;
     ecoterra::io::AtomicOutput out(path);
@@ -140,7 +140,7 @@ void write_geotiff(const RasterD& z, const std::filesystem::path& path) {
     GDALSetGeoTransform(ds.get(), gt);
     GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
     GDALSetRasterNoDataValue(band, std::nan(""));
-    GDALSetMetadataItem(ds.get(), "UNITS", "m", nullptr);
+    GDALSetMetadataItem(ds.get(), "UNITS", units.c_str(), nullptr);
     std::vector<float> buf(static_cast<std::size_t>(z.size()));
     for (int r = 0; r < z.ny(); ++r)
         for (int i = 0; i < z.nx(); ++i)

@@ -1,6 +1,8 @@
 #pragma once
 // Reading ecosystem runs: what `stand`, `export` and resume read from RUN.h5 and its snapshots.
 #include "ecoterra/eco/outputs.hpp"
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/raster.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -27,5 +29,18 @@ struct SnapshotPlants {
 };
 /// Reads the plants of snapshot `index` (negative: counted from the last, -1 = last).
 SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index);
+
+/// The species of a run, as resolved when it started (every parameter).
+std::vector<Species> read_run_species(const std::filesystem::path& run);
+/// The run's terrain (m), on the grid every other raster of the run shares.
+RasterD read_run_terrain(const std::filesystem::path& run);
+/// A raster of snapshot `index` (e.g. soil_moisture, surface_water_depth_m, catchment_id,
+/// water_table_depth_m, on the terrain's grid; shade_fraction on the light grid) with the grid
+/// given; InputError naming the run, the snapshot and the dataset if it is missing or its size
+/// differs from the grid.
+RasterD read_snapshot_raster(const std::filesystem::path& run, int index, const std::string& name,
+                             const GridSpec& grid);
+/// The snapshot index `index` stands for (negative: from the last), checked against the run.
+int resolve_snapshot_index(const std::filesystem::path& run, int index);
 
 } // namespace ecoterra::eco

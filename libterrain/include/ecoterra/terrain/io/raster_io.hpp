@@ -52,7 +52,9 @@ void write_hdf5(const RasterD& z, const std::filesystem::path& path, const Write
 RasterD read_esri_ascii(const std::filesystem::path& path);
 void write_esri_ascii(const RasterD& z, const std::filesystem::path& path);
 RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
-void write_geotiff(const RasterD& z, const std::filesystem::path& path);
+/// GeoTIFF with the UNITS metadata item set to `units`.
+void write_geotiff(const RasterD& z, const std::filesystem::path& path,
+                   const std::string& units = "m");
 RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* warnings = nullptr);
 void write_png16(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);
 void write_gazebo_png(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);

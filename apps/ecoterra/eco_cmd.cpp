@@ -220,6 +220,7 @@ void add_eco_commands(CLI::App& app) {
         ->capture_default_str();
     veg->add_option("-o,--output", e->output, "CSV file")->required();
     veg->callback([e] { run_export_vegetation(*e); });
+    add_export_scene_commands(*exp);
 }
 
 } // namespace ecoterra::app

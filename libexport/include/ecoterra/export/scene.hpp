@@ -1,0 +1,77 @@
+#pragma once
+// What a scene export carries out of a run: the terrain of one snapshot (cut to a region), its
+// trees with a life stage and a yaw, and each species' look. Every exporter writes this one
+// structure, so all formats hold the same stems (docs/exports.md).
+//
+// Frame: the run's, east-north-up (ENU), metres; x east, y north, z up. Formats that use other
+// axes (glTF Y-up, Unreal left-handed centimetres) convert on writing, and say so in their README.
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/raster.hpp"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ecoterra::exporter {
+
+/// Life stage of a tree, by its height relative to the species' maximum: young below a third,
+/// medium below two thirds, adult above (paper 002 s5.1 gives each species three meshes).
+enum class Stage { young, medium, adult };
+inline constexpr Stage kStages[] = {Stage::young, Stage::medium, Stage::adult};
+const char* stage_name(Stage s);
+Stage stage_of(double height_m, double max_height_m);
+
+/// A rectangle in the run's coordinates, m.
+struct Region {
+    double x0_m = 0, y0_m = 0, x1_m = 0, y1_m = 0;
+};
+/// "X0,Y0,X1,Y1" (m); InputError naming `option` and the text otherwise.
+Region parse_region(const std::string& text, const std::string& option = "--region");
+
+struct Tree {
+    std::int64_t id = 0;
+    int species = 0;
+    Stage stage = Stage::young;
+    double x_m = 0, y_m = 0;
+    double z_m = 0; ///< the terrain under the stem (bilinear on the DEM), m
+    double height_m = 0, dbh_m = 0, crown_radius_m = 0;
+    double yaw_rad = 0; ///< heading of the mesh, counter-clockwise from east, [0, 2 pi)
+};
+
+struct SpeciesLook {
+    std::string name;
+    eco::CrownShape crown_shape = eco::CrownShape::ellipsoid;
+    double max_height_m = 20;
+    bool evergreen = false;
+    double leaf_area_per_crown_area = 4; ///< m2 of leaf per m2 of crown projection
+};
+
+struct Scene {
+    std::filesystem::path run;
+    int snapshot = 0, year = 0;
+    std::uint64_t seed = 0;       ///< the run's seed (the yaw stream derives from it)
+    RasterD terrain;              ///< elevation, m, cut to the region
+    std::optional<Region> region; ///< as asked (the terrain covers it to whole cells)
+    int cut_i0 = 0, cut_j0 = 0;   ///< the terrain's first column and row in the run's grid
+    std::vector<SpeciesLook> species;
+    std::vector<Tree> trees; ///< sorted by plant id
+};
+
+/// The trees' yaw: uniform in [0, 2 pi), drawn from the run's seed in stream "export.yaw" indexed
+/// by the plant id, so a tree keeps its heading from snapshot to snapshot and across formats.
+double tree_yaw_rad(std::uint64_t seed, std::int64_t id);
+
+/// Reads snapshot `snapshot` (negative: from the last) of `run`. With a region, the terrain is cut
+/// to the cells that meet it and only stems inside it are kept; InputError if it lies outside the
+/// terrain or is empty.
+Scene load_scene(const std::filesystem::path& run, int snapshot,
+                 const std::optional<Region>& region = std::nullopt);
+
+/// The window of cells that meet `r`: first column, first row, columns, rows (InputError naming
+/// `what` if it lies outside the grid or covers fewer than 2 x 2 cells).
+std::array<int, 4> region_window(const GridSpec& g, const Region& r, const std::string& what);
+
+} // namespace ecoterra::exporter

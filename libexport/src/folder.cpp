@@ -1,0 +1,94 @@
+#include "ecoterra/export/folder.hpp"
+
+#include "ecoterra/error.hpp"
+
+#include <fstream>
+#include <system_error>
+#include <unistd.h>
+
+namespace ecoterra::exporter {
+
+namespace fs = std::filesystem;
+
+OutputFolder::OutputFolder(fs::path dir, bool force) : m_dir(std::move(dir)) {
+    if (m_dir.empty()) throw InputError("-o: give an output folder");
+    std::error_code ec;
+    if (fs::exists(m_dir, ec)) {
+        if (!fs::is_directory(m_dir, ec))
+            throw InputError("-o " + m_dir.string() + ": exists and is not a folder");
+        if (!fs::is_empty(m_dir, ec) && !force)
+            throw InputError("-o " + m_dir.string() +
+                             ": the folder exists with files in it; give --force to write into "
+                             "it (files of the same name are replaced, no other file is touched)");
+    }
+    const fs::path abs = fs::absolute(m_dir).lexically_normal();
+    const fs::path parent =
+        abs.has_filename() ? abs.parent_path() : abs.parent_path().parent_path();
+    fs::create_directories(parent, ec);
+    std::string hidden(".");
+    hidden += (abs.has_filename() ? abs.filename() : abs.parent_path().filename()).string();
+    hidden += ".partial-" + std::to_string(::getpid());
+    m_stage = parent / hidden;
+    fs::remove_all(m_stage, ec);
+    if (!fs::create_directories(m_stage, ec))
+        throw IoError(m_stage.string() + ": cannot create the staging folder (" + ec.message() +
+                      ")");
+}
+
+OutputFolder::~OutputFolder() {
+    if (!m_committed) {
+        std::error_code ec;
+        fs::remove_all(m_stage, ec);
+    }
+}
+
+fs::path OutputFolder::staged_path(const std::string& relative) {
+    const fs::path rel(relative);
+    if (rel.is_absolute() || rel.empty() || *rel.begin() == "..")
+        throw Error("output folder: '" + relative + "' is not a relative path inside it");
+    const fs::path p = m_stage / rel;
+    std::error_code ec;
+    fs::create_directories(p.parent_path(), ec);
+    if (ec) throw IoError(p.parent_path().string() + ": cannot create (" + ec.message() + ")");
+    m_files.push_back(relative);
+    return p;
+}
+
+void OutputFolder::write(const std::string& relative, const std::string& bytes) {
+    const fs::path p = staged_path(relative);
+    std::ofstream out(p, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) throw IoError(p.string() + ": write failed");
+}
+
+std::uint64_t OutputFolder::bytes() const {
+    std::uint64_t n = 0;
+    std::error_code ec;
+    for (const auto& f : m_files) {
+        const auto s = fs::file_size((m_committed ? m_dir : m_stage) / f, ec);
+        if (!ec) n += s;
+    }
+    return n;
+}
+
+void OutputFolder::commit() {
+    std::error_code ec;
+    if (!fs::exists(m_dir, ec)) {
+        fs::rename(m_stage, m_dir, ec);
+        if (ec)
+            throw IoError(m_dir.string() + ": cannot move the export into place (" + ec.message() +
+                          ")");
+    } else {
+        for (const auto& f : m_files) {
+            const fs::path to = m_dir / f;
+            fs::create_directories(to.parent_path(), ec);
+            fs::rename(m_stage / f, to, ec);
+            if (ec) throw IoError(to.string() + ": cannot replace (" + ec.message() + ")");
+        }
+        fs::remove_all(m_stage, ec);
+    }
+    m_committed = true;
+}
+
+} // namespace ecoterra::exporter

@@ -1,0 +1,235 @@
+// glTF 2.0 binary writer (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html), written
+// with nlohmann-json for the JSON chunk: the file is small and regular enough that a general
+// glTF library buys nothing; the Khronos validator checks the result in the tests.
+//
+// Axes: glTF is right-handed, +Y up, metres. A point (x east, y north, z up) of the run becomes
+// (x, z, -y); a yaw t about the run's up axis becomes a rotation by t about +Y.
+#include "ecoterra/export/formats.hpp"
+#include "ecoterra/export/mesh.hpp"
+
+#include "ecoterra/error.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace ecoterra::exporter {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr int kFloat = 5126, kUint32 = 5125;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+
+std::array<float, 3> to_gltf(const std::array<float, 3>& p) {
+    return {p[0], p[2], -p[1]};
+}
+
+class GlbBuilder {
+public:
+    json j = json::object();
+    std::string bin;
+
+    /// A buffer view and accessor over `count` elements of `type` ("VEC3", ...), floats.
+    int accessor(const std::vector<float>& data, int count, const char* type, int target,
+                 bool minmax = false) {
+        const int components = static_cast<int>(data.size()) / std::max(count, 1);
+        const int view = add_view(data.data(), data.size() * sizeof(float), target);
+        json a = {
+            {"bufferView", view}, {"componentType", kFloat}, {"count", count}, {"type", type}};
+        if (minmax && count > 0) {
+            std::vector<float> lo(components, std::numeric_limits<float>::max()),
+                hi(components, std::numeric_limits<float>::lowest());
+            for (int k = 0; k < count; ++k)
+                for (int c = 0; c < components; ++c) {
+                    lo[c] = std::min(lo[c], data[static_cast<std::size_t>(k * components + c)]);
+                    hi[c] = std::max(hi[c], data[static_cast<std::size_t>(k * components + c)]);
+                }
+            a["min"] = lo;
+            a["max"] = hi;
+        }
+        j["accessors"].push_back(a);
+        return static_cast<int>(j["accessors"].size()) - 1;
+    }
+    int indices(const std::vector<std::uint32_t>& idx) {
+        const int view =
+            add_view(idx.data(), idx.size() * sizeof(std::uint32_t), kElementArrayBuffer);
+        j["accessors"].push_back({{"bufferView", view},
+                                  {"componentType", kUint32},
+                                  {"count", idx.size()},
+                                  {"type", "SCALAR"}});
+        return static_cast<int>(j["accessors"].size()) - 1;
+    }
+    int mesh(const Mesh& m, const std::string& name, int material, const json& extras) {
+        std::vector<float> pos, nor;
+        for (std::size_t k = 0; k < m.positions.size(); ++k) {
+            for (float v : to_gltf(m.positions[k])) pos.push_back(v);
+            for (float v : to_gltf(m.normals[k])) nor.push_back(v);
+        }
+        const int n = static_cast<int>(m.positions.size());
+        json prim = {{"attributes",
+                      {{"POSITION", accessor(pos, n, "VEC3", kArrayBuffer, true)},
+                       {"NORMAL", accessor(nor, n, "VEC3", kArrayBuffer)}}},
+                     {"indices", indices(m.indices)},
+                     {"material", material},
+                     {"mode", 4}};
+        j["meshes"].push_back({{"name", name}, {"primitives", {prim}}, {"extras", extras}});
+        return static_cast<int>(j["meshes"].size()) - 1;
+    }
+    int material(const std::string& name, std::array<double, 3> rgb) {
+        j["materials"].push_back({{"name", name},
+                                  {"pbrMetallicRoughness",
+                                   {{"baseColorFactor", {rgb[0], rgb[1], rgb[2], 1.0}},
+                                    {"metallicFactor", 0.0},
+                                    {"roughnessFactor", 1.0}}}});
+        return static_cast<int>(j["materials"].size()) - 1;
+    }
+    int node(json n) {
+        j["nodes"].push_back(std::move(n));
+        return static_cast<int>(j["nodes"].size()) - 1;
+    }
+
+    std::string finish() {
+        j["buffers"] = {{{"byteLength", bin.size()}}};
+        std::string text = j.dump();
+        while (text.size() % 4) text += ' ';
+        std::string out;
+        auto u32 = [&](std::uint32_t v) {
+            char b[4];
+            std::memcpy(b, &v, 4); // glTF is little-endian, as are the machines ecoterra runs on
+            out.append(b, 4);
+        };
+        u32(0x46546C67); // "glTF"
+        u32(2);
+        u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+        u32(static_cast<std::uint32_t>(text.size()));
+        u32(0x4E4F534A); // "JSON"
+        out += text;
+        u32(static_cast<std::uint32_t>(bin.size()));
+        u32(0x004E4942); // "BIN"
+        out += bin;
+        return out;
+    }
+
+private:
+    int add_view(const void* data, std::size_t bytes, int target) {
+        while (bin.size() % 4) bin += '\0';
+        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes}};
+        if (target) v["target"] = target;
+        bin.append(static_cast<const char*>(data), bytes);
+        j["bufferViews"].push_back(v);
+        return static_cast<int>(j["bufferViews"].size()) - 1;
+    }
+};
+
+} // namespace
+
+std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
+    GlbBuilder b;
+    b.j["asset"] = {{"version", "2.0"},
+                    {"generator", "ecoterra export scene"},
+                    {"extras",
+                     {{"run", s.run.string()},
+                      {"snapshot", s.snapshot},
+                      {"year", s.year},
+                      {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},
+                      {"trees", s.trees.size()}}}};
+    std::vector<int> roots;
+    const int ground = b.material("ground", kGroundColour);
+    const int bark = b.material("bark", kBarkColour);
+    roots.push_back(b.node({{"name", "terrain"},
+                            {"mesh", b.mesh(terrain_mesh(s.terrain, opt.terrain_step), "terrain",
+                                            ground, {{"role", "ground"}})}}));
+    const Mesh trunk = unit_trunk();
+    bool instancing = false;
+    for (const auto& proto : prototypes(s)) {
+        const SpeciesLook& sp = s.species[static_cast<std::size_t>(proto.species)];
+        const std::string stage = stage_name(proto.stage);
+        const int leaves =
+            b.material(file_safe(sp.name) + "_crown", crown_colour(sp, proto.species));
+        const json common = {{"species", sp.name}, {"stage", stage}};
+        json te = common, ce = common;
+        te["role"] = "trunk: solid (collision, override)";
+        ce["role"] = "crown: visual only (seen by cameras and lidar, passable)";
+        const int trunk_mesh = b.mesh(trunk, proto.name + "_trunk", bark, te);
+        const int crown_mesh =
+            b.mesh(unit_crown(sp.crown_shape, proto.stage), proto.name + "_crown", leaves, ce);
+        auto rotation = [](double yaw) {
+            return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
+                                        static_cast<float>(std::cos(0.5 * yaw))};
+        };
+        auto position = [](const Tree& t) {
+            return to_gltf(
+                {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
+        };
+        auto gscale = [](const std::array<double, 3>& e) {
+            return std::array<float, 3>{static_cast<float>(e[0]), static_cast<float>(e[2]),
+                                        static_cast<float>(e[1])};
+        };
+        if (opt.gltf_nodes) {
+            for (const auto i : proto.trees) {
+                const Tree& t = s.trees[i];
+                const auto r = rotation(t.yaw_rad);
+                const int tn = b.node({{"mesh", trunk_mesh}, {"scale", gscale(trunk_scale(t))}});
+                const int cn = b.node({{"mesh", crown_mesh}, {"scale", gscale(crown_scale(t))}});
+                roots.push_back(b.node({{"name", "plant_" + std::to_string(t.id)},
+                                        {"translation", position(t)},
+                                        {"rotation", r},
+                                        {"children", {tn, cn}},
+                                        {"extras",
+                                         {{"plant_id", t.id},
+                                          {"species", sp.name},
+                                          {"stage", stage},
+                                          {"dbh_m", t.dbh_m},
+                                          {"height_m", t.height_m},
+                                          {"crown_radius_m", t.crown_radius_m}}}}));
+            }
+            continue;
+        }
+        instancing = true;
+        std::vector<float> tr, ro, ts, cs, id, dbh, height, crown;
+        for (const auto i : proto.trees) {
+            const Tree& t = s.trees[i];
+            for (float v : position(t)) tr.push_back(v);
+            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
+            for (float v : gscale(trunk_scale(t))) ts.push_back(v);
+            for (float v : gscale(crown_scale(t))) cs.push_back(v);
+            id.push_back(static_cast<float>(t.id));
+            dbh.push_back(static_cast<float>(t.dbh_m));
+            height.push_back(static_cast<float>(t.height_m));
+            crown.push_back(static_cast<float>(t.crown_radius_m));
+        }
+        const int n = static_cast<int>(proto.trees.size());
+        const int a_tr = b.accessor(tr, n, "VEC3", 0), a_ro = b.accessor(ro, n, "VEC4", 0);
+        const json meta = {{"_PLANT_ID", b.accessor(id, n, "SCALAR", 0)},
+                           {"_DBH_M", b.accessor(dbh, n, "SCALAR", 0)},
+                           {"_HEIGHT_M", b.accessor(height, n, "SCALAR", 0)},
+                           {"_CROWN_RADIUS_M", b.accessor(crown, n, "SCALAR", 0)}};
+        for (int part = 0; part < 2; ++part) {
+            json attrs = meta;
+            attrs["TRANSLATION"] = a_tr;
+            attrs["ROTATION"] = a_ro;
+            attrs["SCALE"] = b.accessor(part == 0 ? ts : cs, n, "VEC3", 0);
+            json extras = common;
+            extras["instances"] = n;
+            extras["per_instance"] = "_PLANT_ID, _DBH_M (m), _HEIGHT_M (m), _CROWN_RADIUS_M (m)";
+            roots.push_back(
+                b.node({{"name", proto.name + (part == 0 ? "_trunks" : "_crowns")},
+                        {"mesh", part == 0 ? trunk_mesh : crown_mesh},
+                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
+                        {"extras", extras}}));
+        }
+    }
+    if (instancing) {
+        b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+        b.j["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+    }
+    b.j["scenes"] = {{{"name", "ecoterra"}, {"nodes", roots}}};
+    b.j["scene"] = 0;
+    return b.finish();
+}
+
+} // namespace ecoterra::exporter

@@ -1,0 +1,144 @@
+// GeoTIFF layers of a snapshot on the terrain's grid (`ecoterra export layers`).
+#include "ecoterra/export/formats.hpp"
+
+#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+
+namespace ecoterra::exporter {
+
+namespace {
+
+constexpr double kM2PerHa = 1e4;
+
+/// Calls f(i, j) for every cell whose centre lies within `radius` of (x, y).
+template <class F>
+void cells_within(const GridSpec& g, double x, double y, double radius, F&& f) {
+    const int i0 = std::max(0, static_cast<int>(std::ceil(g.col_of(x - radius))));
+    const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor(g.col_of(x + radius))));
+    const int j0 = std::max(0, static_cast<int>(std::ceil(g.row_of(y - radius))));
+    const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(g.row_of(y + radius))));
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i)
+            if (std::hypot(g.x_of(i) - x, g.y_of(j) - y) <= radius) f(i, j);
+}
+
+} // namespace
+
+VegetationLayers vegetation_layers(const Scene& s, const LayerOptions& opt) {
+    if (!(opt.window_radius_m > 0))
+        throw InputError("--window " + format_number(opt.window_radius_m) + ": must be above 0 m");
+    const GridSpec& g = s.terrain.grid();
+    VegetationLayers v{RasterD(g, 0.0), RasterD(g, 0.0), RasterD(g, 0.0),
+                       RasterD(g, std::numeric_limits<double>::quiet_NaN()), RasterD(g, 0.0)};
+    // Window area inside the terrain: the cells whose centres fall in it (so that edge cells are
+    // not diluted by ground outside the terrain).
+    RasterD window_cells(g, 0.0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            cells_within(g, g.x_of(i), g.y_of(j), opt.window_radius_m,
+                         [&](int, int) { window_cells(i, j) += 1; });
+    std::vector<RasterD> ba_by_species(s.species.size(), RasterD(g, 0.0));
+    for (const auto& t : s.trees) {
+        const auto& sp = s.species[static_cast<std::size_t>(t.species)];
+        cells_within(g, t.x_m, t.y_m, t.crown_radius_m, [&](int i, int j) {
+            v.canopy_height_m(i, j) = std::max(v.canopy_height_m(i, j), t.height_m);
+            v.leaf_area_m2(i, j) += sp.leaf_area_per_crown_area;
+        });
+        if (!(t.dbh_m > 0)) continue;
+        const double ba = std::numbers::pi / 4 * t.dbh_m * t.dbh_m;
+        cells_within(g, t.x_m, t.y_m, opt.window_radius_m, [&](int i, int j) {
+            const double area_ha = window_cells(i, j) * g.cell_size_m * g.cell_size_m / kM2PerHa;
+            v.stems_per_ha(i, j) += 1 / area_ha;
+            v.basal_area_m2_per_ha(i, j) += ba / area_ha;
+            ba_by_species[static_cast<std::size_t>(t.species)](i, j) += ba;
+        });
+    }
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            double best = 0;
+            for (std::size_t k = 0; k < ba_by_species.size(); ++k)
+                if (ba_by_species[k](i, j) > best) {
+                    best = ba_by_species[k](i, j);
+                    v.dominant_species(i, j) = static_cast<double>(k);
+                }
+            // Leaf area per cell: the crowns' leaf area index summed over the crowns covering it,
+            // times the cell's area.
+            v.leaf_area_m2(i, j) *= g.cell_size_m * g.cell_size_m;
+        }
+    return v;
+}
+
+void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt) {
+    const auto veg = vegetation_layers(s, opt);
+    const GridSpec full = eco::read_run_terrain(s.run).grid();
+    struct Layer {
+        std::string file, unit, what;
+        RasterD r;
+    };
+    std::vector<Layer> layers = {
+        {"elevation_m.tif", "m", "terrain elevation", s.terrain},
+        {"canopy_height_m.tif", "m",
+         "height of the tallest tree whose crown covers the cell centre (0: open)",
+         veg.canopy_height_m},
+        {"stems_per_ha.tif", "1/ha",
+         "stems with a DBH (height above 1.37 m) within " + format_number(opt.window_radius_m) +
+             " m of the cell centre, per ha of that window inside the terrain",
+         veg.stems_per_ha},
+        {"basal_area_m2_per_ha.tif", "m2/ha",
+         "basal area (pi DBH^2 / 4) in the same window, per ha", veg.basal_area_m2_per_ha},
+        {"dominant_species.tif", "index",
+         "species with the largest basal area in the window (0-based, as listed below; nodata: "
+         "none)",
+         veg.dominant_species},
+        {"leaf_area_m2.tif", "m2",
+         "leaf area above the cell: the leaf area index of every crown covering its centre, times "
+         "the cell area",
+         veg.leaf_area_m2},
+    };
+    const std::vector<std::pair<std::string, std::string>> water = {
+        {"soil_moisture", "relative soil moisture of the root zone (0 wilting point .. 1 field "
+                          "capacity and above)"},
+        {"surface_water_depth_m", "standing water depth, m"},
+        {"water_table_depth_m", "depth of the water table below the surface, m"},
+        {"catchment_id", "catchment the cell drains to (id)"}};
+    for (const auto& [name, what] : water) {
+        RasterD r = eco::read_snapshot_raster(s.run, s.snapshot, name, full);
+        if (s.region) r = r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny());
+        layers.push_back({name + ".tif",
+                          name == "soil_moisture" ? "1" : (name == "catchment_id" ? "id" : "m"),
+                          what, r});
+    }
+    std::string table = "| file | unit | what |\n|---|---|---|\n";
+    for (const auto& l : layers) {
+        terrain::io::write_geotiff(l.r, folder.staged_path(l.file), l.unit);
+        table += "| " + l.file + " | " + l.unit + " | " + l.what + " |\n";
+    }
+    std::string species;
+    for (std::size_t k = 0; k < s.species.size(); ++k)
+        species += "- " + std::to_string(k) + ": " + s.species[k].name + "\n";
+    const GridSpec& g = s.terrain.grid();
+    char geo[256];
+    std::snprintf(geo, sizeof geo,
+                  "%d x %d cells of %.9g m; west edge x = %.9g m, south edge y = %.9g m (GDAL "
+                  "geotransform %.9g, %.9g, 0, %.9g, 0, %.9g)",
+                  g.nx, g.ny, g.cell_size_m, g.origin_x_m, g.origin_y_m, g.origin_x_m,
+                  g.cell_size_m, g.origin_y_m + g.height_m(), -g.cell_size_m);
+    folder.write("README.md",
+                 "# GeoTIFF layers from ecoterra\n\nRun: " + s.run.string() + ", snapshot " +
+                     std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
+                     ").\n\nEvery layer: Float32, north-up, " + geo +
+                     ", nodata NaN. The run's coordinates are local metres (x east, y north); "
+                     "no coordinate reference system is attached (ecoterra runs do not carry "
+                     "one yet).\n\n" +
+                     table + "\nSpecies indices:\n\n" + species +
+                     "\nLoad: `gdalinfo FILE.tif`; in Python `rasterio.open(FILE)` or "
+                     "`gdal.Open(FILE)`; in QGIS drag the files in.\n");
+}
+
+} // namespace ecoterra::exporter

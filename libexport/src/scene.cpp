@@ -1,0 +1,135 @@
+#include "ecoterra/export/scene.hpp"
+
+#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/random.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+namespace ecoterra::exporter {
+
+const char* stage_name(Stage s) {
+    switch (s) {
+    case Stage::young:
+        return "young";
+    case Stage::medium:
+        return "medium";
+    case Stage::adult:
+        return "adult";
+    }
+    return "adult";
+}
+
+Stage stage_of(double height_m, double max_height_m) {
+    if (height_m < max_height_m / 3) return Stage::young;
+    if (height_m < 2 * max_height_m / 3) return Stage::medium;
+    return Stage::adult;
+}
+
+Region parse_region(const std::string& text, const std::string& option) {
+    std::vector<double> v;
+    std::stringstream in(text);
+    std::string part;
+    while (std::getline(in, part, ',')) {
+        std::size_t used = 0;
+        double d = 0;
+        try {
+            d = std::stod(part, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != part.size() || !std::isfinite(d))
+            throw InputError(option + " " + text + ": '" + part + "' is not a number");
+        v.push_back(d);
+    }
+    if (v.size() != 4)
+        throw InputError(option + " " + text + ": give four numbers X0,Y0,X1,Y1 (m)");
+    if (!(v[2] > v[0] && v[3] > v[1]))
+        throw InputError(option + " " + text + ": X1 must exceed X0 and Y1 exceed Y0");
+    return {v[0], v[1], v[2], v[3]};
+}
+
+double tree_yaw_rad(std::uint64_t seed, std::int64_t id) {
+    Rng rng(seed, "export.yaw", static_cast<std::uint64_t>(id));
+    return rng.uniform(0, 2 * std::numbers::pi);
+}
+
+std::array<int, 4> region_window(const GridSpec& g, const Region& r, const std::string& what) {
+    const double x1 = g.origin_x_m + g.width_m(), y1 = g.origin_y_m + g.height_m();
+    if (r.x1_m <= g.origin_x_m || r.y1_m <= g.origin_y_m || r.x0_m >= x1 || r.y0_m >= y1)
+        throw InputError(what + " " + format_number(r.x0_m) + "," + format_number(r.y0_m) + "," +
+                         format_number(r.x1_m) + "," + format_number(r.y1_m) +
+                         " lies outside the terrain [" + format_number(g.origin_x_m) + ", " +
+                         format_number(x1) + "] x [" + format_number(g.origin_y_m) + ", " +
+                         format_number(y1) + "] m");
+    auto cell = [&](double v, double origin, int n) {
+        return std::clamp(static_cast<int>(std::floor((v - origin) / g.cell_size_m)), 0, n - 1);
+    };
+    const int i0 = cell(r.x0_m, g.origin_x_m, g.nx), j0 = cell(r.y0_m, g.origin_y_m, g.ny);
+    // The last cell that the region enters (a region ending on a cell edge stops before it).
+    const int i1 = cell(std::nextafter(r.x1_m, r.x0_m), g.origin_x_m, g.nx);
+    const int j1 = cell(std::nextafter(r.y1_m, r.y0_m), g.origin_y_m, g.ny);
+    if (i1 - i0 < 1 || j1 - j0 < 1)
+        throw InputError(what + ": the region covers fewer than 2 x 2 terrain cells of " +
+                         format_number(g.cell_size_m) + " m");
+    return {i0, j0, i1 - i0 + 1, j1 - j0 + 1};
+}
+
+Scene load_scene(const std::filesystem::path& run, int snapshot,
+                 const std::optional<Region>& region) {
+    Scene s;
+    s.run = run;
+    const auto info = eco::read_run_info(run);
+    const auto plants = eco::read_snapshot_plants(run, snapshot);
+    s.snapshot = plants.index;
+    s.year = plants.year;
+    if (info.provenance.contains("seed") && info.provenance["seed"].is_number_unsigned())
+        s.seed = info.provenance["seed"].get<std::uint64_t>();
+    for (const auto& sp : eco::read_run_species(run))
+        s.species.push_back(
+            {sp.name, sp.crown_shape, sp.max_height_m, sp.evergreen, sp.leaf_area_per_crown_area});
+    const RasterD full = eco::read_run_terrain(run);
+    s.region = region;
+    if (region) {
+        const auto w = region_window(full.grid(), *region, run.string() + ": --region");
+        s.cut_i0 = w[0];
+        s.cut_j0 = w[1];
+        s.terrain = full.crop(w[0], w[1], w[2], w[3]);
+    } else {
+        s.terrain = full;
+    }
+    for (const auto& p : plants.plants) {
+        if (region && (p.x_m < region->x0_m || p.x_m >= region->x1_m || p.y_m < region->y0_m ||
+                       p.y_m >= region->y1_m))
+            continue;
+        if (p.species < 0 || static_cast<std::size_t>(p.species) >= s.species.size())
+            throw InputError(run.string() + ": snapshot " + std::to_string(s.snapshot) +
+                             ": plant " + std::to_string(p.id) + " has species " +
+                             std::to_string(p.species) + ", the run has " +
+                             std::to_string(s.species.size()));
+        Tree t;
+        t.id = p.id;
+        t.species = p.species;
+        t.x_m = p.x_m;
+        t.y_m = p.y_m;
+        t.z_m = full.sample_bilinear(p.x_m, p.y_m);
+        if (std::isnan(t.z_m))
+            throw InputError(run.string() + ": plant " + std::to_string(p.id) + " at (" +
+                             format_number(p.x_m) + ", " + format_number(p.y_m) +
+                             ") stands outside the terrain");
+        t.height_m = p.height_m;
+        t.dbh_m = p.dbh_m;
+        t.crown_radius_m = p.crown_radius_m;
+        t.stage = stage_of(p.height_m, s.species[static_cast<std::size_t>(p.species)].max_height_m);
+        t.yaw_rad = tree_yaw_rad(s.seed, p.id);
+        s.trees.push_back(t);
+    }
+    std::sort(s.trees.begin(), s.trees.end(),
+              [](const Tree& a, const Tree& b) { return a.id < b.id; });
+    return s;
+}
+
+} // namespace ecoterra::exporter

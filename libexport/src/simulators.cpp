@@ -1,0 +1,379 @@
+// MAVS, Gazebo and Unreal exports (docs/exports.md; formats from reference mobility.md s3 and
+// mavs.md s3.5).
+#include "ecoterra/export/formats.hpp"
+#include "ecoterra/export/mesh.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <numbers>
+
+namespace ecoterra::exporter {
+
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr double kCmPerM = 100;
+constexpr double kUnrealZCountsPerPercent = 128; ///< UE: 1/128 cm per count at Z scale 100 %
+constexpr double kUnrealZeroCount = 32768;       ///< UE puts this count at the actor's Z
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
+double rad_to_deg(double r) {
+    return r * 180 / std::numbers::pi;
+}
+
+/// Materials of the trees: bark and each species' crown.
+std::vector<std::pair<std::string, std::array<double, 3>>> tree_materials(const Scene& s) {
+    std::vector<std::pair<std::string, std::array<double, 3>>> m{{"bark", kBarkColour}};
+    for (std::size_t k = 0; k < s.species.size(); ++k)
+        m.emplace_back(file_safe(s.species[k].name) + "_crown",
+                       crown_colour(s.species[k], static_cast<int>(k)));
+    return m;
+}
+
+/// OBJ of a size class: trunk with bark, crown with the species' colour.
+std::string tree_obj(const Scene& s, const SizeClass& c, const std::string& mtllib) {
+    const SpeciesLook& look = s.species[static_cast<std::size_t>(c.species)];
+    Mesh trunk, crown;
+    trunk.append(unit_trunk(), {c.base_diameter_m, c.base_diameter_m, c.height_m});
+    crown.append(unit_crown(look.crown_shape, c.stage),
+                 {c.crown_radius_m, c.crown_radius_m, c.height_m});
+    return to_obj({{&trunk, "bark"}, {&crown, file_safe(look.name) + "_crown"}},
+                  "ecoterra tree: " + look.name + ", " + stage_name(c.stage) + ", height " +
+                      num(c.height_m) + " m, trunk base diameter " + num(c.base_diameter_m) +
+                      " m, crown radius " + num(c.crown_radius_m) +
+                      " m; ENU (x east, y north, z up), metres, base at the origin",
+                  mtllib);
+}
+
+std::string header_lines(const Scene& s) {
+    return "Run: " + s.run.string() + ", snapshot " + std::to_string(s.snapshot) + " (year " +
+           std::to_string(s.year) + "), " + std::to_string(s.trees.size()) + " trees, terrain " +
+           std::to_string(s.terrain.nx()) + " x " + std::to_string(s.terrain.ny()) + " cells of " +
+           num(s.terrain.cell_size()) + " m from (" + num(s.terrain.grid().origin_x_m) + ", " +
+           num(s.terrain.grid().origin_y_m) + ") m.\n";
+}
+
+std::string notes_text(const OutputFolder& folder) {
+    std::string t;
+    for (const auto& n : folder.notes()) t += "- " + n + "\n";
+    return t.empty() ? "" : "\n## Notes\n\n" + t;
+}
+
+/// A square raster of side `side` cells over the same extent as z (first and last samples on its
+/// outermost cell centres), bilinear.
+RasterD resample_square(const RasterD& z, int side) {
+    const double span = (z.nx() - 1) * z.cell_size();
+    const double h = span / (side - 1);
+    GridSpec g{side, side, h, z.grid().x_of(0) - 0.5 * h, z.grid().y_of(0) - 0.5 * h};
+    RasterD out(g, 0.0);
+    for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) out(i, j) = z.sample_bilinear(g.x_of(i), g.y_of(j));
+    return out;
+}
+
+void require_square(const RasterD& z, const std::string& format) {
+    if (z.nx() != z.ny())
+        throw InputError("--format " + format + ": the terrain is " + std::to_string(z.nx()) +
+                         " x " + std::to_string(z.ny()) + " cells; " + format +
+                         " landscapes are square: cut a square with --region X0,Y0,X1,Y1");
+}
+
+json read_json_file(const fs::path& p) {
+    std::ifstream in(p);
+    return json::parse(in);
+}
+
+} // namespace
+
+SceneFormat scene_format_from_name(const std::string& name) {
+    for (auto f : {SceneFormat::mavs, SceneFormat::gazebo, SceneFormat::unreal, SceneFormat::gltf})
+        if (name == scene_format_name(f)) return f;
+    throw InputError("--format " + name + ": unknown; use mavs, gazebo, unreal or gltf");
+}
+
+const char* scene_format_name(SceneFormat f) {
+    switch (f) {
+    case SceneFormat::mavs:
+        return "mavs";
+    case SceneFormat::gazebo:
+        return "gazebo";
+    case SceneFormat::unreal:
+        return "unreal";
+    case SceneFormat::gltf:
+        return "gltf";
+    }
+    return "gltf";
+}
+
+std::vector<Prototype> prototypes(const Scene& s) {
+    std::map<std::pair<int, int>, Prototype> by;
+    for (std::size_t i = 0; i < s.trees.size(); ++i) {
+        const Tree& t = s.trees[i];
+        auto& p = by[{t.species, static_cast<int>(t.stage)}];
+        p.species = t.species;
+        p.stage = t.stage;
+        p.trees.push_back(i);
+    }
+    std::vector<Prototype> out;
+    for (auto& [k, p] : by) {
+        p.name = file_safe(s.species[static_cast<std::size_t>(p.species)].name) + "_" +
+                 stage_name(p.stage);
+        out.push_back(std::move(p));
+    }
+    return out;
+}
+
+void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
+    // MAVS derives an instance's stem diameter from the sum of its world z-bounds (mavs.md s1.2
+    // item 5): shift the scene so that the stems stand near z = 0.
+    double offset = 0;
+    if (!s.trees.empty()) {
+        for (const auto& t : s.trees) offset += t.z_m;
+        offset /= static_cast<double>(s.trees.size());
+    } else {
+        offset = s.terrain.array().mean();
+    }
+    double worst = 1; // over the stems with a DBH (seedlings push with next to no force)
+    for (const auto& t : s.trees)
+        if (t.dbh_m > 0)
+            worst = std::max(worst, std::abs(2 * (t.z_m - offset) + t.height_m) / t.height_m);
+    folder.note("heights are shifted by " + num(-offset) +
+                " m so that stems stand near z = 0 (MAVS inflates a stem's override diameter by "
+                "(2 z0 + H) / H for a base at z0); the largest such factor among stems with a DBH "
+                "here is " +
+                num(worst) + (worst > 1.05 ? " (hilly: MAVS will overstate override forces)" : ""));
+    const Mesh ground = terrain_mesh(s.terrain, opt.terrain_step, offset);
+    folder.write("terrain.mtl", to_mtl({{"ground", kGroundColour}}));
+    folder.write("terrain.obj",
+                 to_obj({{&ground, "ground"}},
+                        "ecoterra terrain: ENU (x east, y north, z up), metres, z shifted by " +
+                            num(-offset) + " m",
+                        "terrain.mtl"));
+    folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
+    json objects = json::array(), veg = json::array();
+    std::string truth;
+    for (const auto& c : size_classes(s)) {
+        const std::string mesh = "meshes/" + c.name + ".obj";
+        folder.write(mesh, tree_obj(s, c, "trees.mtl"));
+        json inst = json::array();
+        double ratio = 0; // mean stem diameter / height of the class's trees
+        for (const auto i : c.trees) {
+            const Tree& t = s.trees[i];
+            inst.push_back({{"YawPitchRoll", {t.yaw_rad, 0.0, 0.0}},
+                            {"Position", {t.x_m, t.y_m, t.z_m - offset}},
+                            {"Scale", {1.0, 1.0, std::max(t.height_m, 1e-3) / c.height_m}}});
+            ratio += stem_diameter_m(t) / std::max(t.height_m, 1e-3);
+            truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
+                     std::to_string(c.species + 1) + " " + mesh + "\n";
+        }
+        ratio /= static_cast<double>(c.trees.size());
+        objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
+        // MAVS: d = diameter * (instance height) / height, so d follows each tree's height.
+        veg.push_back({{"mesh", mesh}, {"height", c.height_m}, {"diameter", ratio * c.height_m}});
+    }
+    const fs::path abs = fs::absolute(folder.dir()).lexically_normal();
+    json scene = {{"PathToMeshes", abs.string() + "/"},
+                  {"UseFullPaths", false},
+                  {"Surface Mesh",
+                   {{{"Mesh", "terrain.obj"},
+                     {"Rotate Y to Z", false},
+                     {"YawPitchRoll", {0.0, 0.0, 0.0}},
+                     {"Position", {0.0, 0.0, 0.0}},
+                     {"Scale", {1.0, 1.0, 1.0}},
+                     {"Material", "dry"},
+                     {"Cone Index", 250.0}}}},
+                  {"Objects", objects},
+                  {"VegOverrideFile", abs.string() + "/veg_override.json"}};
+    folder.write("scene.json", scene.dump(1) + "\n");
+    folder.write("veg_override.json", json({{"veg_models", veg}}).dump(1) + "\n");
+    folder.write("truth.txt", truth);
+    folder.write(
+        "README.md",
+        "# MAVS scene from ecoterra\n\n" + header_lines(s) +
+            "\nFrame: ENU (x east, y north, z up), metres, as MAVS uses; heights shifted by " +
+            num(-offset) +
+            " m (add it back for the run's elevations).\n\n"
+            "| file | what |\n|---|---|\n"
+            "| scene.json | MAVS scene: `Surface Mesh` (the terrain), `Objects` (one entry per "
+            "tree "
+            "mesh with its instances: `YawPitchRoll` in radians as MAVS's loader reads them, "
+            "`Position` m, `Scale` [1, 1, H / mesh height]), `VegOverrideFile` |\n"
+            "| terrain.obj, terrain.mtl | the terrain mesh, metres |\n"
+            "| meshes/*.obj, meshes/trees.mtl | one tree mesh per species, life stage and 5 % size "
+            "class (trunk and crown; ecoterra's own geometry) |\n"
+            "| veg_override.json | MAVS vegetation override: per mesh its `height` (m) and "
+            "`diameter` (m), so that MAVS's stem diameter, diameter x instance height / height, "
+            "is each tree's DBH to within its class |\n"
+            "| truth.txt | one tree per line: x y height speciesNum meshPath (MAVS's truth "
+            "format) |\n\n"
+            "Load: `scene.json` as a MAVS scene (`PathToMeshes` is this folder's absolute path; "
+            "edit it if you move the folder). Enable the override with `\"Using Veg Forces\": "
+            "true` in the vehicle file.\n" +
+            notes_text(folder));
+}
+
+void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions&) {
+    require_square(s.terrain, "gazebo");
+    std::vector<std::string> warnings;
+    terrain::io::WriteOptions wo;
+    wo.warnings = &warnings;
+    const fs::path png = folder.staged_path("terrain.png");
+    folder.staged_path("terrain.png.json");
+    terrain::io::write_gazebo_png(s.terrain, png, wo);
+    for (const auto& w : warnings)
+        if (w.find("resampled") != std::string::npos) folder.note(w.substr(w.find(": ") + 2));
+    const json side = read_json_file(terrain::io::png_sidecar_path(png));
+    const auto& gz = side.at("gazebo");
+    auto v3 = [&](const json& a) {
+        return num(a[0].get<double>()) + " " + num(a[1].get<double>()) + " " +
+               num(a[2].get<double>());
+    };
+    const std::string heightmap = "<heightmap><uri>terrain.png</uri><size>" + v3(gz.at("size_m")) +
+                                  "</size><pos>" + v3(gz.at("pos_m")) + "</pos></heightmap>";
+    std::string world =
+        "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <world name=\"ecoterra\">\n"
+        "    <light type=\"directional\" name=\"sun\">\n"
+        "      <direction>-0.5 0.1 -0.9</direction>\n    </light>\n"
+        "    <model name=\"terrain\">\n      <static>true</static>\n"
+        "      <link name=\"link\">\n        <collision name=\"collision\">"
+        "<geometry>" +
+        heightmap + "</geometry></collision>\n        <visual name=\"visual\"><geometry>" +
+        heightmap + "</geometry></visual>\n      </link>\n    </model>\n";
+    const std::string mtl = to_mtl(tree_materials(s));
+    for (const auto& c : size_classes(s)) {
+        const std::string dir = "models/" + c.name + "/";
+        folder.write(dir + "meshes/tree.mtl", mtl);
+        folder.write(dir + "meshes/tree.obj", tree_obj(s, c, "tree.mtl"));
+        folder.write(dir + "model.config",
+                     "<?xml version=\"1.0\"?>\n<model>\n  <name>" + c.name +
+                         "</name>\n  <version>1.0</version>\n  <sdf version=\"1.9\">model.sdf</sdf>"
+                         "\n  <description>ecoterra tree: " +
+                         s.species[static_cast<std::size_t>(c.species)].name + ", " +
+                         stage_name(c.stage) + "</description>\n</model>\n");
+        // Collision: the trunk only, a cylinder of the trunk's mean diameter; the crown is visual
+        // (cameras and lidar see it, vehicles pass through).
+        const double r = 0.5 * c.base_diameter_m * (1 + kTopDiameterFraction) / 2;
+        folder.write(dir + "model.sdf",
+                     "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <model name=\"" + c.name +
+                         "\">\n    <static>true</static>\n    <link name=\"link\">\n"
+                         "      <collision name=\"trunk\">\n        <pose>0 0 " +
+                         num(0.5 * c.height_m) +
+                         " 0 0 0</pose>\n        <geometry><cylinder><radius>" + num(r) +
+                         "</radius><length>" + num(c.height_m) +
+                         "</length></cylinder></geometry>\n      </collision>\n"
+                         "      <visual name=\"tree\">\n        <geometry><mesh><uri>model://" +
+                         c.name +
+                         "/meshes/tree.obj</uri></mesh></geometry>\n      </visual>\n"
+                         "    </link>\n  </model>\n</sdf>\n");
+        for (const auto i : c.trees) {
+            const Tree& t = s.trees[i];
+            world += "    <include><uri>model://" + c.name + "</uri><name>plant_" +
+                     std::to_string(t.id) + "</name><pose>" + num(t.x_m) + " " + num(t.y_m) + " " +
+                     num(t.z_m) + " 0 0 " + num(t.yaw_rad) +
+                     "</pose><static>true</static></include>\n";
+        }
+    }
+    world += "  </world>\n</sdf>\n";
+    folder.write("world.sdf", world);
+    folder.write(
+        "README.md",
+        "# Gazebo world from ecoterra\n\n" + header_lines(s) +
+            "\nFrame: ENU (x east, y north, z up), metres, as Gazebo uses; elevations as in the "
+            "run.\n\n| file | what |\n|---|---|\n"
+            "| world.sdf | SDF 1.9 world: the terrain as a `<heightmap>` (collision and visual) "
+            "and "
+            "one static `<include>` per tree (`<name>plant_ID</name>`, pose x y z 0 0 yaw) |\n"
+            "| terrain.png, terrain.png.json | 16-bit heightmap, square of side 2^n + 1 (its size "
+            "and height range are in world.sdf and the sidecar) |\n"
+            "| models/NAME/ | one model per species, life stage and 5 % size class: model.config, "
+            "model.sdf (collision: the trunk as a cylinder; visual: trunk and crown mesh), "
+            "meshes/tree.obj |\n\n"
+            "Load: `GZ_SIM_RESOURCE_PATH=$PWD/models gz sim world.sdf` (Gazebo Sim), or "
+            "`GAZEBO_MODEL_PATH=$PWD/models gazebo world.sdf` (Gazebo Classic), from this "
+            "folder.\n" +
+            notes_text(folder));
+}
+
+void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions&) {
+    require_square(s.terrain, "unreal");
+    RasterD land = s.terrain;
+    if (!terrain::io::is_unreal_landscape_size(land.nx())) {
+        int side = land.nx();
+        while (!terrain::io::is_unreal_landscape_size(side)) ++side;
+        land = resample_square(s.terrain, side);
+        folder.note("the terrain (" + std::to_string(s.terrain.nx()) + " x " +
+                    std::to_string(s.terrain.ny()) + ") was resampled to " + std::to_string(side) +
+                    " x " + std::to_string(side) +
+                    ", the next size Unreal Engine accepts, over the same extent");
+    }
+    const fs::path png = folder.staged_path("landscape.png");
+    folder.staged_path("landscape.png.json");
+    terrain::io::write_png16(land, png, {});
+    const json side = read_json_file(terrain::io::png_sidecar_path(png));
+    const double scale_m = side.at("vertical_scale_m").get<double>();
+    const double offset_m = side.at("vertical_offset_m").get<double>();
+    const double z_scale = scale_m * kCmPerM * kUnrealZCountsPerPercent;
+    const double xy_scale = land.cell_size() * kCmPerM;
+    // The PNG's first pixel is the north-west cell centre; Unreal's Y points south.
+    const double loc_x = land.grid().x_of(0) * kCmPerM;
+    const double loc_y = -land.grid().y_of(land.ny() - 1) * kCmPerM;
+    const double loc_z = (offset_m + scale_m * kUnrealZeroCount) * kCmPerM;
+    const std::string mtl = to_mtl(tree_materials(s));
+    folder.write("meshes/trees.mtl", mtl);
+    std::string csv = "Name,species,stage,mesh,x_cm,y_cm,z_cm,yaw_deg,scale_x,scale_y,scale_z,"
+                      "dbh_cm,height_m,crown_radius_m,collision_radius_cm\n";
+    for (const auto& c : size_classes(s)) {
+        folder.write("meshes/" + c.name + ".obj", tree_obj(s, c, "trees.mtl"));
+        for (const auto i : c.trees) {
+            const Tree& t = s.trees[i];
+            csv += "plant_" + std::to_string(t.id) + "," +
+                   s.species[static_cast<std::size_t>(t.species)].name + "," + stage_name(t.stage) +
+                   "," + c.name + "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
+                   num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + ",1,1," +
+                   num(std::max(t.height_m, 1e-3) / c.height_m) + "," + num(t.dbh_m * kCmPerM) +
+                   "," + num(t.height_m) + "," + num(t.crown_radius_m) + "," +
+                   num(0.5 * stem_diameter_m(t) * kCmPerM) + "\n";
+        }
+    }
+    folder.write("trees.csv", csv);
+    folder.write(
+        "README.md",
+        "# Unreal Engine scene from ecoterra\n\n" + header_lines(s) +
+            "\nUnreal axes: left-handed, Z up, centimetres. A run point (x east, y north, z up, "
+            "m) is (100 x, -100 y, 100 z) cm in Unreal; a yaw t counter-clockwise from east is "
+            "-t degrees in Unreal.\n\n| file | what |\n|---|---|\n"
+            "| landscape.png | 16-bit landscape heightmap, " +
+            std::to_string(land.nx()) + " x " + std::to_string(land.ny()) +
+            " (an Unreal landscape size), first row north |\n"
+            "| landscape.png.json | its encoding: elevation_m = " +
+            num(offset_m) + " + " + num(scale_m) +
+            " x pixel |\n"
+            "| trees.csv | a DataTable (row name first) for PCG's Load Data Table: species, "
+            "stage, mesh, position (cm, Unreal axes), yaw_deg, scale (z scale = height / mesh "
+            "height), DBH (cm), height (m), crown radius (m), collision radius (cm, the trunk) |\n"
+            "| meshes/*.obj, trees.mtl | tree meshes per species, stage and 5 % size class, "
+            "metres, Z up: import with a uniform scale of 100 |\n\n"
+            "Landscape import: Location X " +
+            num(loc_x) + ", Y " + num(loc_y) + ", Z " + num(loc_z) + " cm; Scale X " +
+            num(xy_scale) + ", Y " + num(xy_scale) + ", Z " + num(z_scale) +
+            " (Unreal puts count 32768 at the actor's Z, 1/128 cm per count at Z scale 100).\n" +
+            notes_text(folder));
+}
+
+} // namespace ecoterra::exporter

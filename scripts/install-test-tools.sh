@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Test-only tools from the npm registry, into .tools/ in the repository (git-ignored): the Khronos
+# glTF validator that the export tests run on every .glb. Idempotent.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+version=2.0.0-dev.3.10
+if [ -f .tools/node_modules/gltf-validator/package.json ] &&
+   grep -q "\"version\": \"$version\"" .tools/node_modules/gltf-validator/package.json; then
+  echo "install-test-tools: gltf-validator $version present"
+  exit 0
+fi
+if ! command -v npm >/dev/null; then
+  echo "install-test-tools: npm is missing; installing Debian's nodejs and npm"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends nodejs npm
+fi
+mkdir -p .tools
+npm install --silent --no-audit --no-fund --prefix .tools "gltf-validator@$version"
+echo "install-test-tools: gltf-validator $version installed in .tools/"

@@ -1,0 +1,391 @@
+// `ecoterra export scene` and `export layers` as a user runs them, checked by the formats' own
+// consumers (the Khronos glTF validator, libsdformat, GDAL) and against the snapshot's stems.
+#include "support/run_cli.hpp"
+#include "support/scenes.hpp"
+
+#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/export/formats.hpp"
+#include "ecoterra/export/mesh.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/random.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+using namespace ecoterra;
+using namespace ecoterra::exporter;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+json read_json(const fs::path& p) {
+    return json::parse(io::read_text(p));
+}
+
+/// The JSON chunk and binary chunk of a .glb.
+std::pair<json, std::string> read_glb(const fs::path& p) {
+    const std::string b = io::read_text(p);
+    REQUIRE(b.size() >= 28);
+    std::uint32_t magic = 0, len = 0, jlen = 0;
+    std::memcpy(&magic, b.data(), 4);
+    std::memcpy(&len, b.data() + 8, 4);
+    std::memcpy(&jlen, b.data() + 12, 4);
+    CHECK(magic == 0x46546C67);
+    CHECK(len == b.size());
+    const json j = json::parse(b.substr(20, jlen));
+    return {j, b.substr(20 + jlen + 8)};
+}
+
+std::vector<float> accessor_floats(const json& j, const std::string& bin, int a) {
+    const auto& acc = j["accessors"][a];
+    const auto& view = j["bufferViews"][acc["bufferView"].get<int>()];
+    const int comps = acc["type"] == "SCALAR" ? 1 : acc["type"] == "VEC3" ? 3 : 4;
+    std::vector<float> v(acc["count"].get<std::size_t>() * comps);
+    std::memcpy(v.data(), bin.data() + view["byteOffset"].get<std::size_t>(),
+                v.size() * sizeof(float));
+    return v;
+}
+
+/// The trees of a run's last snapshot by plant id.
+std::map<std::int64_t, Tree> trees_by_id(const Scene& s) {
+    std::map<std::int64_t, Tree> m;
+    for (const auto& t : s.trees) m[t.id] = t;
+    return m;
+}
+
+/// Runs a shell command in `dir` (another program than ecoterra), output and exit code.
+test::Run shell(const test::TempDir& dir, const std::string& cmd) {
+    test::Run r;
+    FILE* p = popen(("cd '" + dir.path().string() + "' && " + cmd + " 2>&1").c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::array<char, 4096> buf{};
+    while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+} // namespace
+
+TEST_CASE("export: plant geometry matches the tree's DBH, height and crown", "[export]") {
+    // The trunk's diameter at breast height is the DBH, for any height above it.
+    for (const double h : {1.5, 3.0, 10.0, 35.0})
+        for (const double d : {0.02, 0.1, 0.6}) {
+            const double base = trunk_base_diameter_m(d, h);
+            CHECK(base * (1 - (1 - kTopDiameterFraction) * kBreastHeight_m / h) == Approx(d));
+        }
+    // Unit prototypes: height 1, trunk radius 0.5 at the ground, crown radius 1, unit normals.
+    for (const auto shape :
+         {eco::CrownShape::cone, eco::CrownShape::ellipsoid, eco::CrownShape::umbrella})
+        for (const Stage st : kStages) {
+            const Mesh c = unit_crown(shape, st);
+            float zmin = 9, zmax = -9, rmax = 0;
+            for (const auto& p : c.positions) {
+                zmin = std::min(zmin, p[2]);
+                zmax = std::max(zmax, p[2]);
+                rmax = std::max(rmax, std::hypot(p[0], p[1]));
+            }
+            CHECK(zmax == Approx(1));
+            CHECK(zmin >= crown_base_fraction(st) - 1e-6);
+            CHECK(rmax == Approx(1).epsilon(1e-6));
+            for (const auto& n : c.normals)
+                CHECK(std::hypot(n[0], n[1], n[2]) == Approx(1).epsilon(1e-5));
+            CHECK(c.triangles() > 0);
+        }
+    // Size classes hold every tree within 2.5 % of its height, trunk and crown.
+    Scene s;
+    s.species = {{"A", eco::CrownShape::cone, 30, true, 3},
+                 {"B", eco::CrownShape::umbrella, 10, false, 4}};
+    s.terrain = RasterD(GridSpec{10, 10, 1.0, 0, 0}, 0.0);
+    Rng rng(1, "test");
+    for (int k = 0; k < 500; ++k) {
+        Tree t;
+        t.id = k;
+        t.species = k % 2;
+        t.height_m = rng.uniform(0.2, 30);
+        t.dbh_m = t.height_m > kBreastHeight_m ? rng.uniform(0.01, 0.8) : 0;
+        t.crown_radius_m = rng.uniform(0.1, 8);
+        t.stage = stage_of(t.height_m, s.species[static_cast<std::size_t>(t.species)].max_height_m);
+        s.trees.push_back(t);
+    }
+    std::size_t n = 0;
+    for (const auto& c : size_classes(s))
+        for (const auto i : c.trees) {
+            const Tree& t = s.trees[i];
+            CHECK(c.species == t.species);
+            CHECK(std::abs(c.height_m / t.height_m - 1) <= 0.0251);
+            CHECK(std::abs(c.base_diameter_m / trunk_scale(t)[0] - 1) <= 0.0251);
+            CHECK(std::abs(c.crown_radius_m / t.crown_radius_m - 1) <= 0.0251);
+            ++n;
+        }
+    CHECK(n == s.trees.size());
+}
+
+TEST_CASE("export layers: basal area and stems are conserved, canopy height is the tallest crown",
+          "[export][layers]") {
+    Scene s;
+    s.species = {{"A", eco::CrownShape::ellipsoid, 30, false, 4},
+                 {"B", eco::CrownShape::cone, 30, true, 3}};
+    s.terrain = RasterD(GridSpec{100, 100, 1.0, 0, 0}, 0.0);
+    Rng rng(2, "test");
+    double ba = 0;
+    for (int k = 0; k < 40; ++k) {
+        Tree t;
+        t.id = k;
+        t.species = k % 2;
+        // At cell centres, so that the window around the tree holds as many cells as the window
+        // around any interior cell (off-centre, the sum is within about 1 %).
+        t.x_m = std::floor(rng.uniform(20, 80)) + 0.5;
+        t.y_m = std::floor(rng.uniform(20, 80)) + 0.5;
+        t.height_m = rng.uniform(2, 25);
+        t.dbh_m = rng.uniform(0.05, 0.5);
+        t.crown_radius_m = rng.uniform(1, 4);
+        ba += std::numbers::pi / 4 * t.dbh_m * t.dbh_m;
+        s.trees.push_back(t);
+    }
+    const auto v = vegetation_layers(s, {10});
+    // Trees 10 m or more from the edges: every cell's window is whole, so the layers integrate to
+    // the stand's totals.
+    double ba_sum = 0, stems_sum = 0;
+    for (int j = 0; j < 100; ++j)
+        for (int i = 0; i < 100; ++i) {
+            ba_sum += v.basal_area_m2_per_ha(i, j) * 1e-4;
+            stems_sum += v.stems_per_ha(i, j) * 1e-4;
+        }
+    CHECK(ba_sum == Approx(ba).epsilon(1e-9));
+    CHECK(stems_sum == Approx(40).epsilon(1e-9));
+    // Canopy height: at each tree's own cell, at least its height.
+    for (const auto& t : s.trees) {
+        const int i = static_cast<int>(t.x_m), j = static_cast<int>(t.y_m);
+        CHECK(v.canopy_height_m(i, j) >= t.height_m);
+        CHECK(!std::isnan(v.dominant_species(i, j)));
+    }
+    CHECK(v.canopy_height_m(0, 0) == 0);
+    CHECK(std::isnan(v.dominant_species(0, 0)));
+}
+
+TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",
+          "[export][cli]") {
+    test::TempDir dir;
+    std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
+    const Scene s = load_scene(dir / "run.h5", -1);
+    REQUIRE(s.trees.size() > 20);
+    const auto by_id = trees_by_id(s);
+    const RasterD dem = eco::read_run_terrain(dir / "run.h5");
+
+    SECTION("glTF: the Khronos validator accepts it; instances and nodes hold the stems") {
+        for (const std::string mode : {"", " --gltf-nodes"}) {
+            auto r =
+                test::run(dir, "export scene run.h5 --format gltf -o scene.glb --force" + mode);
+            INFO(r.out);
+            REQUIRE(r.code == 0);
+            r = shell(dir, "NODE_PATH='" ECOTERRA_TOOLS_DIR
+                           "/node_modules' node '" ECOTERRA_VALIDATE_GLTF "' scene.glb");
+            INFO(r.out);
+            CHECK(r.code == 0);
+            CHECK_THAT(r.out, Catch::Contains("errors 0"));
+            const auto [j, bin] = read_glb(dir / "scene.glb");
+            std::size_t seen = 0;
+            for (const auto& node : j["nodes"]) {
+                if (mode.empty() && node.contains("extensions") &&
+                    node["name"].get<std::string>().ends_with("_trunks")) {
+                    const auto& at = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+                    const auto pos = accessor_floats(j, bin, at["TRANSLATION"]);
+                    const auto ids = accessor_floats(j, bin, at["_PLANT_ID"]);
+                    const auto dbh = accessor_floats(j, bin, at["_DBH_M"]);
+                    for (std::size_t k = 0; k < ids.size(); ++k) {
+                        const Tree& t = by_id.at(static_cast<std::int64_t>(ids[k]));
+                        // glTF Y-up: (east, up, -north).
+                        CHECK(pos[3 * k] == Approx(t.x_m).margin(1e-4));
+                        CHECK(pos[3 * k + 1] ==
+                              Approx(dem.sample_bilinear(t.x_m, t.y_m)).margin(1e-4));
+                        CHECK(pos[3 * k + 2] == Approx(-t.y_m).margin(1e-4));
+                        CHECK(dbh[k] == Approx(t.dbh_m).margin(1e-6));
+                        CHECK(node["extras"]["species"] ==
+                              s.species[static_cast<std::size_t>(t.species)].name);
+                        ++seen;
+                    }
+                }
+                if (!mode.empty() && node.contains("extras") &&
+                    node["extras"].contains("plant_id")) {
+                    const Tree& t = by_id.at(node["extras"]["plant_id"].get<std::int64_t>());
+                    CHECK(node["translation"][0].get<double>() == Approx(t.x_m).margin(1e-4));
+                    CHECK(node["translation"][2].get<double>() == Approx(-t.y_m).margin(1e-4));
+                    CHECK(node["extras"]["height_m"].get<double>() == Approx(t.height_m));
+                    ++seen;
+                }
+            }
+            CHECK(seen == s.trees.size());
+        }
+    }
+
+    SECTION("Gazebo: libsdformat parses the world; one include per tree at its pose") {
+        auto r = test::run(dir, "export scene run.h5 --format gazebo -o gz");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("resampled 20x20 to 33x33"));
+        r = shell(dir,
+                  "ASAN_OPTIONS=detect_leaks=0 '" ECOTERRA_SDF_CHECK "' gz/world.sdf gz/models");
+        INFO(r.out);
+        CHECK(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("models " + std::to_string(s.trees.size() + 1)));
+        const std::string world = io::read_text(dir / "gz/world.sdf");
+        std::size_t includes = 0, at = 0;
+        while ((at = world.find("<include>", at)) != std::string::npos) ++includes, ++at;
+        CHECK(includes == s.trees.size());
+        for (const auto& t : s.trees) {
+            const auto p = world.find("<name>plant_" + std::to_string(t.id) + "</name><pose>");
+            REQUIRE(p != std::string::npos);
+            std::istringstream pose(world.substr(world.find("<pose>", p) + 6));
+            double x = 0, y = 0, z = 0;
+            pose >> x >> y >> z;
+            CHECK(x == Approx(t.x_m).margin(1e-6));
+            CHECK(y == Approx(t.y_m).margin(1e-6));
+            CHECK(z == Approx(dem.sample_bilinear(t.x_m, t.y_m)).margin(1e-6));
+        }
+        CHECK(fs::exists(dir / "gz/README.md"));
+    }
+
+    SECTION("MAVS: every referenced file exists; MAVS's own diameter rule gives the DBH") {
+        auto r = test::run(dir, "export scene run.h5 --format mavs -o mavs");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        const json scene = read_json(dir / "mavs/scene.json");
+        const fs::path root = scene["PathToMeshes"].get<std::string>();
+        CHECK(fs::exists(root / scene["Surface Mesh"][0]["Mesh"].get<std::string>()));
+        CHECK(fs::exists(scene["VegOverrideFile"].get<std::string>()));
+        std::map<std::string, json> veg;
+        const json override_file = read_json(scene["VegOverrideFile"].get<std::string>());
+        for (const auto& v : override_file["veg_models"]) veg[v["mesh"].get<std::string>()] = v;
+        // Stems matched by position (truth.txt and Objects list the same trees).
+        std::size_t n = 0;
+        for (const auto& obj : scene["Objects"]) {
+            const std::string mesh = obj["Mesh"];
+            CHECK(fs::exists(root / mesh));
+            REQUIRE(veg.count(mesh) == 1);
+            for (const auto& inst : obj["Instances"]) {
+                const double x = inst["Position"][0], y = inst["Position"][1];
+                const Tree* t = nullptr;
+                for (const auto& c : s.trees)
+                    if (std::abs(c.x_m - x) < 1e-9 && std::abs(c.y_m - y) < 1e-9) t = &c;
+                REQUIRE(t != nullptr);
+                ++n;
+                // MAVS: d = diameter * (instance height) / mesh height, ground near z = 0.
+                const double h = veg[mesh]["height"].get<double>() * inst["Scale"][2].get<double>();
+                CHECK(h == Approx(t->height_m).epsilon(1e-6));
+                const double d =
+                    veg[mesh]["diameter"].get<double>() * h / veg[mesh]["height"].get<double>();
+                if (t->dbh_m > 0) CHECK(std::abs(d / t->dbh_m - 1) < 0.06);
+            }
+        }
+        CHECK(n == s.trees.size());
+    }
+
+    SECTION("Unreal: a landscape of an accepted size and a data table in centimetres") {
+        auto r = test::run(dir, "export scene run.h5 --format unreal -o ue");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        const RasterD land = terrain::io::read_png16(dir / "ue/landscape.png");
+        CHECK(land.nx() == land.ny());
+        CHECK(terrain::io::is_unreal_landscape_size(land.nx()));
+        std::istringstream csv(io::read_text(dir / "ue/trees.csv"));
+        std::string line;
+        std::getline(csv, line);
+        CHECK(line.rfind("Name,species,stage,mesh,x_cm,y_cm,z_cm,yaw_deg", 0) == 0);
+        std::size_t n = 0;
+        while (std::getline(csv, line)) {
+            std::vector<std::string> f;
+            std::istringstream row(line);
+            for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+            REQUIRE(f.size() == 15);
+            const Tree& t = by_id.at(std::stoll(f[0].substr(6)));
+            CHECK(std::stod(f[4]) == Approx(100 * t.x_m));
+            CHECK(std::stod(f[5]) == Approx(-100 * t.y_m)); // left-handed: Y points south
+            CHECK(std::stod(f[11]) == Approx(100 * t.dbh_m));
+            CHECK(fs::exists(dir / "ue/meshes" / (f[3] + ".obj")));
+            ++n;
+        }
+        CHECK(n == s.trees.size());
+    }
+
+    SECTION("layers: GDAL reads every layer on the terrain's grid") {
+        auto r = test::run(dir, "export layers run.h5 -o layers");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        for (const char* f :
+             {"elevation_m", "canopy_height_m", "stems_per_ha", "basal_area_m2_per_ha",
+              "dominant_species", "leaf_area_m2", "soil_moisture", "surface_water_depth_m",
+              "water_table_depth_m", "catchment_id"}) {
+            const RasterD l = terrain::io::read_gdal(dir / "layers" / (std::string(f) + ".tif"));
+            CHECK(l.nx() == dem.nx());
+            CHECK(l.ny() == dem.ny());
+            CHECK(l.grid().origin_x_m == Approx(dem.grid().origin_x_m));
+            CHECK(l.grid().origin_y_m == Approx(dem.grid().origin_y_m));
+            CHECK(l.cell_size() == Approx(dem.cell_size()));
+        }
+        const RasterD z = terrain::io::read_gdal(dir / "layers/elevation_m.tif");
+        CHECK((z.array() - dem.array()).abs().maxCoeff() < 1e-4);
+    }
+
+    SECTION("region: only the stems inside, the terrain cut to whole cells") {
+        auto r =
+            test::run(dir, "export scene run.h5 --format gltf -o part.glb --region 10,10,30,26");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        const Scene part = load_scene(dir / "run.h5", -1, Region{10, 10, 30, 26});
+        CHECK(part.terrain.nx() == 10);
+        CHECK(part.terrain.ny() == 8);
+        CHECK(part.terrain.grid().origin_x_m == Approx(10));
+        std::size_t inside = 0;
+        for (const auto& t : s.trees)
+            inside += t.x_m >= 10 && t.x_m < 30 && t.y_m >= 10 && t.y_m < 26;
+        CHECK(part.trees.size() == inside);
+    }
+
+    SECTION("the same export twice gives the same bytes") {
+        REQUIRE(test::run(dir, "export scene run.h5 --format gltf -o a.glb").code == 0);
+        REQUIRE(test::run(dir, "export scene run.h5 --format gltf -o b.glb").code == 0);
+        CHECK(io::read_text(dir / "a.glb") == io::read_text(dir / "b.glb"));
+    }
+
+    SECTION("bad input: named, exit 2, nothing written and no user file touched") {
+        fs::create_directories(dir / "mine");
+        std::ofstream(dir / "mine/notes.txt") << "keep me";
+        auto r = test::run(dir, "export scene run.h5 --format mavs -o mine");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("--force"));
+        CHECK(!fs::exists(dir / "mine/scene.json"));
+        r = test::run(dir, "export scene run.h5 --format mavs -o mine --force");
+        CHECK(r.code == 0);
+        CHECK(io::read_text(dir / "mine/notes.txt") == "keep me");
+        CHECK(fs::exists(dir / "mine/scene.json"));
+        r = test::run(dir, "export scene run.h5 --format mavs -o x --snapshot 99");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("--snapshot 99"));
+        r = test::run(dir, "export scene run.h5 --format mavs -o x --region 500,500,600,600");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("outside the terrain"));
+        r = test::run(dir, "export scene run.h5 --format mavs -o x --region 1,2,abc,4");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("'abc'"));
+        r = test::run(dir, "export scene run.h5 --format usd -o x");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("--format usd"));
+        r = test::run(dir, "export scene run.h5 --format gazebo -o x --region 0,0,40,20");
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("square"));
+        CHECK(!fs::exists(dir / "x"));
+        // No staging folder is left behind.
+        for (const auto& e : fs::directory_iterator(dir.path()))
+            CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+    }
+}

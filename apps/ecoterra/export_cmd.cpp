@@ -4,6 +4,7 @@
 #include "subcommands.hpp"
 
 #include "ecoterra/export/formats.hpp"
+#include "ecoterra/export/picture.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
 #include <nlohmann/json.hpp>
@@ -21,10 +22,10 @@ namespace fs = std::filesystem;
 namespace ex = ecoterra::exporter;
 
 struct SceneArgs {
-    std::string run, format, output, region;
+    std::string run, format, output, region, species_meshes;
     int snapshot = -1, decimate = 1;
     double window_m = 10;
-    bool force = false, gltf_nodes = false;
+    bool force = false, gltf_nodes = false, no_pictures = false;
 };
 
 ex::Scene load(const SceneArgs& a) {
@@ -53,15 +54,24 @@ void run_scene(const SceneArgs& a) {
     ex::ExportOptions opt;
     opt.terrain_step = a.decimate;
     opt.gltf_nodes = a.gltf_nodes;
+    ex::UserMeshes user;
+    if (!a.species_meshes.empty()) {
+        user = ex::UserMeshes::load(a.species_meshes, s.species);
+        opt.user = &user;
+    }
     auto seconds = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
     if (format == ex::SceneFormat::gltf && fs::path(a.output).extension() == ".glb") {
         // One file and its sidecar, each replaced atomically.
         const fs::path glb = a.output, side = a.output + ".json";
+        fs::path picture = glb;
+        picture.replace_extension(".picture.png");
         std::error_code ec;
-        if (!a.force && (fs::exists(glb, ec) || fs::exists(side, ec)))
-            throw InputError("-o " + a.output + ": exists; give --force to replace it");
+        for (const auto& p : {glb, side, picture})
+            if (!a.force && fs::exists(p, ec))
+                throw InputError("-o " + a.output + ": " + p.string() +
+                                 " exists; give --force to replace it");
         const std::string bytes = ex::glb_bytes(s, opt);
         nlohmann::json meta = {
             {"file", glb.filename().string()},
@@ -83,6 +93,12 @@ void run_scene(const SceneArgs& a) {
             {"load", "Blender: File > Import > glTF 2.0; three.js GLTFLoader; Python: pygltflib"}};
         io::write_text_atomic(glb, bytes);
         io::write_text_atomic(side, meta.dump(2) + "\n");
+        if (!a.no_pictures) {
+            io::AtomicOutput out(picture);
+            ex::draw_export_picture(s, out.temp_path(), opt.user);
+            out.commit();
+            std::printf("picture: %s\n", picture.string().c_str());
+        }
         report(s, "glTF", glb, bytes.size(), seconds(), {});
         return;
     }
@@ -103,9 +119,11 @@ void run_scene(const SceneArgs& a) {
                                   "up, metres; see docs/exports.md.\n");
         break;
     }
-    const auto bytes = folder.bytes();
+    const auto bytes = folder.bytes(); // the scene, without its picture
+    if (!a.no_pictures) ex::draw_export_picture(s, folder.staged_path("picture.png"), opt.user);
     folder.commit();
     report(s, ex::scene_format_name(format), a.output, bytes, seconds(), folder.notes());
+    if (!a.no_pictures) std::printf("picture: %s/picture.png\n", a.output.c_str());
 }
 
 void run_layers(const SceneArgs& a) {
@@ -142,6 +160,10 @@ void add_export_scene_commands(CLI::App& exp) {
         ->capture_default_str();
     sc->add_flag("--gltf-nodes", a->gltf_nodes,
                  "glTF: one node per tree (extras per tree) instead of GPU instancing");
+    sc->add_option("--species-meshes", a->species_meshes,
+                   "JSON mapping species and life stage to your own OBJ meshes (docs/exports.md)");
+    sc->add_flag("--no-pictures", a->no_pictures,
+                 "skip the picture (the stems beside a top view of the exported geometry)");
     sc->callback([a] { run_scene(*a); });
 
     auto b = std::make_shared<SceneArgs>();

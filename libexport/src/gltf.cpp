@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 
 namespace ecoterra::exporter {
@@ -143,85 +144,119 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
     roots.push_back(b.node({{"name", "terrain"},
                             {"mesh", b.mesh(terrain_mesh(s.terrain, opt.terrain_step), "terrain",
                                             ground, {{"role", "ground"}})}}));
-    const Mesh trunk = unit_trunk();
     bool instancing = false;
-    for (const auto& proto : prototypes(s)) {
+    auto rotation = [](double yaw) {
+        return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
+                                    static_cast<float>(std::cos(0.5 * yaw))};
+    };
+    auto position = [](const Tree& t) {
+        return to_gltf(
+            {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
+    };
+    // A scale in the run's axes (x, y, z) as glTF's (x, y up, z).
+    auto gscale = [](const std::array<double, 3>& e) {
+        return std::array<float, 3>{static_cast<float>(e[0]), static_cast<float>(e[2]),
+                                    static_cast<float>(e[1])};
+    };
+    struct Part {
+        int mesh;
+        std::function<std::array<double, 3>(const Tree&)> scale;
+        std::string suffix;
+    };
+    // Places `trees` with these parts: one node per tree (extras per tree), or per part one
+    // instanced node with per-instance attributes.
+    auto place = [&](const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+                     const std::string& name, const json& common) {
+        if (opt.gltf_nodes) {
+            for (const auto i : trees) {
+                const Tree& t = s.trees[i];
+                json children = json::array();
+                for (const auto& p : parts)
+                    children.push_back(b.node({{"mesh", p.mesh}, {"scale", gscale(p.scale(t))}}));
+                json extras = common;
+                extras.update({{"plant_id", t.id},
+                               {"species", s.species[static_cast<std::size_t>(t.species)].name},
+                               {"stage", stage_name(t.stage)},
+                               {"dbh_m", t.dbh_m},
+                               {"height_m", t.height_m},
+                               {"crown_radius_m", t.crown_radius_m}});
+                roots.push_back(b.node({{"name", "plant_" + std::to_string(t.id)},
+                                        {"translation", position(t)},
+                                        {"rotation", rotation(t.yaw_rad)},
+                                        {"children", children},
+                                        {"extras", extras}}));
+            }
+            return;
+        }
+        instancing = true;
+        std::vector<float> tr, ro, id, dbh, height, crown;
+        for (const auto i : trees) {
+            const Tree& t = s.trees[i];
+            for (float v : position(t)) tr.push_back(v);
+            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
+            id.push_back(static_cast<float>(t.id));
+            dbh.push_back(static_cast<float>(t.dbh_m));
+            height.push_back(static_cast<float>(t.height_m));
+            crown.push_back(static_cast<float>(t.crown_radius_m));
+        }
+        const int n = static_cast<int>(trees.size());
+        const int a_tr = b.accessor(tr, n, "VEC3", 0), a_ro = b.accessor(ro, n, "VEC4", 0);
+        const json meta = {{"_PLANT_ID", b.accessor(id, n, "SCALAR", 0)},
+                           {"_DBH_M", b.accessor(dbh, n, "SCALAR", 0)},
+                           {"_HEIGHT_M", b.accessor(height, n, "SCALAR", 0)},
+                           {"_CROWN_RADIUS_M", b.accessor(crown, n, "SCALAR", 0)}};
+        for (const auto& p : parts) {
+            std::vector<float> sc;
+            for (const auto i : trees)
+                for (float v : gscale(p.scale(s.trees[i]))) sc.push_back(v);
+            json attrs = meta;
+            attrs["TRANSLATION"] = a_tr;
+            attrs["ROTATION"] = a_ro;
+            attrs["SCALE"] = b.accessor(sc, n, "VEC3", 0);
+            json extras = common;
+            extras["instances"] = n;
+            extras["per_instance"] = "_PLANT_ID, _DBH_M (m), _HEIGHT_M (m), _CROWN_RADIUS_M (m)";
+            roots.push_back(
+                b.node({{"name", name + p.suffix},
+                        {"mesh", p.mesh},
+                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
+                        {"extras", extras}}));
+        }
+    };
+    for (const auto& g : user_groups(s, opt.user)) {
+        const UserMesh& u = *g.mesh;
+        const SpeciesLook& sp = s.species[static_cast<std::size_t>(s.trees[g.trees[0]].species)];
+        const int mat = b.material(u.name, crown_colour(sp, s.trees[g.trees[0]].species));
+        const json extras = {{"role", "user mesh " + u.obj.filename().string() +
+                                          ", scaled uniformly by height / " +
+                                          std::to_string(u.height_m) + " m"}};
+        const int mesh = b.mesh(u.mesh, u.name, mat, extras);
+        const double h = u.height_m;
+        place(g.trees,
+              {{mesh,
+                [h](const Tree& t) {
+                    const double k = std::max(t.height_m, 1e-3) / h;
+                    return std::array<double, 3>{k, k, k};
+                },
+                "_trees"}},
+              u.name, extras);
+    }
+    const Mesh trunk = unit_trunk();
+    for (const auto& proto : prototypes(s, opt.user)) {
         const SpeciesLook& sp = s.species[static_cast<std::size_t>(proto.species)];
-        const std::string stage = stage_name(proto.stage);
         const int leaves =
             b.material(file_safe(sp.name) + "_crown", crown_colour(sp, proto.species));
-        const json common = {{"species", sp.name}, {"stage", stage}};
+        const json common = {{"species", sp.name}, {"stage", stage_name(proto.stage)}};
         json te = common, ce = common;
         te["role"] = "trunk: solid (collision, override)";
         ce["role"] = "crown: visual only (seen by cameras and lidar, passable)";
         const int trunk_mesh = b.mesh(trunk, proto.name + "_trunk", bark, te);
         const int crown_mesh =
             b.mesh(unit_crown(sp.crown_shape, proto.stage), proto.name + "_crown", leaves, ce);
-        auto rotation = [](double yaw) {
-            return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
-                                        static_cast<float>(std::cos(0.5 * yaw))};
-        };
-        auto position = [](const Tree& t) {
-            return to_gltf(
-                {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
-        };
-        auto gscale = [](const std::array<double, 3>& e) {
-            return std::array<float, 3>{static_cast<float>(e[0]), static_cast<float>(e[2]),
-                                        static_cast<float>(e[1])};
-        };
-        if (opt.gltf_nodes) {
-            for (const auto i : proto.trees) {
-                const Tree& t = s.trees[i];
-                const auto r = rotation(t.yaw_rad);
-                const int tn = b.node({{"mesh", trunk_mesh}, {"scale", gscale(trunk_scale(t))}});
-                const int cn = b.node({{"mesh", crown_mesh}, {"scale", gscale(crown_scale(t))}});
-                roots.push_back(b.node({{"name", "plant_" + std::to_string(t.id)},
-                                        {"translation", position(t)},
-                                        {"rotation", r},
-                                        {"children", {tn, cn}},
-                                        {"extras",
-                                         {{"plant_id", t.id},
-                                          {"species", sp.name},
-                                          {"stage", stage},
-                                          {"dbh_m", t.dbh_m},
-                                          {"height_m", t.height_m},
-                                          {"crown_radius_m", t.crown_radius_m}}}}));
-            }
-            continue;
-        }
-        instancing = true;
-        std::vector<float> tr, ro, ts, cs, id, dbh, height, crown;
-        for (const auto i : proto.trees) {
-            const Tree& t = s.trees[i];
-            for (float v : position(t)) tr.push_back(v);
-            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
-            for (float v : gscale(trunk_scale(t))) ts.push_back(v);
-            for (float v : gscale(crown_scale(t))) cs.push_back(v);
-            id.push_back(static_cast<float>(t.id));
-            dbh.push_back(static_cast<float>(t.dbh_m));
-            height.push_back(static_cast<float>(t.height_m));
-            crown.push_back(static_cast<float>(t.crown_radius_m));
-        }
-        const int n = static_cast<int>(proto.trees.size());
-        const int a_tr = b.accessor(tr, n, "VEC3", 0), a_ro = b.accessor(ro, n, "VEC4", 0);
-        const json meta = {{"_PLANT_ID", b.accessor(id, n, "SCALAR", 0)},
-                           {"_DBH_M", b.accessor(dbh, n, "SCALAR", 0)},
-                           {"_HEIGHT_M", b.accessor(height, n, "SCALAR", 0)},
-                           {"_CROWN_RADIUS_M", b.accessor(crown, n, "SCALAR", 0)}};
-        for (int part = 0; part < 2; ++part) {
-            json attrs = meta;
-            attrs["TRANSLATION"] = a_tr;
-            attrs["ROTATION"] = a_ro;
-            attrs["SCALE"] = b.accessor(part == 0 ? ts : cs, n, "VEC3", 0);
-            json extras = common;
-            extras["instances"] = n;
-            extras["per_instance"] = "_PLANT_ID, _DBH_M (m), _HEIGHT_M (m), _CROWN_RADIUS_M (m)";
-            roots.push_back(
-                b.node({{"name", proto.name + (part == 0 ? "_trunks" : "_crowns")},
-                        {"mesh", part == 0 ? trunk_mesh : crown_mesh},
-                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
-                        {"extras", extras}}));
-        }
+        place(proto.trees,
+              {{trunk_mesh, [](const Tree& t) { return trunk_scale(t); }, "_trunks"},
+               {crown_mesh, [](const Tree& t) { return crown_scale(t); }, "_crowns"}},
+              proto.name, common);
     }
     if (instancing) {
         b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};

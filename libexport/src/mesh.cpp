@@ -153,12 +153,13 @@ std::array<double, 3> crown_scale(const Tree& t) {
     return {r, r, std::max(t.height_m, kMinScale_m)};
 }
 
-std::vector<SizeClass> size_classes(const Scene& s) {
+std::vector<SizeClass> size_classes(const Scene& s, const std::function<bool(const Tree&)>& skip) {
     const double lq = std::log(kSizeClassRatio);
     auto k = [&](double v) { return static_cast<int>(std::lround(std::log(v) / lq)); };
     std::map<std::tuple<int, int, int, int, int>, SizeClass> by_key;
     for (std::size_t i = 0; i < s.trees.size(); ++i) {
         const Tree& t = s.trees[i];
+        if (skip && skip(t)) continue;
         const auto ts = trunk_scale(t);
         const auto cs = crown_scale(t);
         const int kh = k(ts[2]), kd = k(ts[0]), kr = k(cs[0]);

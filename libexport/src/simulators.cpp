@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 
@@ -94,6 +95,23 @@ void require_square(const RasterD& z, const std::string& format) {
                          " landscapes are square: cut a square with --region X0,Y0,X1,Y1");
 }
 
+/// Leaves out of the size classes the trees that take a user's mesh.
+std::function<bool(const Tree&)> has_user_mesh(const ExportOptions& opt) {
+    if (!opt.user) return nullptr;
+    const UserMeshes* u = opt.user;
+    return [u](const Tree& t) { return u->find(t.species, t.stage) != nullptr; };
+}
+
+/// Copies a user's OBJ (as NAME.obj) and its material libraries into `dir` of the folder.
+void copy_user_mesh(OutputFolder& folder, const std::string& dir, const UserMesh& m) {
+    folder.write(dir + m.name + ".obj", io::read_text(m.obj));
+    for (const auto& l : m.mtl) folder.write(dir + l.filename().string(), io::read_text(l));
+}
+
+double user_scale(const Tree& t, const UserMesh& m) {
+    return std::max(t.height_m, 1e-3) / m.height_m;
+}
+
 json read_json_file(const fs::path& p) {
     std::ifstream in(p);
     return json::parse(in);
@@ -121,10 +139,22 @@ const char* scene_format_name(SceneFormat f) {
     return "gltf";
 }
 
-std::vector<Prototype> prototypes(const Scene& s) {
+std::vector<UserGroup> user_groups(const Scene& s, const UserMeshes* user) {
+    std::vector<UserGroup> out;
+    if (!user) return out;
+    for (const auto& m : user->meshes()) out.push_back({&m, {}});
+    for (std::size_t i = 0; i < s.trees.size(); ++i)
+        if (const UserMesh* m = user->find(s.trees[i].species, s.trees[i].stage))
+            out[static_cast<std::size_t>(m - user->meshes().data())].trees.push_back(i);
+    std::erase_if(out, [](const UserGroup& g) { return g.trees.empty(); });
+    return out;
+}
+
+std::vector<Prototype> prototypes(const Scene& s, const UserMeshes* user) {
     std::map<std::pair<int, int>, Prototype> by;
     for (std::size_t i = 0; i < s.trees.size(); ++i) {
         const Tree& t = s.trees[i];
+        if (user && user->find(t.species, t.stage)) continue;
         auto& p = by[{t.species, static_cast<int>(t.stage)}];
         p.species = t.species;
         p.stage = t.stage;
@@ -168,7 +198,28 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
     folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
     json objects = json::array(), veg = json::array();
     std::string truth;
-    for (const auto& c : size_classes(s)) {
+    for (const auto& g : user_groups(s, opt.user)) {
+        const UserMesh& u = *g.mesh;
+        copy_user_mesh(folder, "meshes/", u);
+        const std::string mesh = "meshes/" + u.name + ".obj";
+        json inst = json::array();
+        double ratio = 0;
+        for (const auto i : g.trees) {
+            const Tree& t = s.trees[i];
+            const double k = user_scale(t, u);
+            inst.push_back({{"YawPitchRoll", {t.yaw_rad, 0.0, 0.0}},
+                            {"Position", {t.x_m, t.y_m, t.z_m - offset}},
+                            {"Scale", {k, k, k}}});
+            ratio += stem_diameter_m(t) / std::max(t.height_m, 1e-3);
+            truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
+                     std::to_string(t.species + 1) + " " + mesh + "\n";
+        }
+        ratio /= static_cast<double>(g.trees.size());
+        objects.push_back(
+            {{"Mesh", mesh}, {"Rotate Y to Z", u.rotate_y_to_z}, {"Instances", inst}});
+        veg.push_back({{"mesh", mesh}, {"height", u.height_m}, {"diameter", ratio * u.height_m}});
+    }
+    for (const auto& c : size_classes(s, has_user_mesh(opt))) {
         const std::string mesh = "meshes/" + c.name + ".obj";
         folder.write(mesh, tree_obj(s, c, "trees.mtl"));
         json inst = json::array();
@@ -228,7 +279,7 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
             notes_text(folder));
 }
 
-void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions&) {
+void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
     require_square(s.terrain, "gazebo");
     std::vector<std::string> warnings;
     terrain::io::WriteOptions wo;
@@ -255,39 +306,65 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions&) {
         "<geometry>" +
         heightmap + "</geometry></collision>\n        <visual name=\"visual\"><geometry>" +
         heightmap + "</geometry></visual>\n      </link>\n    </model>\n";
+    auto include = [&](const std::string& model, const Tree& t) {
+        world += "    <include><uri>model://" + model + "</uri><name>plant_" +
+                 std::to_string(t.id) + "</name><pose>" + num(t.x_m) + " " + num(t.y_m) + " " +
+                 num(t.z_m) + " 0 0 " + num(t.yaw_rad) + "</pose><static>true</static></include>\n";
+    };
+    auto model_files = [&](const std::string& name, const std::string& description,
+                           const std::string& collision, const std::string& visual) {
+        const std::string dir = "models/" + name + "/";
+        folder.write(dir + "model.config",
+                     "<?xml version=\"1.0\"?>\n<model>\n  <name>" + name +
+                         "</name>\n  <version>1.0</version>\n  <sdf version=\"1.9\">model.sdf</sdf>"
+                         "\n  <description>" +
+                         description + "</description>\n</model>\n");
+        folder.write(dir + "model.sdf",
+                     "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <model name=\"" + name +
+                         "\">\n    <static>true</static>\n    <link name=\"link\">\n" + collision +
+                         visual + "    </link>\n  </model>\n</sdf>\n");
+    };
+    // A user's mesh: one model per 5 % height class (an include cannot scale its model).
+    const double lq = std::log(kSizeClassRatio);
+    for (const auto& g : user_groups(s, opt.user)) {
+        const UserMesh& u = *g.mesh;
+        std::map<int, std::vector<std::size_t>> by_height;
+        for (const auto i : g.trees)
+            by_height[static_cast<int>(
+                          std::lround(std::log(std::max(s.trees[i].height_m, 1e-3)) / lq))]
+                .push_back(i);
+        for (const auto& [kh, trees] : by_height) {
+            const std::string name =
+                u.name + "_h" + (kh < 0 ? "m" : "") + std::to_string(std::abs(kh));
+            const double k = std::pow(kSizeClassRatio, kh) / u.height_m;
+            copy_user_mesh(folder, "models/" + name + "/meshes/", u);
+            model_files(name, "user mesh " + u.obj.filename().string() + ", scaled " + num(k), "",
+                        "      <visual name=\"tree\">\n        <pose>0 0 0 " +
+                            std::string(u.rotate_y_to_z ? "1.5707963267948966" : "0") +
+                            " 0 0</pose>\n        <geometry><mesh><uri>model://" + name +
+                            "/meshes/" + u.name + ".obj</uri><scale>" + num(k) + " " + num(k) +
+                            " " + num(k) + "</scale></mesh></geometry>\n      </visual>\n");
+            for (const auto i : trees) include(name, s.trees[i]);
+        }
+    }
     const std::string mtl = to_mtl(tree_materials(s));
-    for (const auto& c : size_classes(s)) {
+    for (const auto& c : size_classes(s, has_user_mesh(opt))) {
         const std::string dir = "models/" + c.name + "/";
         folder.write(dir + "meshes/tree.mtl", mtl);
         folder.write(dir + "meshes/tree.obj", tree_obj(s, c, "tree.mtl"));
-        folder.write(dir + "model.config",
-                     "<?xml version=\"1.0\"?>\n<model>\n  <name>" + c.name +
-                         "</name>\n  <version>1.0</version>\n  <sdf version=\"1.9\">model.sdf</sdf>"
-                         "\n  <description>ecoterra tree: " +
-                         s.species[static_cast<std::size_t>(c.species)].name + ", " +
-                         stage_name(c.stage) + "</description>\n</model>\n");
         // Collision: the trunk only, a cylinder of the trunk's mean diameter; the crown is visual
         // (cameras and lidar see it, vehicles pass through).
         const double r = 0.5 * c.base_diameter_m * (1 + kTopDiameterFraction) / 2;
-        folder.write(dir + "model.sdf",
-                     "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <model name=\"" + c.name +
-                         "\">\n    <static>true</static>\n    <link name=\"link\">\n"
-                         "      <collision name=\"trunk\">\n        <pose>0 0 " +
-                         num(0.5 * c.height_m) +
-                         " 0 0 0</pose>\n        <geometry><cylinder><radius>" + num(r) +
-                         "</radius><length>" + num(c.height_m) +
-                         "</length></cylinder></geometry>\n      </collision>\n"
-                         "      <visual name=\"tree\">\n        <geometry><mesh><uri>model://" +
-                         c.name +
-                         "/meshes/tree.obj</uri></mesh></geometry>\n      </visual>\n"
-                         "    </link>\n  </model>\n</sdf>\n");
-        for (const auto i : c.trees) {
-            const Tree& t = s.trees[i];
-            world += "    <include><uri>model://" + c.name + "</uri><name>plant_" +
-                     std::to_string(t.id) + "</name><pose>" + num(t.x_m) + " " + num(t.y_m) + " " +
-                     num(t.z_m) + " 0 0 " + num(t.yaw_rad) +
-                     "</pose><static>true</static></include>\n";
-        }
+        model_files(c.name,
+                    "ecoterra tree: " + s.species[static_cast<std::size_t>(c.species)].name + ", " +
+                        stage_name(c.stage),
+                    "      <collision name=\"trunk\">\n        <pose>0 0 " + num(0.5 * c.height_m) +
+                        " 0 0 0</pose>\n        <geometry><cylinder><radius>" + num(r) +
+                        "</radius><length>" + num(c.height_m) +
+                        "</length></cylinder></geometry>\n      </collision>\n",
+                    "      <visual name=\"tree\">\n        <geometry><mesh><uri>model://" + c.name +
+                        "/meshes/tree.obj</uri></mesh></geometry>\n      </visual>\n");
+        for (const auto i : c.trees) include(c.name, s.trees[i]);
     }
     world += "  </world>\n</sdf>\n";
     folder.write("world.sdf", world);
@@ -310,7 +387,7 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions&) {
             notes_text(folder));
 }
 
-void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions&) {
+void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
     require_square(s.terrain, "unreal");
     RasterD land = s.terrain;
     if (!terrain::io::is_unreal_landscape_size(land.nx())) {
@@ -338,18 +415,26 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions&) {
     folder.write("meshes/trees.mtl", mtl);
     std::string csv = "Name,species,stage,mesh,x_cm,y_cm,z_cm,yaw_deg,scale_x,scale_y,scale_z,"
                       "dbh_cm,height_m,crown_radius_m,collision_radius_cm\n";
-    for (const auto& c : size_classes(s)) {
-        folder.write("meshes/" + c.name + ".obj", tree_obj(s, c, "trees.mtl"));
-        for (const auto i : c.trees) {
-            const Tree& t = s.trees[i];
-            csv += "plant_" + std::to_string(t.id) + "," +
-                   s.species[static_cast<std::size_t>(t.species)].name + "," + stage_name(t.stage) +
-                   "," + c.name + "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
-                   num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + ",1,1," +
-                   num(std::max(t.height_m, 1e-3) / c.height_m) + "," + num(t.dbh_m * kCmPerM) +
-                   "," + num(t.height_m) + "," + num(t.crown_radius_m) + "," +
-                   num(0.5 * stem_diameter_m(t) * kCmPerM) + "\n";
+    auto row = [&](const Tree& t, const std::string& mesh, std::array<double, 3> scale) {
+        csv += "plant_" + std::to_string(t.id) + "," +
+               s.species[static_cast<std::size_t>(t.species)].name + "," + stage_name(t.stage) +
+               "," + mesh + "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
+               num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + "," + num(scale[0]) +
+               "," + num(scale[1]) + "," + num(scale[2]) + "," + num(t.dbh_m * kCmPerM) + "," +
+               num(t.height_m) + "," + num(t.crown_radius_m) + "," +
+               num(0.5 * stem_diameter_m(t) * kCmPerM) + "\n";
+    };
+    for (const auto& g : user_groups(s, opt.user)) {
+        copy_user_mesh(folder, "meshes/", *g.mesh);
+        for (const auto i : g.trees) {
+            const double k = user_scale(s.trees[i], *g.mesh);
+            row(s.trees[i], g.mesh->name, {k, k, k});
         }
+    }
+    for (const auto& c : size_classes(s, has_user_mesh(opt))) {
+        folder.write("meshes/" + c.name + ".obj", tree_obj(s, c, "trees.mtl"));
+        for (const auto i : c.trees)
+            row(s.trees[i], c.name, {1, 1, std::max(s.trees[i].height_m, 1e-3) / c.height_m});
     }
     folder.write("trees.csv", csv);
     folder.write(

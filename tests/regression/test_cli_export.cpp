@@ -253,6 +253,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
             CHECK(z == Approx(dem.sample_bilinear(t.x_m, t.y_m)).margin(1e-6));
         }
         CHECK(fs::exists(dir / "gz/README.md"));
+        CHECK(fs::file_size(dir / "gz/picture.png") > 10000);
     }
 
     SECTION("MAVS: every referenced file exists; MAVS's own diameter rule gives the DBH") {
@@ -349,6 +350,86 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         for (const auto& t : s.trees)
             inside += t.x_m >= 10 && t.x_m < 30 && t.y_m >= 10 && t.y_m < 26;
         CHECK(part.trees.size() == inside);
+    }
+
+    SECTION("species meshes: a user's OBJ replaces the trees of its species in every format") {
+        // A pyramid 2 m tall, y up (as many modelling tools write), with a material library.
+        std::ofstream(dir / "cone.obj") << "mtllib cone.mtl\nv -0.5 0 -0.5\nv 0.5 0 -0.5\nv 0.5 0 "
+                                           "0.5\nv -0.5 0 0.5\nv 0 2 0\nusemtl leaf\nf 1 2 5\nf "
+                                           "2 3 5\nf 3 4 5\nf 4 1 5\nf 4 3 2 1\n";
+        std::ofstream(dir / "cone.mtl") << "newmtl leaf\nKd 0.1 0.5 0.1\n";
+        std::ofstream(dir / "meshes.json")
+            << R"({"meshes": [{"species": "Birch", "obj": "cone.obj", "height_m": 2, "rotate_y_to_z": true}]})";
+        std::size_t birches = 0;
+        for (const auto& t : s.trees)
+            birches += s.species[static_cast<std::size_t>(t.species)].name == "Birch";
+        REQUIRE(birches > 0);
+        auto r = test::run(
+            dir, "export scene run.h5 --format gltf -o user.glb --species-meshes meshes.json");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        r = shell(dir, "NODE_PATH='" ECOTERRA_TOOLS_DIR
+                       "/node_modules' node '" ECOTERRA_VALIDATE_GLTF "' user.glb");
+        INFO(r.out);
+        CHECK(r.code == 0);
+        const auto [j, bin] = read_glb(dir / "user.glb");
+        std::size_t user_instances = 0;
+        for (const auto& node : j["nodes"])
+            if (node["name"] == "user_cone_trees") {
+                const auto& at = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+                const auto sc = accessor_floats(j, bin, at["SCALE"]);
+                const auto ids = accessor_floats(j, bin, at["_PLANT_ID"]);
+                for (std::size_t k = 0; k < ids.size(); ++k) {
+                    const Tree& t = by_id.at(static_cast<std::int64_t>(ids[k]));
+                    CHECK(sc[3 * k + 1] == Approx(t.height_m / 2).epsilon(1e-6));
+                    ++user_instances;
+                }
+            }
+        CHECK(user_instances == birches);
+        r = test::run(dir, "export scene run.h5 --format mavs -o um --species-meshes meshes.json");
+        REQUIRE(r.code == 0);
+        CHECK(fs::exists(dir / "um/meshes/user_cone.obj"));
+        CHECK(fs::exists(dir / "um/meshes/cone.mtl"));
+        const json scene = read_json(dir / "um/scene.json");
+        std::size_t mavs_user = 0;
+        for (const auto& obj : scene["Objects"])
+            if (obj["Mesh"] == "meshes/user_cone.obj") {
+                CHECK(obj["Rotate Y to Z"] == true);
+                mavs_user += obj["Instances"].size();
+            }
+        CHECK(mavs_user == birches);
+        r = test::run(dir,
+                      "export scene run.h5 --format gazebo -o ug --species-meshes meshes.json");
+        REQUIRE(r.code == 0);
+        r = shell(dir,
+                  "ASAN_OPTIONS=detect_leaks=0 '" ECOTERRA_SDF_CHECK "' ug/world.sdf ug/models");
+        INFO(r.out);
+        CHECK(r.code == 0);
+        REQUIRE(
+            test::run(dir, "export scene run.h5 --format unreal -o uu --species-meshes meshes.json")
+                .code == 0);
+        CHECK(fs::exists(dir / "uu/meshes/user_cone.obj"));
+        // Bad mesh files: named file, entry, key and value.
+        auto bad = [&](const std::string& text, const std::string& expect) {
+            std::ofstream(dir / "bad.json") << text;
+            const auto b = test::run(
+                dir, "export scene run.h5 --format gltf -o bad.glb --species-meshes bad.json");
+            CHECK(b.code == 2);
+            CHECK_THAT(b.out, Catch::Contains(expect));
+            CHECK(!fs::exists(dir / "bad.glb"));
+        };
+        bad(R"({"meshes": [{"species": "Oak", "obj": "cone.obj", "height_m": 2}]})",
+            "'Oak': the run has no such species (Horse chestnut, Birch");
+        bad(R"({"meshes": [{"species": "Birch", "obj": "nope.obj", "height_m": 2}]})",
+            "meshes[0].obj = 'nope.obj': no such file");
+        bad(R"({"meshes": [{"species": "Birch", "stage": "old", "obj": "cone.obj", "height_m": 2}]})",
+            "stage = 'old'");
+        bad(R"({"meshes": [{"species": "Birch", "obj": "cone.obj", "height_m": 0}]})", "height_m");
+        bad(R"({"meshes": [{"species": "Birch", "obj": "cone.obj", "height_m": 2, "scale": 3}]})",
+            "unknown key 'scale'");
+        std::ofstream(dir / "broken.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+        bad(R"({"meshes": [{"species": "Birch", "obj": "broken.obj", "height_m": 2}]})",
+            "broken.obj:3: face index 7");
     }
 
     SECTION("the same export twice gives the same bytes") {

@@ -4,6 +4,7 @@
 // appears whole or not at all.
 #include "ecoterra/export/folder.hpp"
 #include "ecoterra/export/scene.hpp"
+#include "ecoterra/export/user_meshes.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -19,16 +20,25 @@ const char* scene_format_name(SceneFormat f);
 struct ExportOptions {
     int terrain_step = 1;    ///< keep every k-th terrain vertex in meshes (glTF, MAVS)
     bool gltf_nodes = false; ///< glTF: one node per tree instead of EXT_mesh_gpu_instancing
+    const UserMeshes* user = nullptr; ///< the user's meshes by species and stage, if any
 };
 
-/// Prototype (species, stage) pairs in use, in a fixed order (species, then stage).
+/// The trees that take a user's mesh, grouped by mesh (in the file's order).
+struct UserGroup {
+    const UserMesh* mesh = nullptr;
+    std::vector<std::size_t> trees; ///< indices into Scene::trees
+};
+std::vector<UserGroup> user_groups(const Scene& s, const UserMeshes* user);
+
+/// Prototype (species, stage) pairs in use by trees without a user mesh, in a fixed order
+/// (species, then stage).
 struct Prototype {
     int species = 0;
     Stage stage = Stage::young;
     std::vector<std::size_t> trees; ///< indices into Scene::trees
     std::string name;               ///< file-safe: "<species>_<stage>"
 };
-std::vector<Prototype> prototypes(const Scene& s);
+std::vector<Prototype> prototypes(const Scene& s, const UserMeshes* user = nullptr);
 
 /// The scene as glTF 2.0 binary (.glb bytes): Y-up, metres, the terrain mesh and per (species,
 /// stage) a trunk and a crown mesh with their instances.

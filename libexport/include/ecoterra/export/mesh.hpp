@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -71,8 +72,10 @@ struct SizeClass {
     std::vector<std::size_t> trees; ///< indices into Scene::trees
     std::string name;               ///< file-safe and unique
 };
-/// The classes in use, ordered by species, stage and size.
-std::vector<SizeClass> size_classes(const Scene& s);
+/// The classes in use, ordered by species, stage and size; trees for which `skip(tree)` is true
+/// (those with a user's mesh) are left out.
+std::vector<SizeClass> size_classes(const Scene& s,
+                                    const std::function<bool(const Tree&)>& skip = nullptr);
 /// A whole tree (trunk and crown) of the class's size, base at the origin.
 Mesh tree_mesh(const SpeciesLook& look, const SizeClass& c);
 /// The tree's DBH (or trunk base diameter below breast height), for the override of MAVS.

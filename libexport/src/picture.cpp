@@ -1,0 +1,173 @@
+// The export's check picture: the snapshot's stems (crown circles from the run's records) beside
+// a top view rendered from the exported geometry (the terrain mesh and every tree's trunk and
+// crown triangles, placed by the transforms the writers write), so a person can see they agree.
+#include "ecoterra/export/picture.hpp"
+#include "ecoterra/export/mesh.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/terrain/picture.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace ecoterra::exporter {
+
+namespace {
+
+constexpr double kPanelPx = 600, kTitlePx = 30, kGapPx = 20;
+constexpr int kMaxTerrainQuads = 150; ///< per side, in the picture's terrain mesh
+// Okabe-Ito (as the run pictures), so species colours match the stems picture.
+constexpr double kPalette[8][3] = {{0.90, 0.62, 0.00}, {0.34, 0.71, 0.91}, {0.00, 0.62, 0.45},
+                                   {0.94, 0.89, 0.26}, {0.00, 0.45, 0.70}, {0.84, 0.37, 0.00},
+                                   {0.80, 0.47, 0.65}, {0.40, 0.40, 0.40}};
+
+struct Tri {
+    std::array<std::array<float, 3>, 3> p;
+    std::array<double, 3> rgb;
+    float z;
+};
+
+/// Lambert shading of a colour by a normal, light from the north-west, 45 degrees up.
+std::array<double, 3> shade(const std::array<double, 3>& c, const std::array<float, 3>& n) {
+    const double l = std::max(0.0, (-0.5 * n[0] + 0.5 * n[1] + 0.7071 * n[2]));
+    const double f = 0.35 + 0.65 * l;
+    return {c[0] * f, c[1] * f, c[2] * f};
+}
+
+void add(std::vector<Tri>& out, const Mesh& m, const std::array<double, 3>& rgb) {
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        Tri tri;
+        std::array<float, 3> n{0, 0, 0};
+        float z = 0;
+        for (int k = 0; k < 3; ++k) {
+            const auto i = m.indices[t + static_cast<std::size_t>(k)];
+            tri.p[static_cast<std::size_t>(k)] = m.positions[i];
+            for (int d = 0; d < 3; ++d)
+                n[static_cast<std::size_t>(d)] += m.normals[i][static_cast<std::size_t>(d)] / 3;
+            z = std::max(z, m.positions[i][2]);
+        }
+        tri.rgb = shade(rgb, n);
+        tri.z = z;
+        out.push_back(tri);
+    }
+}
+
+void label(cairo_t* cr, double x, double y, const std::string& s) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_font_size(cr, 13);
+    cairo_move_to(cr, x, y);
+    cairo_show_text(cr, s.c_str());
+}
+
+} // namespace
+
+void draw_export_picture(const Scene& s, const std::filesystem::path& png, const UserMeshes* user) {
+    const GridSpec& g = s.terrain.grid();
+    const double scale = kPanelPx / std::max(g.width_m(), g.height_m());
+    const double w = g.width_m() * scale, h = g.height_m() * scale;
+    const int W = static_cast<int>(std::ceil(2 * w + kGapPx)),
+              H = static_cast<int>(std::ceil(h + kTitlePx + 24));
+    cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
+    cairo_t* cr = cairo_create(surf);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    auto px = [&](double x, double off) { return off + (x - g.origin_x_m) * scale; };
+    auto py = [&](double y) { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; };
+
+    // Left: the run's records, crowns as circles over the hillshade.
+    const terrain::Image im = terrain::hillshade_image(s.terrain);
+    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
+    unsigned char* data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int r = 0; r < im.height; ++r)
+        for (int c = 0; c < im.width; ++c) {
+            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
+            *(reinterpret_cast<std::uint32_t*>(data + r * stride) + c) =
+                (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
+                p.b;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, 0, kTitlePx);
+    cairo_scale(cr, w / im.width, h / im.height);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+    std::vector<std::size_t> order(s.trees.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return s.trees[a].crown_radius_m > s.trees[b].crown_radius_m;
+    });
+    cairo_set_line_width(cr, 0.8);
+    for (const auto k : order) {
+        const Tree& t = s.trees[k];
+        const auto* c = kPalette[std::min(t.species, 7)];
+        cairo_arc(cr, px(t.x_m, 0), py(t.y_m), std::max(1.0, t.crown_radius_m * scale), 0,
+                  2 * std::numbers::pi);
+        cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.55);
+        cairo_fill_preserve(cr);
+        cairo_set_source_rgba(cr, 0.1, 0.1, 0.1, 0.8);
+        cairo_stroke(cr);
+    }
+    label(cr, 8, 20,
+          "Snapshot " + std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
+              "): stems, crown circles");
+
+    // Right: the exported geometry seen from above, drawn far to near (painter's order by height).
+    const double off = w + kGapPx;
+    std::vector<Tri> tris;
+    const int step = std::max(1, (std::max(g.nx, g.ny) + kMaxTerrainQuads - 1) / kMaxTerrainQuads);
+    add(tris, terrain_mesh(s.terrain, step), kGroundColour);
+    const Mesh trunk = unit_trunk();
+    for (const auto& t : s.trees) {
+        const auto* col = kPalette[std::min(t.species, 7)];
+        if (const UserMesh* u = user ? user->find(t.species, t.stage) : nullptr) {
+            const double k = std::max(t.height_m, 1e-3) / u->height_m;
+            Mesh m;
+            m.append(u->mesh, {k, k, k}, t.yaw_rad, {t.x_m, t.y_m, t.z_m});
+            add(tris, m, {col[0], col[1], col[2]});
+            continue;
+        }
+        Mesh m;
+        m.append(trunk, trunk_scale(t), t.yaw_rad, {t.x_m, t.y_m, t.z_m});
+        add(tris, m, kBarkColour);
+        Mesh c;
+        c.append(unit_crown(s.species[static_cast<std::size_t>(t.species)].crown_shape, t.stage),
+                 crown_scale(t), t.yaw_rad, {t.x_m, t.y_m, t.z_m});
+        add(tris, c, {col[0], col[1], col[2]});
+    }
+    std::stable_sort(tris.begin(), tris.end(),
+                     [](const Tri& a, const Tri& b) { return a.z < b.z; });
+    cairo_save(cr);
+    cairo_rectangle(cr, off, kTitlePx, w, h);
+    cairo_clip(cr);
+    cairo_set_line_width(cr, 0.3);
+    for (const auto& t : tris) {
+        cairo_move_to(cr, px(t.p[0][0], off), py(t.p[0][1]));
+        cairo_line_to(cr, px(t.p[1][0], off), py(t.p[1][1]));
+        cairo_line_to(cr, px(t.p[2][0], off), py(t.p[2][1]));
+        cairo_close_path(cr);
+        cairo_set_source_rgb(cr, t.rgb[0], t.rgb[1], t.rgb[2]);
+        cairo_fill_preserve(cr);
+        cairo_stroke(cr); // closes hairline gaps between neighbours
+    }
+    cairo_restore(cr);
+    label(cr, off + 8, 20,
+          "Exported geometry, top view: " + std::to_string(tris.size()) + " triangles");
+    label(cr, 8, kTitlePx + h + 18,
+          std::to_string(s.trees.size()) + " trees, " +
+              std::to_string(static_cast<int>(g.width_m())) + " m x " +
+              std::to_string(static_cast<int>(g.height_m())) + " m; colours by species");
+    cairo_surface_flush(surf);
+    const auto status = cairo_surface_write_to_png(surf, png.string().c_str());
+    cairo_destroy(cr);
+    cairo_surface_destroy(surf);
+    if (status != CAIRO_STATUS_SUCCESS) throw IoError(png.string() + ": cannot write the picture");
+}
+
+} // namespace ecoterra::exporter

@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libsundials-dev libsuitesparse-dev libboost-graph-dev
   libhdf5-dev nlohmann-json3-dev catch2
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
-  libsdformat-dev
+  libsdformat-dev gdal-bin
 )
 if [ "${1:-}" = "--sanitize" ]; then
   packages+=(clang libclang-rt-14-dev libomp-14-dev)

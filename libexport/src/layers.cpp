@@ -5,6 +5,7 @@
 #include "ecoterra/error.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -115,13 +116,22 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
                           what, r});
     }
     std::string table = "| file | unit | what |\n|---|---|---|\n";
-    for (const auto& l : layers) {
+    for (auto& l : layers) {
+        l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain
         terrain::io::write_geotiff(l.r, folder.staged_path(l.file), l.unit);
         table += "| " + l.file + " | " + l.unit + " | " + l.what + " |\n";
     }
     std::string species;
     for (std::size_t k = 0; k < s.species.size(); ++k)
         species += "- " + std::to_string(k) + ": " + s.species[k].name + "\n";
+    const std::string& wkt = s.terrain.crs_wkt();
+    const std::string crs =
+        wkt.empty() ? "No coordinate reference system: the run's terrain had none (a generated "
+                      "terrain, or a DEM file without one), so x and y are local metres (x east, "
+                      "y north)."
+                    : "Coordinate reference system: the run's terrain's, carried from its DEM "
+                      "file (WKT in every file; it begins " +
+                          wkt.substr(0, std::min<std::size_t>(wkt.size(), 60)) + " ...).";
     const GridSpec& g = s.terrain.grid();
     char geo[256];
     std::snprintf(geo, sizeof geo,
@@ -132,11 +142,8 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
     folder.write("README.md",
                  "# GeoTIFF layers from ecoterra\n\nRun: " + s.run.string() + ", snapshot " +
                      std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
-                     ").\n\nEvery layer: Float32, north-up, " + geo +
-                     ", nodata NaN. The run's coordinates are local metres (x east, y north); "
-                     "no coordinate reference system is attached (ecoterra runs do not carry "
-                     "one yet).\n\n" +
-                     table + "\nSpecies indices:\n\n" + species +
+                     ").\n\nEvery layer: Float32, north-up, " + geo + ", nodata NaN. " + crs +
+                     "\n\n" + table + "\nSpecies indices:\n\n" + species +
                      "\nLoad: `gdalinfo FILE.tif`; in Python `rasterio.open(FILE)` or "
                      "`gdal.Open(FILE)`; in QGIS drag the files in.\n");
 }

@@ -470,3 +470,37 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
             CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
     }
 }
+
+TEST_CASE("export layers: the input DEM's coordinate system is carried through the run",
+          "[export][layers][crs]") {
+    test::TempDir dir;
+    // A DEM in UTM zone 16N (gdal_translate assigns it), as a field survey would deliver.
+    std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o plain.h5 --no-pictures").code == 0);
+    REQUIRE(test::run(dir, "export layers plain.h5 -o plain").code == 0);
+    const auto none = shell(dir, "gdalinfo plain/stems_per_ha.tif");
+    CHECK_THAT(none.out, !Catch::Contains("UTM"));
+    auto r = shell(dir, "gdal_translate -q -a_srs EPSG:32616 -a_ullr 500000 4000040 500040 4000000 "
+                        "plain/elevation_m.tif utm.tif");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    json scene = test::small_scene(2);
+    scene["terrain"] = {{"file", "utm.tif"}};
+    std::ofstream(dir / "utm.json") << scene.dump(2);
+    r = test::run(dir, "run utm.json -o utm.h5 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(eco::read_run_terrain(dir / "utm.h5").crs_wkt(), Catch::Contains("UTM zone 16N"));
+    REQUIRE(test::run(dir, "export layers utm.h5 -o layers --region 500010,4000010,500030,4000030")
+                .code == 0);
+    for (const char* f : {"elevation_m", "stems_per_ha", "soil_moisture", "catchment_id"}) {
+        r = shell(dir, std::string("gdalinfo layers/") + f + ".tif");
+        INFO(r.out);
+        CHECK(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("UTM zone 16N"));
+        CHECK_THAT(r.out,
+                   Catch::Contains("Origin = (500010.000000000000000,4000030.000000000000000)"));
+        CHECK_THAT(r.out, Catch::Contains("Pixel Size = (2.000000000000000,-2.000000000000000)"));
+    }
+    CHECK_THAT(io::read_text(dir / "layers/README.md"), Catch::Contains("carried from its DEM"));
+}

@@ -90,6 +90,11 @@ public:
     }
 
     const GridSpec& grid() const { return m_grid; }
+    /// The coordinate reference system of the grid's x and y as OGC WKT, empty when unknown (a
+    /// generated terrain, a file without one). Carried from a GeoTIFF through run files to the
+    /// GeoTIFFs ecoterra writes; crop() keeps it.
+    const std::string& crs_wkt() const { return m_crs_wkt; }
+    void set_crs_wkt(std::string wkt) { m_crs_wkt = std::move(wkt); }
     int nx() const { return m_grid.nx; }
     int ny() const { return m_grid.ny; }
     std::int64_t size() const { return m_grid.size(); }
@@ -122,7 +127,9 @@ public:
     Raster crop(int i0, int j0, int w, int h) const {
         if (i0 < 0 || j0 < 0 || w <= 0 || h <= 0 || i0 + w > nx() || j0 + h > ny())
             throw InputError("crop window outside the raster");
-        return Raster(view_grid(i0, j0, w, h), Array(view(i0, j0, w, h)));
+        Raster out(view_grid(i0, j0, w, h), Array(view(i0, j0, w, h)));
+        out.m_crs_wkt = m_crs_wkt;
+        return out;
     }
 
     /// Bilinear interpolation between cell centres at world point (x, y). Points between the
@@ -167,6 +174,7 @@ public:
 private:
     GridSpec m_grid;
     Array m_data;
+    std::string m_crs_wkt;
 };
 
 using RasterD = Raster<double>;

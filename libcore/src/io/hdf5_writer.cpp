@@ -210,6 +210,7 @@ struct Hdf5Writer::Impl {
             double_attr(ds, "cell_size_m", r.cell_size());
             double_attr(ds, "origin_x_m", r.grid().origin_x_m);
             double_attr(ds, "origin_y_m", r.grid().origin_y_m);
+            if (!r.crs_wkt().empty()) string_attr(ds, "crs_wkt", r.crs_wkt());
         });
     }
 
@@ -269,6 +270,7 @@ Hdf5Writer::~Hdf5Writer() = default;
 void Hdf5Writer::raster(const std::string& path, const RasterD& r, const std::string& units,
                         const std::string& d) {
     Raster<float> f(r.grid());
+    f.set_crs_wkt(r.crs_wkt());
     for (std::int64_t k = 0; k < r.size(); ++k) f.data()[k] = static_cast<float>(r.data()[k]);
     raster(path, f, units, d);
 }

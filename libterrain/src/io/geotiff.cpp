@@ -109,6 +109,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     if (GDALRasterIO(band, GF_Read, 0, 0, nx, ny, buf.data(), nx, ny, GDT_Float64, 0, 0) != CE_None)
         throw IoError(where + ": GDAL read failed: " + QuietGdal::last());
     RasterD z(g, 0.0);
+    if (const char* wkt = GDALGetProjectionRef(ds.get()); wkt && *wkt) z.set_crs_wkt(wkt);
     for (int r = 0; r < ny; ++r) {
         const int j = dy < 0 ? ny - 1 - r : r;
         for (int c = 0; c < nx; ++c) {
@@ -138,6 +139,9 @@ void write_geotiff(const RasterD& z, const std::filesystem::path& path, const st
     const double h = z.cell_size();
     double gt[6] = {z.grid().origin_x_m, h, 0.0, z.grid().origin_y_m + z.ny() * h, 0.0, -h};
     GDALSetGeoTransform(ds.get(), gt);
+    if (!z.crs_wkt().empty() && GDALSetProjection(ds.get(), z.crs_wkt().c_str()) != CE_None)
+        throw IoError(path.string() +
+                      ": GDAL refuses the raster's coordinate system: " + QuietGdal::last());
     GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
     GDALSetRasterNoDataValue(band, std::nan(""));
     GDALSetMetadataItem(ds.get(), "UNITS", units.c_str(), nullptr);

@@ -63,6 +63,7 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
         RasterD z(g, 0.0);
         ds.read(z.data(), H5::PredType::NATIVE_DOUBLE);
         if (order == "north_to_south") z.array() = z.array().colwise().reverse().eval();
+        z.set_crs_wkt(read_string_attr(ds, "crs_wkt"));
         return z;
     } catch (const H5::Exception& e) {
         throw IoError(where + ": HDF5 error: " + e.getDetailMsg());

@@ -269,6 +269,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         for (const auto& v : override_file["veg_models"]) veg[v["mesh"].get<std::string>()] = v;
         // Stems matched by position (truth.txt and Objects list the same trees).
         std::size_t n = 0;
+        std::vector<double> offsets;
         for (const auto& obj : scene["Objects"]) {
             const std::string mesh = obj["Mesh"];
             CHECK(fs::exists(root / mesh));
@@ -281,6 +282,10 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
                 REQUIRE(t != nullptr);
                 ++n;
                 // MAVS: d = diameter * (instance height) / mesh height, ground near z = 0.
+                // Every base is the DEM's height less one offset for the whole scene.
+                const double shift = dem.sample_bilinear(x, y) - inst["Position"][2].get<double>();
+                if (!offsets.empty()) CHECK(shift == Approx(offsets.front()).margin(1e-6));
+                offsets.push_back(shift);
                 const double h = veg[mesh]["height"].get<double>() * inst["Scale"][2].get<double>();
                 CHECK(h == Approx(t->height_m).epsilon(1e-6));
                 const double d =
@@ -295,6 +300,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         auto r = test::run(dir, "export scene run.h5 --format unreal -o ue");
         INFO(r.out);
         REQUIRE(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("resampled to 22 x 22"));
         const RasterD land = terrain::io::read_png16(dir / "ue/landscape.png");
         CHECK(land.nx() == land.ny());
         CHECK(terrain::io::is_unreal_landscape_size(land.nx()));

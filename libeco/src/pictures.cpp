@@ -103,28 +103,6 @@ void white(cairo_t* cr) {
     cairo_paint(cr);
 }
 
-/// Paints an image scaled to w x h pixels at (x, y).
-void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h) {
-    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
-    unsigned char* data = cairo_image_surface_get_data(img);
-    const int stride = cairo_image_surface_get_stride(img);
-    for (int r = 0; r < im.height; ++r)
-        for (int c = 0; c < im.width; ++c) {
-            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
-            auto* q = reinterpret_cast<std::uint32_t*>(data + r * stride) + c;
-            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
-                 p.b;
-        }
-    cairo_surface_mark_dirty(img);
-    cairo_save(cr);
-    cairo_translate(cr, x, y);
-    cairo_scale(cr, w / im.width, h / im.height);
-    cairo_set_source_surface(cr, img, 0, 0);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(img);
-}
-
 /// A map of the grid `g` in a square of about kMapPx pixels: metres to pixels, y up.
 struct MapFrame {
     GridSpec g;
@@ -273,6 +251,32 @@ void draw_history(const Ecosystem& eco, const fs::path& path) {
 }
 
 } // namespace
+
+void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h) {
+    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
+    unsigned char* data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    for (int r = 0; r < im.height; ++r)
+        for (int c = 0; c < im.width; ++c) {
+            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
+            auto* q = reinterpret_cast<std::uint32_t*>(data + r * stride) + c;
+            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
+                 p.b;
+        }
+    cairo_surface_mark_dirty(img);
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_scale(cr, w / im.width, h / im.height);
+    cairo_set_source_surface(cr, img, 0, 0);
+    cairo_paint(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(img);
+}
+
+std::array<double, 3> species_colour(std::size_t k) {
+    const auto* c = kPalette[std::min<std::size_t>(k, 7)];
+    return {c[0], c[1], c[2]};
+}
 
 void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
     io::create_folder(dir, "the picture folder");

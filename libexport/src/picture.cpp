@@ -4,6 +4,7 @@
 #include "ecoterra/export/picture.hpp"
 #include "ecoterra/export/mesh.hpp"
 
+#include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
@@ -20,10 +21,6 @@ namespace {
 
 constexpr double kPanelPx = 600, kTitlePx = 30, kGapPx = 20;
 constexpr int kMaxTerrainQuads = 150; ///< per side, in the picture's terrain mesh
-// Okabe-Ito (as the run pictures), so species colours match the stems picture.
-constexpr double kPalette[8][3] = {{0.90, 0.62, 0.00}, {0.34, 0.71, 0.91}, {0.00, 0.62, 0.45},
-                                   {0.94, 0.89, 0.26}, {0.00, 0.45, 0.70}, {0.84, 0.37, 0.00},
-                                   {0.80, 0.47, 0.65}, {0.40, 0.40, 0.40}};
 
 struct Tri {
     std::array<std::array<float, 3>, 3> p;
@@ -79,25 +76,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     auto py = [&](double y) { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; };
 
     // Left: the run's records, crowns as circles over the hillshade.
-    const terrain::Image im = terrain::hillshade_image(s.terrain);
-    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
-    unsigned char* data = cairo_image_surface_get_data(img);
-    const int stride = cairo_image_surface_get_stride(img);
-    for (int r = 0; r < im.height; ++r)
-        for (int c = 0; c < im.width; ++c) {
-            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
-            *(reinterpret_cast<std::uint32_t*>(data + r * stride) + c) =
-                (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
-                p.b;
-        }
-    cairo_surface_mark_dirty(img);
-    cairo_save(cr);
-    cairo_translate(cr, 0, kTitlePx);
-    cairo_scale(cr, w / im.width, h / im.height);
-    cairo_set_source_surface(cr, img, 0, 0);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(img);
+    eco::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, w, h);
     std::vector<std::size_t> order(s.trees.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -106,7 +85,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     cairo_set_line_width(cr, 0.8);
     for (const auto k : order) {
         const Tree& t = s.trees[k];
-        const auto* c = kPalette[std::min(t.species, 7)];
+        const auto c = eco::species_colour(static_cast<std::size_t>(t.species));
         cairo_arc(cr, px(t.x_m, 0), py(t.y_m), std::max(1.0, t.crown_radius_m * scale), 0,
                   2 * std::numbers::pi);
         cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.55);
@@ -125,12 +104,12 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     add(tris, terrain_mesh(s.terrain, step), kGroundColour);
     const Mesh trunk = unit_trunk();
     for (const auto& t : s.trees) {
-        const auto* col = kPalette[std::min(t.species, 7)];
+        const auto col = eco::species_colour(static_cast<std::size_t>(t.species));
         if (const UserMesh* u = user ? user->find(t.species, t.stage) : nullptr) {
             const double k = std::max(t.height_m, 1e-3) / u->height_m;
             Mesh m;
             m.append(u->mesh, {k, k, k}, t.yaw_rad, {t.x_m, t.y_m, t.z_m});
-            add(tris, m, {col[0], col[1], col[2]});
+            add(tris, m, col);
             continue;
         }
         Mesh m;
@@ -139,7 +118,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
         Mesh c;
         c.append(unit_crown(s.species[static_cast<std::size_t>(t.species)].crown_shape, t.stage),
                  crown_scale(t), t.yaw_rad, {t.x_m, t.y_m, t.z_m});
-        add(tris, c, {col[0], col[1], col[2]});
+        add(tris, c, col);
     }
     std::stable_sort(tris.begin(), tris.end(),
                      [](const Tri& a, const Tri& b) { return a.z < b.z; });

@@ -61,16 +61,33 @@ std::map<std::int64_t, Tree> trees_by_id(const Scene& s) {
     return m;
 }
 
-/// Runs a shell command in `dir` (another program than ecoterra), output and exit code.
-test::Run shell(const test::TempDir& dir, const std::string& cmd) {
-    test::Run r;
-    FILE* p = popen(("cd '" + dir.path().string() + "' && " + cmd + " 2>&1").c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::array<char, 4096> buf{};
-    while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-    const int status = pclose(p);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+using test::shell;
+
+/// Runs ecoterra with `args` in `dir`; the test case stops unless it succeeds. Its output.
+std::string succeeds(const test::TempDir& dir, const std::string& args) {
+    const auto r = test::run(dir, args);
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    return r.out;
+}
+
+/// The Khronos glTF validator on `glb`: passes with zero errors.
+void check_gltf_validator(const test::TempDir& dir, const std::string& glb) {
+    const auto r = shell(dir, "NODE_PATH='" ECOTERRA_TOOLS_DIR
+                              "/node_modules' node '" ECOTERRA_VALIDATE_GLTF "' " +
+                                  glb);
+    INFO(r.out);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("errors 0"));
+}
+
+/// libsdformat on FOLDER/world.sdf with its models: no errors. Its output ("models N").
+std::string check_sdformat(const test::TempDir& dir, const std::string& folder) {
+    const auto r = shell(dir, "ASAN_OPTIONS=detect_leaks=0 '" ECOTERRA_SDF_CHECK "' " + folder +
+                                  "/world.sdf " + folder + "/models");
+    INFO(r.out);
+    CHECK(r.code == 0);
+    return r.out;
 }
 
 } // namespace
@@ -184,15 +201,8 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
 
     SECTION("glTF: the Khronos validator accepts it; instances and nodes hold the stems") {
         for (const std::string mode : {"", " --gltf-nodes"}) {
-            auto r =
-                test::run(dir, "export scene run.h5 --format gltf -o scene.glb --force" + mode);
-            INFO(r.out);
-            REQUIRE(r.code == 0);
-            r = shell(dir, "NODE_PATH='" ECOTERRA_TOOLS_DIR
-                           "/node_modules' node '" ECOTERRA_VALIDATE_GLTF "' scene.glb");
-            INFO(r.out);
-            CHECK(r.code == 0);
-            CHECK_THAT(r.out, Catch::Contains("errors 0"));
+            succeeds(dir, "export scene run.h5 --format gltf -o scene.glb --force" + mode);
+            check_gltf_validator(dir, "scene.glb");
             const auto [j, bin] = read_glb(dir / "scene.glb");
             std::size_t seen = 0;
             for (const auto& node : j["nodes"]) {
@@ -229,15 +239,10 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     }
 
     SECTION("Gazebo: libsdformat parses the world; one include per tree at its pose") {
-        auto r = test::run(dir, "export scene run.h5 --format gazebo -o gz");
-        INFO(r.out);
-        REQUIRE(r.code == 0);
-        CHECK_THAT(r.out, Catch::Contains("resampled 20x20 to 33x33"));
-        r = shell(dir,
-                  "ASAN_OPTIONS=detect_leaks=0 '" ECOTERRA_SDF_CHECK "' gz/world.sdf gz/models");
-        INFO(r.out);
-        CHECK(r.code == 0);
-        CHECK_THAT(r.out, Catch::Contains("models " + std::to_string(s.trees.size() + 1)));
+        CHECK_THAT(succeeds(dir, "export scene run.h5 --format gazebo -o gz"),
+                   Catch::Contains("resampled 20x20 to 33x33"));
+        CHECK_THAT(check_sdformat(dir, "gz"),
+                   Catch::Contains("models " + std::to_string(s.trees.size() + 1)));
         const std::string world = io::read_text(dir / "gz/world.sdf");
         std::size_t includes = 0, at = 0;
         while ((at = world.find("<include>", at)) != std::string::npos) ++includes, ++at;
@@ -257,9 +262,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     }
 
     SECTION("MAVS: every referenced file exists; MAVS's own diameter rule gives the DBH") {
-        auto r = test::run(dir, "export scene run.h5 --format mavs -o mavs");
-        INFO(r.out);
-        REQUIRE(r.code == 0);
+        succeeds(dir, "export scene run.h5 --format mavs -o mavs");
         const json scene = read_json(dir / "mavs/scene.json");
         const fs::path root = scene["PathToMeshes"].get<std::string>();
         CHECK(fs::exists(root / scene["Surface Mesh"][0]["Mesh"].get<std::string>()));
@@ -297,10 +300,8 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     }
 
     SECTION("Unreal: a landscape of an accepted size and a data table in centimetres") {
-        auto r = test::run(dir, "export scene run.h5 --format unreal -o ue");
-        INFO(r.out);
-        REQUIRE(r.code == 0);
-        CHECK_THAT(r.out, Catch::Contains("resampled to 22 x 22"));
+        CHECK_THAT(succeeds(dir, "export scene run.h5 --format unreal -o ue"),
+                   Catch::Contains("resampled to 22 x 22"));
         const RasterD land = terrain::io::read_png16(dir / "ue/landscape.png");
         CHECK(land.nx() == land.ny());
         CHECK(terrain::io::is_unreal_landscape_size(land.nx()));
@@ -325,9 +326,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     }
 
     SECTION("layers: GDAL reads every layer on the terrain's grid") {
-        auto r = test::run(dir, "export layers run.h5 -o layers");
-        INFO(r.out);
-        REQUIRE(r.code == 0);
+        succeeds(dir, "export layers run.h5 -o layers");
         for (const char* f :
              {"elevation_m", "canopy_height_m", "stems_per_ha", "basal_area_m2_per_ha",
               "dominant_species", "leaf_area_m2", "soil_moisture", "surface_water_depth_m",
@@ -370,14 +369,9 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         for (const auto& t : s.trees)
             birches += s.species[static_cast<std::size_t>(t.species)].name == "Birch";
         REQUIRE(birches > 0);
-        auto r = test::run(
-            dir, "export scene run.h5 --format gltf -o user.glb --species-meshes meshes.json");
-        INFO(r.out);
-        REQUIRE(r.code == 0);
-        r = shell(dir, "NODE_PATH='" ECOTERRA_TOOLS_DIR
-                       "/node_modules' node '" ECOTERRA_VALIDATE_GLTF "' user.glb");
-        INFO(r.out);
-        CHECK(r.code == 0);
+        const std::string with = " --species-meshes meshes.json";
+        succeeds(dir, "export scene run.h5 --format gltf -o user.glb" + with);
+        check_gltf_validator(dir, "user.glb");
         const auto [j, bin] = read_glb(dir / "user.glb");
         std::size_t user_instances = 0;
         for (const auto& node : j["nodes"])
@@ -392,8 +386,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
                 }
             }
         CHECK(user_instances == birches);
-        r = test::run(dir, "export scene run.h5 --format mavs -o um --species-meshes meshes.json");
-        REQUIRE(r.code == 0);
+        succeeds(dir, "export scene run.h5 --format mavs -o um" + with);
         CHECK(fs::exists(dir / "um/meshes/user_cone.obj"));
         CHECK(fs::exists(dir / "um/meshes/cone.mtl"));
         const json scene = read_json(dir / "um/scene.json");
@@ -404,16 +397,9 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
                 mavs_user += obj["Instances"].size();
             }
         CHECK(mavs_user == birches);
-        r = test::run(dir,
-                      "export scene run.h5 --format gazebo -o ug --species-meshes meshes.json");
-        REQUIRE(r.code == 0);
-        r = shell(dir,
-                  "ASAN_OPTIONS=detect_leaks=0 '" ECOTERRA_SDF_CHECK "' ug/world.sdf ug/models");
-        INFO(r.out);
-        CHECK(r.code == 0);
-        REQUIRE(
-            test::run(dir, "export scene run.h5 --format unreal -o uu --species-meshes meshes.json")
-                .code == 0);
+        succeeds(dir, "export scene run.h5 --format gazebo -o ug" + with);
+        check_sdformat(dir, "ug");
+        succeeds(dir, "export scene run.h5 --format unreal -o uu" + with);
         CHECK(fs::exists(dir / "uu/meshes/user_cone.obj"));
         // Bad mesh files: named file, entry, key and value.
         auto bad = [&](const std::string& text, const std::string& expect) {

@@ -16,9 +16,9 @@ struct Run {
     std::string out; ///< stdout and stderr
 };
 
-inline Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
-    const std::string cmd =
-        "cd '" + dir.path().string() + "' && " + env + " '" ECOTERRA_BIN "' " + args + " 2>&1";
+/// Runs a shell command in `dir`, capturing its output and exit code.
+inline Run shell(const TempDir& dir, const std::string& command) {
+    const std::string cmd = "cd '" + dir.path().string() + "' && " + command + " 2>&1";
     Run r;
     FILE* p = popen(cmd.c_str(), "r");
     REQUIRE(p != nullptr);
@@ -27,6 +27,11 @@ inline Run run(const TempDir& dir, const std::string& args, const std::string& e
     const int status = pclose(p);
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+
+/// Runs the ecoterra program with `args` in `dir` (`env`: assignments put before it).
+inline Run run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+    return shell(dir, env + " '" ECOTERRA_BIN "' " + args);
 }
 
 } // namespace ecoterra::test

@@ -3,10 +3,20 @@
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
+#include "ecoterra/terrain/picture.hpp"
+
+#include <array>
 
 #include <filesystem>
 
+typedef struct _cairo cairo_t; // cairo.h's own declaration
+
 namespace ecoterra::eco {
+
+/// Paints an image scaled to w x h pixels at (x, y) (shared with the export picture).
+void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h);
+/// The colour of species k in every picture: Okabe-Ito (colour-blind safe), grey from the 8th.
+std::array<double, 3> species_colour(std::size_t k);
 
 /// Per-run pictures (Cairo): stems over hillshade, moisture, standing water, the DBH histogram
 /// with its exponential fit, basal area and stems over time.

@@ -441,21 +441,17 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         CHECK(r.code == 0);
         CHECK(io::read_text(dir / "mine/notes.txt") == "keep me");
         CHECK(fs::exists(dir / "mine/scene.json"));
-        r = test::run(dir, "export scene run.h5 --format mavs -o x --snapshot 99");
-        CHECK(r.code == 2);
-        CHECK_THAT(r.out, Catch::Contains("--snapshot 99"));
-        r = test::run(dir, "export scene run.h5 --format mavs -o x --region 500,500,600,600");
-        CHECK(r.code == 2);
-        CHECK_THAT(r.out, Catch::Contains("outside the terrain"));
-        r = test::run(dir, "export scene run.h5 --format mavs -o x --region 1,2,abc,4");
-        CHECK(r.code == 2);
-        CHECK_THAT(r.out, Catch::Contains("'abc'"));
-        r = test::run(dir, "export scene run.h5 --format usd -o x");
-        CHECK(r.code == 2);
-        CHECK_THAT(r.out, Catch::Contains("--format usd"));
-        r = test::run(dir, "export scene run.h5 --format gazebo -o x --region 0,0,40,20");
-        CHECK(r.code == 2);
-        CHECK_THAT(r.out, Catch::Contains("square"));
+        const std::pair<const char*, const char*> bad[] = {
+            {"--format mavs -o x --snapshot 99", "--snapshot 99"},
+            {"--format mavs -o x --region 500,500,600,600", "outside the terrain"},
+            {"--format mavs -o x --region 1,2,abc,4", "'abc'"},
+            {"--format usd -o x", "--format usd"},
+            {"--format gazebo -o x --region 0,0,40,20", "square"}};
+        for (const auto& [args, expect] : bad) {
+            r = test::run(dir, std::string("export scene run.h5 ") + args);
+            CHECK(r.code == 2);
+            CHECK_THAT(r.out, Catch::Contains(expect));
+        }
         CHECK(!fs::exists(dir / "x"));
         // No staging folder is left behind.
         for (const auto& e : fs::directory_iterator(dir.path()))

@@ -2,9 +2,11 @@
 
 #include "ecoterra/error.hpp"
 
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 #include <filesystem>
+#include <unistd.h>
 
 namespace ecoterra::app {
 
@@ -67,21 +69,46 @@ void print_notes(const std::vector<std::string>& notes) {
 
 namespace {
 bool g_progress_showing = false;
-}
+int g_progress_logged_tenths = -1; ///< in a log: the last 10 % step written
 
-void progress_line(const char* format, ...) {
+std::string eta_text(double fraction, double elapsed_s) {
+    if (!(fraction > 0) || fraction >= 1) return "";
+    const double left = elapsed_s * (1 - fraction) / fraction;
+    char buf[48];
+    if (left < 90)
+        std::snprintf(buf, sizeof buf, "ETA %.0f s", left);
+    else if (left < 5400)
+        std::snprintf(buf, sizeof buf, "ETA %.0f min", left / 60);
+    else
+        std::snprintf(buf, sizeof buf, "ETA %.1f h", left / 3600);
+    return buf;
+}
+} // namespace
+
+void progress_line(double fraction, double elapsed_s, const char* format, ...) {
+    static const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    fraction = std::clamp(fraction, 0.0, 1.0);
+    const int tenths = static_cast<int>(fraction * 10 + 1e-9);
+    if (!terminal && tenths <= g_progress_logged_tenths) return;
     std::fflush(stdout); // what the command said before the progress, in order
-    std::fputc('\r', stderr);
+    if (terminal) std::fputc('\r', stderr);
     va_list args;
     va_start(args, format);
     std::vfprintf(stderr, format, args);
     va_end(args);
-    g_progress_showing = true;
+    std::fprintf(stderr, "%3.0f %%  %s   ", 100 * fraction, eta_text(fraction, elapsed_s).c_str());
+    if (terminal) {
+        g_progress_showing = true;
+    } else {
+        std::fputc('\n', stderr);
+        g_progress_logged_tenths = tenths;
+    }
 }
 
 void end_progress_line() {
     if (g_progress_showing) std::fputc('\n', stderr);
     g_progress_showing = false;
+    g_progress_logged_tenths = -1;
 }
 
 } // namespace ecoterra::app

@@ -23,8 +23,12 @@ void refuse_output_over_input(const std::string& option, const std::string& outp
 void print_warnings(const std::vector<std::string>& warnings);
 /// Prints each note to stderr as "note: ...".
 void print_notes(const std::vector<std::string>& notes);
-/// Rewrites the progress line on stderr (printf-style).
-[[gnu::format(printf, 1, 2)]] void progress_line(const char* format, ...);
+/// Shows progress on stderr: `fraction` done (0..1) after `elapsed_s` seconds, with the text
+/// (printf-style) and an estimate of the time left. On a terminal one line is rewritten in place;
+/// into a log (stderr not a terminal) a whole line is written each time another 10 % is done,
+/// with no carriage returns.
+[[gnu::format(printf, 3, 4)]] void progress_line(double fraction, double elapsed_s,
+                                                 const char* format, ...);
 /// Ends the progress line, if one is showing, so that what follows starts on a line of its own.
 void end_progress_line();
 

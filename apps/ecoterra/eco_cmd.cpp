@@ -79,7 +79,8 @@ void run_run(const RunArgs& a) {
             const int done = p.years > 0 ? kBar * p.year / p.years : kBar;
             std::string bar(static_cast<std::size_t>(done), '#');
             bar.resize(kBar, '.');
-            progress_line("  [%s] year %d/%d  %zu plants  BA %.2f m2/ha  %.3g plant-years/s  ",
+            progress_line(p.years > 0 ? static_cast<double>(p.year) / p.years : 1.0, p.seconds,
+                          "  [%s] year %d/%d  %zu plants  BA %.2f m2/ha  %.3g plant-years/s  ",
                           bar.c_str(), p.year, p.years, p.plants, p.basal_area_m2_per_ha,
                           p.plant_years / std::max(p.seconds, 1e-9));
         });

@@ -168,7 +168,8 @@ void run_hydro_run(const RunArgs& a) {
     const double cells = static_cast<double>(sc.dem.size());
     const auto sum =
         hydro::run_hydro_scene(sc, a.output, prov, a.png_dir, [&](int day, int total, double s) {
-            progress_line("  year %d day %3d  (%d of %d days, %.3g cell-days/s)   ",
+            progress_line(static_cast<double>(day) / total, s,
+                          "  year %d day %3d  (%d of %d days, %.3g cell-days/s)  ",
                           (day - 1) / 365 + 1, (day - 1) % 365 + 1, day, total,
                           cells * day / std::max(s, 1e-9));
             if (day == total) end_progress_line();

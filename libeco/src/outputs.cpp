@@ -98,6 +98,8 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
     using R = PlantRecord;
     using N = std::vector<std::string>;
     static const std::vector<StemCsvColumn> c = {
+        {"id", "", "plant id (joins the row to the snapshot's plants/id)", ColumnType::int64,
+         [](const R& r, const N&) { return std::to_string(r.id); }},
         {"x_m", "m", "stem position, east", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.x_m); }},
         {"y_m", "m", "stem position, north", ColumnType::float64,
@@ -109,6 +111,8 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
              const auto sp = static_cast<std::size_t>(r.species);
              return sp < names.size() ? names[sp] : std::to_string(sp);
          }},
+        {"species_index", "", "0-based index of the species in the run (plants/species)",
+         ColumnType::int32, [](const R& r, const N&) { return std::to_string(r.species); }},
         {"dbh_cm", "cm", "trunk diameter at breast height (0 below it)", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.dbh_m * 100.0); }},
         {"height_m", "m", "plant height", ColumnType::float64,

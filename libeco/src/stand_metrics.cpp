@@ -74,6 +74,25 @@ std::vector<StandMetrics> stand_metrics_by_species(const std::vector<double>& db
     return out;
 }
 
+namespace {
+
+/// The DBH classes with their edges (cm), the stems in each and the same per ha.
+nlohmann::json dbh_histogram_json(const StandMetrics& m) {
+    std::vector<double> edges, per_ha;
+    for (std::size_t k = 0; k <= m.histogram.size(); ++k)
+        edges.push_back(static_cast<double>(k) * m.class_width_cm);
+    for (const auto c : m.histogram)
+        per_ha.push_back(m.area_ha > 0 ? static_cast<double>(c) / m.area_ha : 0.0);
+    return {{"class_width_cm", m.class_width_cm},
+            {"edges_cm", edges},
+            {"counts", m.histogram},
+            {"counts_unit", "stems in the class over the whole area (area_ha)"},
+            {"stems_per_ha", per_ha},
+            {"classes", "class k holds edges_cm[k] <= DBH < edges_cm[k + 1]"}};
+}
+
+} // namespace
+
 nlohmann::json to_json(const StandMetrics& m) {
     nlohmann::json fit = nullptr;
     if (m.fit_valid)
@@ -89,7 +108,7 @@ nlohmann::json to_json(const StandMetrics& m) {
             {"mean_dbh_m", m.mean_dbh_m},
             {"quadratic_mean_dbh_m", m.quadratic_mean_dbh_m},
             {"reineke_sdi_per_ha", m.sdi_per_ha},
-            {"dbh_histogram", {{"class_width_cm", m.class_width_cm}, {"counts", m.histogram}}},
+            {"dbh_histogram", dbh_histogram_json(m)},
             {"exponential_fit", fit}};
 }
 

@@ -12,7 +12,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <omp.h>
+#include <sstream>
 
 using namespace ecoterra;
 using nlohmann::json;
@@ -250,16 +252,37 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
     for (const char* k : {"basal_area_m2_per_ha", "stems_per_ha", "dbh_histogram"})
         CHECK(st.contains(k));
     CHECK(st["dbh_histogram"]["class_width_cm"] == 5.0);
+    // Edges bound every class; the per-ha counts add up to the stand's stems per ha.
+    const auto& h = st["dbh_histogram"];
+    REQUIRE(h["edges_cm"].size() == h["counts"].size() + 1);
+    double per_ha = 0;
+    for (std::size_t k = 0; k < h["counts"].size(); ++k) {
+        CHECK(h["edges_cm"][k + 1].get<double>() - h["edges_cm"][k].get<double>() == 5.0);
+        per_ha += h["stems_per_ha"][k].get<double>();
+    }
+    CHECK(per_ha == Approx(st["stems_per_ha"].get<double>()));
     CHECK(st.contains("exponential_fit"));
     r = test::run(dir, "export vegetation run.h5 -o stems.csv");
     REQUIRE(r.code == 0);
     std::ifstream csv(dir / "stems.csv");
     std::string header;
     std::getline(csv, header);
-    CHECK(header == "x_m,y_m,z_m,species,dbh_cm,height_m,crown_radius_m");
+    CHECK(header == "id,x_m,y_m,z_m,species,species_index,dbh_cm,height_m,crown_radius_m");
+    // Every row joins back to its plant by id, with the plant's species index and position.
+    std::map<std::int64_t, eco::PlantRecord> plants;
+    for (const auto& p : eco::read_snapshot_plants(dir / "run.h5", -1).plants) plants[p.id] = p;
     std::size_t rows = 0;
-    for (std::string line; std::getline(csv, line);) ++rows;
-    CHECK(rows == eco::read_snapshot_plants(dir / "run.h5", -1).plants.size());
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> f;
+        std::istringstream row(line);
+        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+        REQUIRE(f.size() == 9);
+        const auto& p = plants.at(std::stoll(f[0]));
+        CHECK(std::stod(f[1]) == Approx(p.x_m));
+        CHECK(std::stoi(f[5]) == p.species);
+        ++rows;
+    }
+    CHECK(rows == plants.size());
 }
 
 TEST_CASE("run: bad input names the file, species and key", "[eco][cli][errors]") {

@@ -258,6 +258,13 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
             CHECK(z == Approx(dem.sample_bilinear(t.x_m, t.y_m)).margin(1e-6));
         }
         CHECK(fs::exists(dir / "gz/README.md"));
+        // The heightmap is centred on the terrain (cell centres 1 .. 39 m: the centre is 20 m),
+        // in world.sdf and in the sidecar's own SDF snippet alike.
+        const json side = read_json(dir / "gz/terrain.png.json");
+        CHECK(side["gazebo"]["pos_m"][0].get<double>() == Approx(20));
+        CHECK(side["gazebo"]["pos_m"][1].get<double>() == Approx(20));
+        CHECK_THAT(side["gazebo"]["sdf"].get<std::string>(), Catch::Contains("<pos>20 20 "));
+        CHECK_THAT(world, Catch::Contains("<pos>20 20 "));
         CHECK(fs::file_size(dir / "gz/picture.png") > 10000);
     }
 

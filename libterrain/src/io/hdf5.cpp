@@ -34,25 +34,34 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
     try {
         if (!H5::H5File::isHdf5(where)) throw InputError(where + ": not an HDF5 file");
         H5::H5File f(where, H5F_ACC_RDONLY);
-        if (!f.nameExists(dataset)) throw InputError(where + ": has no dataset " + dataset);
-        H5::DataSet ds = f.openDataSet(dataset);
+        // A run file of ecoterra (hydrology or ecosystem) keeps its terrain at /terrain/elevation:
+        // every raster command takes it where it asks for a DEM.
+        const std::string name = dataset == "/elevation" && !f.nameExists(dataset) &&
+                                         f.nameExists("/terrain") &&
+                                         f.openGroup("/terrain").nameExists("elevation")
+                                     ? "/terrain/elevation"
+                                     : dataset;
+        if (!f.nameExists(name))
+            throw InputError(where + ": has no dataset " + dataset +
+                             " (nor /terrain/elevation, the terrain of a run file)");
+        H5::DataSet ds = f.openDataSet(name);
         H5::DataSpace sp = ds.getSpace();
         if (sp.getSimpleExtentNdims() != 2)
-            throw InputError(where + ": dataset " + dataset + " must be 2-D [ny, nx]");
+            throw InputError(where + ": dataset " + name + " must be 2-D [ny, nx]");
         hsize_t dims[2];
         sp.getSimpleExtentDims(dims);
         constexpr hsize_t kMaxSide = 2147483647;
         if (dims[0] > kMaxSide || dims[1] > kMaxSide)
-            throw InputError(where + ": dataset " + dataset + " has " + std::to_string(dims[0]) +
+            throw InputError(where + ": dataset " + name + " has " + std::to_string(dims[0]) +
                              " x " + std::to_string(dims[1]) + " cells, more than a grid can hold");
         GridSpec g;
         g.ny = static_cast<int>(dims[0]);
         g.nx = static_cast<int>(dims[1]);
         if (!read_double_attr(ds, "cell_size_m", g.cell_size_m))
-            throw InputError(where + ": dataset " + dataset + " lacks the attribute cell_size_m");
+            throw InputError(where + ": dataset " + name + " lacks the attribute cell_size_m");
         read_double_attr(ds, "origin_x_m", g.origin_x_m);
         read_double_attr(ds, "origin_y_m", g.origin_y_m);
-        g.validate(where + " " + dataset);
+        g.validate(where + " " + name);
         const std::string order = read_string_attr(ds, "row_order");
         if (!order.empty() && order != "south_to_north" && order != "north_to_south")
             throw InputError(where +

@@ -226,15 +226,21 @@ void write_gazebo_png(const RasterD& z, const std::filesystem::path& path,
     }
     const auto s = stats(out);
     const double size_xy = (side - 1) * out.cell_size();
+    // Gazebo centres the heightmap on <pos>: the centre of the outermost samples, so that the
+    // heightmap lands where the raster lies (and stems placed by their coordinates stand on it).
+    const double cx = out.grid().x_of(0) + 0.5 * size_xy, cy = out.grid().y_of(0) + 0.5 * size_xy;
+    auto num = [](double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.9g", v);
+        return std::string(b);
+    };
     nlohmann::json gz = {
         {"gazebo",
          {{"size_m", {size_xy, size_xy, s.max - s.min}},
-          {"pos_m",
-           {out.grid().x_of(0) + 0.5 * size_xy, out.grid().y_of(0) + 0.5 * size_xy, s.min}},
-          {"sdf", "<heightmap><uri>" + path.filename().string() + "</uri><size>" +
-                      std::to_string(size_xy) + " " + std::to_string(size_xy) + " " +
-                      std::to_string(s.max - s.min) + "</size><pos>0 0 " + std::to_string(s.min) +
-                      "</pos></heightmap>"}}}};
+          {"pos_m", {cx, cy, s.min}},
+          {"sdf", "<heightmap><uri>" + path.filename().string() + "</uri><size>" + num(size_xy) +
+                      " " + num(size_xy) + " " + num(s.max - s.min) + "</size><pos>" + num(cx) +
+                      " " + num(cy) + " " + num(s.min) + "</pos></heightmap>"}}}};
     encode_png16(out, path, opt, gz);
 }
 

@@ -6,10 +6,13 @@
 #include <cpl_error.h>
 #include <cpl_string.h>
 #include <gdal.h>
+#include <gdalwarper.h>
 #include <hdf5.h>
 #include <ogr_srs_api.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <vector>
 
@@ -47,6 +50,55 @@ struct DatasetCloser {
 };
 using Dataset = std::unique_ptr<void, DatasetCloser>;
 
+/// A warped view of a dataset in geographic coordinates (degrees) in the WGS 84 UTM zone of its
+/// centre (metres, square cells, bilinear), since slopes, roughness and every model in ecoterra
+/// need metres; `note` says so. The view reads through `ds`, which must outlive it.
+Dataset utm_view(GDALDatasetH ds, const std::string& where, std::string& note) {
+    double gt[6];
+    if (GDALGetGeoTransform(ds, gt) != CE_None)
+        throw InputError(where + ": geographic coordinates but no geotransform");
+    const double lon = gt[0] + 0.5 * GDALGetRasterXSize(ds) * gt[1];
+    const double lat = gt[3] + 0.5 * GDALGetRasterYSize(ds) * gt[5];
+    if (!(lat > -80 && lat < 84 && lon >= -180 && lon <= 180))
+        throw InputError(where + ": geographic coordinates centred at (" + std::to_string(lon) +
+                         ", " + std::to_string(lat) +
+                         ") degrees, outside the UTM zones; reproject it to a projected system "
+                         "in metres first");
+    const int zone = std::clamp(static_cast<int>(std::floor((lon + 180) / 6)) + 1, 1, 60);
+    const int epsg = (lat >= 0 ? 32600 : 32700) + zone;
+    OGRSpatialReferenceH utm = OSRNewSpatialReference(nullptr);
+    char* wkt = nullptr;
+    if (OSRImportFromEPSG(utm, epsg) != OGRERR_NONE || OSRExportToWkt(utm, &wkt) != OGRERR_NONE) {
+        OSRDestroySpatialReference(utm);
+        throw IoError(where + ": GDAL cannot build UTM zone " + std::to_string(zone) +
+                      " (EPSG:" + std::to_string(epsg) + "): " + QuietGdal::last());
+    }
+    const double degrees = std::abs(gt[1]);
+    Dataset warped(GDALAutoCreateWarpedVRT(ds, nullptr, wkt, GRA_Bilinear, 0.125, nullptr));
+    CPLFree(wkt);
+    OSRDestroySpatialReference(utm);
+    if (!warped) throw IoError(where + ": GDAL cannot reproject it to UTM: " + QuietGdal::last());
+    double wt[6];
+    GDALGetGeoTransform(warped.get(), wt);
+    const double src_cells =
+        static_cast<double>(GDALGetRasterXSize(ds)) * static_cast<double>(GDALGetRasterYSize(ds));
+    const double view_cells = static_cast<double>(GDALGetRasterXSize(warped.get())) *
+                              static_cast<double>(GDALGetRasterYSize(warped.get()));
+    if (view_cells > 4 * src_cells + 1e6)
+        throw InputError(where + ": reprojected to UTM it would hold " +
+                         std::to_string(static_cast<long long>(view_cells)) + " cells for " +
+                         std::to_string(static_cast<long long>(src_cells)) +
+                         " in the file; its geotransform is damaged or it spans too much of the "
+                         "globe for one UTM zone");
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%s: geographic coordinates (cells of %.6g degrees) reprojected to WGS 84 / "
+                  "UTM zone %d%s (EPSG:%d), cells of %.6g m, bilinear; ecoterra works in metres",
+                  where.c_str(), degrees, zone, lat >= 0 ? "N" : "S", epsg, std::abs(wt[1]));
+    note = text;
+    return warped;
+}
+
 } // namespace
 
 RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* warnings) {
@@ -54,12 +106,17 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     QuietGdal quiet;
     const std::string where = path.string();
     if (!std::filesystem::exists(path)) throw InputError(where + ": no such file");
-    Dataset ds(GDALOpen(where.c_str(), GA_ReadOnly));
-    if (!ds) throw InputError(where + ": GDAL cannot read it: " + QuietGdal::last());
-    const int nx = GDALGetRasterXSize(ds.get()), ny = GDALGetRasterYSize(ds.get());
-    if (GDALGetRasterCount(ds.get()) < 1) throw InputError(where + ": has no raster band");
+    Dataset source(GDALOpen(where.c_str(), GA_ReadOnly));
+    if (!source) throw InputError(where + ": GDAL cannot read it: " + QuietGdal::last());
+    std::string reprojected;
+    Dataset view; // a UTM view of a geographic raster, read through `source`
+    if (OGRSpatialReferenceH srs = GDALGetSpatialRef(source.get()); srs && OSRIsGeographic(srs))
+        view = utm_view(source.get(), where, reprojected);
+    GDALDatasetH ds = view ? view.get() : source.get();
+    const int nx = GDALGetRasterXSize(ds), ny = GDALGetRasterYSize(ds);
+    if (GDALGetRasterCount(ds) < 1) throw InputError(where + ": has no raster band");
     double gt[6];
-    if (GDALGetGeoTransform(ds.get(), gt) != CE_None) {
+    if (GDALGetGeoTransform(ds, gt) != CE_None) {
         gt[0] = 0;
         gt[1] = 1;
         gt[2] = 0;
@@ -78,22 +135,15 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
                dy < 0 ? gt[3] + ny * dy : gt[3]};
     g.validate(where);
     ensure_fits_in_memory(g.size(), 16.0, where);
-    if (warnings) {
-        OGRSpatialReferenceH srs = GDALGetSpatialRef(ds.get());
-        if (srs && OSRIsGeographic(srs))
-            warnings->push_back(where + ": the coordinate system is geographic; cell size " +
-                                std::to_string(g.cell_size_m) +
-                                " is in degrees, but ecoterra treats it as metres (reproject to a "
-                                "projected system for slopes and roughness)");
-    }
-    GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
+    if (warnings && !reprojected.empty()) warnings->push_back(reprojected);
+    GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     // GDAL decodes whole blocks (strips or tiles) holding every band of a pixel-interleaved
     // file: a small raster whose header declares thousands of bands would make it allocate
     // gigabytes to read band 1 (fuzzing found 17 GB for a 900-byte file of 6 x 6 cells and 65,535
     // bands). The bound: what the raster itself holds, or 2^26 samples (256 MB of float32).
     int bx = 0, by = 0;
     GDALGetBlockSize(band, &bx, &by);
-    const double bands = GDALGetRasterCount(ds.get());
+    const double bands = GDALGetRasterCount(ds);
     const double samples = static_cast<double>(bx) * static_cast<double>(by) * bands;
     const double bound = std::max(static_cast<double>(g.size()) * bands, 67108864.0);
     if (!(bx >= 1 && by >= 1 && samples <= bound))
@@ -109,7 +159,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     if (GDALRasterIO(band, GF_Read, 0, 0, nx, ny, buf.data(), nx, ny, GDT_Float64, 0, 0) != CE_None)
         throw IoError(where + ": GDAL read failed: " + QuietGdal::last());
     RasterD z(g, 0.0);
-    if (const char* wkt = GDALGetProjectionRef(ds.get()); wkt && *wkt) z.set_crs_wkt(wkt);
+    if (const char* wkt = GDALGetProjectionRef(ds); wkt && *wkt) z.set_crs_wkt(wkt);
     for (int r = 0; r < ny; ++r) {
         const int j = dy < 0 ? ny - 1 - r : r;
         for (int c = 0; c < nx; ++c) {

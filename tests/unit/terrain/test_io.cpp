@@ -126,14 +126,22 @@ TEST_CASE("Real DEMs from Debian packages read with their georeference", "[io][d
     CHECK(so.mean == Approx(21.67).margin(0.05));
     std::vector<std::string> warn;
     const RasterD lux = tio::read_raster(test::data_dir() / "dem/luxembourg_elev.tif", &warn);
+    // Geographic (0.00833 degrees, 95 x 90 cells, 4608 valid): reprojected to metres in the
+    // UTM zone of its centre (6.1 E, 49.8 N: zone 32N). A degree of longitude there is
+    // 111.3 cos(49.8 deg) = 71.9 km, of latitude 111.2 km: the cells are 600 to 927 m.
     REQUIRE(warn.size() == 1);
-    CHECK_THAT(warn[0], Catch::Contains("geographic") && Catch::Contains("degrees"));
-    CHECK(lux.nx() == 95);
-    CHECK(lux.ny() == 90);
+    CHECK_THAT(warn[0], Catch::Contains("reprojected") && Catch::Contains("UTM zone 32N"));
+    CHECK_THAT(lux.crs_wkt(), Catch::Contains("UTM zone 32N"));
+    CHECK(lux.cell_size() > 600);
+    CHECK(lux.cell_size() < 927);
+    // The footprint keeps its area: 4608 cells of 0.00833^2 degrees.
+    const double area_km2 = 4608 * (0.0083333 * 71.9) * (0.0083333 * 111.2);
     const auto sl = stats(lux);
-    CHECK(sl.valid == 4608); // NoData -32768 became NaN
-    CHECK(sl.min == Approx(141));
-    CHECK(sl.max == Approx(547));
+    CHECK(sl.valid * lux.cell_size() * lux.cell_size() / 1e6 == Approx(area_km2).epsilon(0.08));
+    // Bilinear values stay within the source's range (141 .. 547 m; NoData -32768 became NaN).
+    CHECK(sl.min >= 141);
+    CHECK(sl.max <= 547);
+    CHECK(sl.max > 500);
 }
 
 TEST_CASE("Malformed and missing files give errors naming the file", "[io][errors]") {

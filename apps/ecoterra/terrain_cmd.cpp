@@ -276,6 +276,9 @@ void add_terrain_command(CLI::App& app) {
     // generate
     auto g = std::make_shared<GenerateArgs>();
     CLI::App* gen = terrain->add_subcommand("generate", "generate a heightmap");
+    gen->footer("Unset parameters take their method's defaults, which depend on the method and "
+                "the grid: `ecoterra describe terrain` lists every one with its unit, default "
+                "and range.");
     gen->add_option("--preset", g->preset, "a named setting: majhor2023 (paper 000 multifractal)");
     gen->add_option("--method", g->method,
                     "multifractal | wm | perlin | gaussian | variable | fbm");

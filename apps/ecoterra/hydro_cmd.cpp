@@ -181,6 +181,11 @@ void run_hydro_run(const RunArgs& a) {
                 "residual %.2e of the throughput\n",
                 sum.rain_mm, sum.evaporation_mm, sum.transpiration_mm, sum.runoff_out_mm,
                 sum.groundwater_out_mm, sum.residual_relative);
+    if (sum.transpiration_mm == 0)
+        std::printf("  (transpiration is the water plants take; a hydrology run has no plants, "
+                    "so the loss of the vegetation cover is in evaporation, at Penman's grass "
+                    "rate where the density is above grass_density_threshold: docs/hydrology.md "
+                    "s4)\n");
     std::printf("wrote %s\n", a.output.c_str());
     if (!a.png_dir.empty()) std::printf("wrote pictures into %s\n", a.png_dir.c_str());
 }

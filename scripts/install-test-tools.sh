@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# Test-only tools from the npm registry, into .tools/ in the repository (git-ignored): the Khronos
-# glTF validator that the export tests run on every .glb. Idempotent.
+# Test-only tools: Debian's python3-h5py and python3-pandas (the Python readers of run files), and
+# from the npm registry, into .tools/ in the repository (git-ignored), the Khronos glTF validator
+# that the export tests run on every .glb. Idempotent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 version=2.0.0-dev.3.10
+# Debian's Python readers the tests load run files with (tests/python/).
+if ! /usr/bin/python3 -c "import h5py, pandas" 2>/dev/null; then
+  echo "install-test-tools: installing python3-h5py and python3-pandas"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-h5py python3-pandas
+fi
 if [ -f .tools/node_modules/gltf-validator/package.json ] &&
    grep -q "\"version\": \"$version\"" .tools/node_modules/gltf-validator/package.json; then
   echo "install-test-tools: gltf-validator $version present"

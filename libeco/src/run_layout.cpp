@@ -1,5 +1,7 @@
 #include "run_layout.hpp"
 
+#include <limits>
+
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
 
@@ -52,8 +54,8 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path) {
     write_layers(h5, "", hydro::water_state_layers(), hy);
     h5.raster("/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
-    h5.attribute("/", "year", static_cast<double>(eco.years_done()));
-    h5.attribute("/", "day", static_cast<double>(eco.days_done()));
+    h5.integer_attribute("/", "year", eco.years_done());
+    h5.integer_attribute("/", "day", eco.days_done());
     h5.attribute("/", "date",
                  "simulation year " + std::to_string(w.year) + ", day " + std::to_string(w.doy));
     h5.commit();
@@ -72,16 +74,22 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     }
     h5.attribute("/species", "json", sp.dump());
     h5.attribute("/species", "names", names);
+    std::vector<std::string> list;
+    for (const auto& s : sc.ecosystem.species) list.push_back(s.name);
+    h5.strings("/species/name", list, "species names; plants/species is the 0-based index");
     h5.attribute("/species", "ecosystem", sc.ecosystem.name);
     h5.attribute("/provenance", "json", provenance.dump());
-    h5.attribute("/provenance", "seed", static_cast<double>(sc.seed));
+    if (sc.seed <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+        h5.integer_attribute("/provenance", "seed", static_cast<std::int64_t>(sc.seed));
+    else
+        h5.attribute("/provenance", "seed", std::to_string(sc.seed)); // beyond int64: as text
     hydro::write_table(h5, "/series/yearly", eco.yearly());
     hydro::write_table(h5, "/series/daily", eco.daily());
     ArchiveWriter a;
     eco.save_state(a);
     h5.series("/checkpoint/state", a.bytes(), "1",
               "full model state at the last snapshot (binary, ecoterra checkpoint format)");
-    h5.attribute("/checkpoint", "year", static_cast<double>(eco.years_done()));
+    h5.integer_attribute("/checkpoint", "year", eco.years_done());
     h5.attribute("/checkpoint", "terrain_hash", std::to_string(raster_hash(sc.hydro.dem)));
     h5.attribute("/checkpoint", "checksum_fnv1a64",
                  std::to_string(fnv1a64(a.bytes().data(), a.bytes().size())));
@@ -91,7 +99,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
         std::snprintf(link, sizeof link, "/snapshots/%04d", k);
         h5.external_link(link, dir + "/" + snapshot_file_name(k), "/");
     }
-    h5.attribute("/snapshots", "count", static_cast<double>(snapshots));
+    h5.integer_attribute("/snapshots", "count", snapshots);
     h5.attribute("/", "area_m2", eco.plant_grid().width_m() * eco.plant_grid().height_m());
     h5.commit();
 }

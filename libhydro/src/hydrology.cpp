@@ -56,9 +56,9 @@ const std::vector<Column<BudgetRow>>& daily_budget_columns() {
     using R = BudgetRow;
     const char* mm = "mm/day";
     static const std::vector<Column<R>> c = {
-        column("day", &R::day, "1", "simulation day, 1-based"),
-        column("year", &R::year, "1", "simulation year (or calendar year)"),
-        column("day_of_year", &R::day_of_year, "1", "day of year"),
+        column("day", &R::day, "1", "simulation day, 1-based", ColumnType::int64),
+        column("year", &R::year, "1", "simulation year (or calendar year)", ColumnType::int64),
+        column("day_of_year", &R::day_of_year, "1", "day of year", ColumnType::int64),
         column("rain_mm", &R::rain_mm, mm, "rain over the domain"),
         column("evaporation_mm", &R::evaporation_mm, mm, "soil and open-water evaporation"),
         column("transpiration_mm", &R::transpiration_mm, mm, "transpiration supplied to plants"),

@@ -260,8 +260,18 @@ void write_soil_maps(io::Hdf5Writer& h5, const SoilMap& soil) {
 }
 
 void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t) {
-    for (std::size_t k = 0; k < t.names.size(); ++k)
-        h5.series(group + "/" + t.names[k], t.columns[k], t.units[k], t.descriptions[k]);
+    for (std::size_t k = 0; k < t.names.size(); ++k) {
+        const std::string path = group + "/" + t.names[k];
+        const ColumnType type = k < t.types.size() ? t.types[k] : ColumnType::float64;
+        if (type == ColumnType::int64 || type == ColumnType::int32) {
+            std::vector<std::int64_t> v;
+            v.reserve(t.columns[k].size());
+            for (const double x : t.columns[k]) v.push_back(std::llround(x));
+            h5.series(path, v, t.units[k], t.descriptions[k]);
+        } else {
+            h5.series(path, t.columns[k], t.units[k], t.descriptions[k]);
+        }
+    }
 }
 
 HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
@@ -282,9 +292,9 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         std::snprintf(name, sizeof name, "/snapshots/%04d", snapshot++);
         const std::string base = name;
         write_layers(h5, base, water_state_layers(), model);
-        h5.attribute(base, "day", static_cast<double>(day));
-        h5.attribute(base, "year", static_cast<double>(w.year));
-        h5.attribute(base, "day_of_year", static_cast<double>(w.doy));
+        h5.integer_attribute(base, "day", day);
+        h5.integer_attribute(base, "year", w.year);
+        h5.integer_attribute(base, "day_of_year", w.doy);
     };
     for (int d = 1; d <= total; ++d) {
         const DayWeather w =

@@ -481,6 +481,7 @@ std::vector<ColumnInfo> describe(const std::string& group,
 /// column catalogue and filled a whole row at a time.
 struct Table {
     std::vector<std::string> names, units, descriptions;
+    std::vector<ColumnType> types; ///< how each column is stored (integers as integers)
     std::vector<std::vector<double>> columns;
     template <class R>
     static Table of(const std::vector<Column<R>>& cols) {
@@ -489,6 +490,7 @@ struct Table {
             t.names.push_back(c.name);
             t.units.push_back(c.unit);
             t.descriptions.push_back(c.description);
+            t.types.push_back(c.type);
             t.columns.emplace_back();
         }
         return t;

@@ -109,11 +109,20 @@ void put_attr(hid_t obj, const std::string& name, hid_t type, const void* value)
     check(H5Awrite(a.id(), type, value), "H5Awrite");
     a.close("H5Aclose");
 }
-void string_attr(hid_t obj, const std::string& name, const std::string& v) {
-    const std::string value = v.empty() ? std::string(" ") : v;
+/// Variable-length UTF-8 strings: h5py returns them as str, not bytes.
+Handle utf8_string_type() {
     Handle t{check(H5Tcopy(H5T_C_S1), "H5Tcopy"), H5Tclose};
-    check(H5Tset_size(t.id(), value.size()), "H5Tset_size");
-    put_attr(obj, name, t.id(), value.data());
+    check(H5Tset_size(t.id(), H5T_VARIABLE), "H5Tset_size");
+    check(H5Tset_cset(t.id(), H5T_CSET_UTF8), "H5Tset_cset");
+    return t;
+}
+void string_attr(hid_t obj, const std::string& name, const std::string& v) {
+    Handle t = utf8_string_type();
+    const char* p = v.c_str();
+    put_attr(obj, name, t.id(), &p);
+}
+void int64_attr(hid_t obj, const std::string& name, std::int64_t v) {
+    put_attr(obj, name, H5T_NATIVE_INT64, &v);
 }
 void double_attr(hid_t obj, const std::string& name, double v) {
     put_attr(obj, name, H5T_NATIVE_DOUBLE, &v);
@@ -226,6 +235,24 @@ struct Hdf5Writer::Impl {
                 });
     }
 
+    void strings(const std::string& path, const std::vector<std::string>& v,
+                 const std::string& desc) {
+        ensure_parents(path);
+        const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+        Handle space = dataspace(1, dims);
+        Handle t = utf8_string_type();
+        Handle ds{check(H5Dcreate2(file.id(), path.c_str(), t.id(), space.id(), H5P_DEFAULT,
+                                   H5P_DEFAULT, H5P_DEFAULT),
+                        "H5Dcreate"),
+                  H5Dclose};
+        std::vector<const char*> p;
+        for (const auto& x : v) p.push_back(x.c_str());
+        if (!p.empty())
+            check(H5Dwrite(ds.id(), t.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, p.data()), "H5Dwrite");
+        string_attr(ds.id(), "description", desc);
+        ds.close("H5Dclose");
+    }
+
     /// Calls f on the dataset or group at `object`, creating the group if it does not exist.
     template <class F>
     void on_object(const std::string& object, F&& f) {
@@ -322,6 +349,17 @@ void Hdf5Writer::attribute(const std::string& object, const std::string& name,
 void Hdf5Writer::attribute(const std::string& object, const std::string& name, double value) {
     m_impl->guarded(
         object, [&] { m_impl->on_object(object, [&](hid_t o) { double_attr(o, name, value); }); });
+}
+
+void Hdf5Writer::integer_attribute(const std::string& object, const std::string& name,
+                                   std::int64_t value) {
+    m_impl->guarded(
+        object, [&] { m_impl->on_object(object, [&](hid_t o) { int64_attr(o, name, value); }); });
+}
+
+void Hdf5Writer::strings(const std::string& path, const std::vector<std::string>& v,
+                         const std::string& description) {
+    m_impl->guarded(path, [&] { m_impl->strings(path, v, description); });
 }
 
 void Hdf5Writer::commit() {

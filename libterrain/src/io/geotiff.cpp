@@ -140,12 +140,15 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     // GDAL decodes whole blocks (strips or tiles) holding every band of a pixel-interleaved
     // file: a small raster whose header declares thousands of bands would make it allocate
     // gigabytes to read band 1 (fuzzing found 17 GB for a 900-byte file of 6 x 6 cells and 65,535
-    // bands). The bound: what the raster itself holds, or 2^26 samples (256 MB of float32).
+    // bands). The bound: 8 bands' worth of the raster, or 2^26 samples (256 MB of float32).
     int bx = 0, by = 0;
     GDALGetBlockSize(band, &bx, &by);
     const double bands = GDALGetRasterCount(ds);
     const double samples = static_cast<double>(bx) * static_cast<double>(by) * bands;
-    const double bound = std::max(static_cast<double>(g.size()) * bands, 67108864.0);
+    // (A 257-byte file of 65,535 x 6 cells in 16,129 bands of 256 x 256 tiles passed the earlier
+    // bound, the raster times its bands, and made GDAL allocate 4.2 GB:
+    // fuzz/crashes/geotiff/multiband_tile_oom.tif.)
+    const double bound = std::max(static_cast<double>(g.size()) * std::min(bands, 8.0), 67108864.0);
     if (!(bx >= 1 && by >= 1 && samples <= bound))
         throw InputError(where + ": " + std::to_string(static_cast<long long>(bands)) +
                          " bands in blocks of " + std::to_string(bx) + " x " + std::to_string(by) +

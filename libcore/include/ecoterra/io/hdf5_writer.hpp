@@ -43,9 +43,14 @@ public:
     /// A link at `path` to the object `object` of another HDF5 file (`file` is relative to this
     /// file's folder or absolute); readers follow it transparently.
     void external_link(const std::string& path, const std::string& file, const std::string& object);
-    /// A string attribute on a group (created if needed) or dataset.
+    /// A string attribute (variable-length UTF-8) on a group (created if needed) or dataset.
     void attribute(const std::string& object, const std::string& name, const std::string& value);
     void attribute(const std::string& object, const std::string& name, double value);
+    /// An integer attribute (counts, years, seeds: exact, and integers to h5py and pandas).
+    void integer_attribute(const std::string& object, const std::string& name, std::int64_t value);
+    /// A 1-D dataset of variable-length UTF-8 strings (h5py: `ds.asstr()[()]`).
+    void strings(const std::string& path, const std::vector<std::string>& v,
+                 const std::string& description);
     /// Closes the file and moves it into place.
     void commit();
 

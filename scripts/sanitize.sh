@@ -8,6 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/install-deps.sh" --sanitize
+bash "$root/scripts/install-test-tools.sh"
 build="$root/build-sanitize"
 jobs="$(nproc 2>/dev/null || echo 2)"
 flags="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link"

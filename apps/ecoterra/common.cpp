@@ -68,6 +68,17 @@ void print_notes(const std::vector<std::string>& notes) {
 }
 
 namespace {
+int g_exit_code = 0;
+} // namespace
+
+void set_exit_code(int code) {
+    g_exit_code = code;
+}
+int exit_code() {
+    return g_exit_code;
+}
+
+namespace {
 bool g_progress_showing = false;
 int g_progress_logged_tenths = -1; ///< in a log: the last 10 % step written
 

@@ -8,6 +8,10 @@
 
 namespace ecoterra::app {
 
+/// The exit code a command asks for when it ends without an error (default 0), e.g. 1 when some
+/// members of an ensemble failed.
+void set_exit_code(int code);
+int exit_code();
 /// The version compiled in.
 const char* version();
 /// The command line as one string, set once by main.

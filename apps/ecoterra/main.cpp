@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     ecoterra::app::add_hydro_command(app);
     ecoterra::app::add_eco_commands(app);
     ecoterra::app::add_mobility_command(app);
+    ecoterra::app::add_ensemble_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -71,5 +72,5 @@ int main(int argc, char** argv) {
         report("internal error", e.what());
         return 3;
     }
-    return 0;
+    return ecoterra::app::exit_code();
 }

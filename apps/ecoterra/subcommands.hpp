@@ -13,5 +13,7 @@ void add_eco_commands(CLI::App& app);
 void add_export_scene_commands(CLI::App& exp);
 /// `ecoterra mobility`.
 void add_mobility_command(CLI::App& app);
+/// `ecoterra ensemble`.
+void add_ensemble_command(CLI::App& app);
 
 } // namespace ecoterra::app

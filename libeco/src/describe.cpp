@@ -77,6 +77,19 @@ std::vector<Section> scene_sections() {
     };
 }
 
+} // namespace
+
+std::vector<std::string> scene_keys() {
+    std::vector<std::string> keys{"terrain.generate",     "terrain.file",       "climate.preset",
+                                  "vegetation.ecosystem", "vegetation.initial", "soil.uniform",
+                                  "climate.csv",          "soil.random",        "soil.rasters"};
+    for (const auto& s : scene_sections())
+        for (const auto& row : s.rows) keys.push_back(row.front());
+    return keys;
+}
+
+namespace {
+
 std::vector<Section> species_sections() {
     const Species d;
     return {params("Species: MAVS keys",

@@ -445,4 +445,133 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
     s.save(dir / "missions.png");
 }
 
+namespace {
+
+/// The legend: a colour swatch and label per entry, top right inside the frame.
+void legend(cairo_t* cr, const Frame& f, const std::vector<std::string>& labels) {
+    for (std::size_t k = 0; k < labels.size(); ++k) {
+        const auto c = kPalette[k % 8];
+        const double y = f.y0 + 14 + 18.0 * static_cast<double>(k);
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_rectangle(cr, f.x0 + f.w - 190, y - 9, 14, 10);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, f.x0 + f.w - 170, y, labels[k], 12);
+    }
+}
+
+/// Data range of the values, widened by 5 % (and to a unit range when all are equal).
+std::pair<double, double> padded_range(const std::vector<double>& v, bool from_zero) {
+    double lo = from_zero ? 0.0 : 1e300, hi = from_zero ? 0.0 : -1e300;
+    for (double x : v)
+        if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+    if (lo > hi) return {0.0, 1.0};
+    if (hi - lo < 1e-12) return {lo - 0.5, hi + 0.5};
+    const double pad = 0.05 * (hi - lo);
+    return {from_zero && lo >= 0 ? lo : lo - pad, hi + pad};
+}
+
+} // namespace
+
+void draw_line_plot(const std::vector<PlotSeries>& series, const std::string& title,
+                    const std::string& xlabel, const std::string& ylabel, const std::string& note,
+                    const std::filesystem::path& file) {
+    SurfaceOwner s(760, 520);
+    cairo_t* cr = s.cr;
+    white(cr);
+    std::vector<double> xs, ys;
+    for (const auto& p : series) {
+        xs.insert(xs.end(), p.x.begin(), p.x.end());
+        ys.insert(ys.end(), p.y.begin(), p.y.end());
+        ys.insert(ys.end(), p.lo.begin(), p.lo.end());
+        ys.insert(ys.end(), p.hi.begin(), p.hi.end());
+    }
+    const auto [x0, x1] = padded_range(xs, false);
+    const auto [y0, y1] = padded_range(ys, true);
+    const Frame f{90, 40, 630, 380, x0, x1, y0, y1};
+    std::vector<std::string> labels;
+    for (std::size_t k = 0; k < series.size(); ++k) {
+        const auto& p = series[k];
+        const auto c = kPalette[k % 8];
+        labels.push_back(p.label);
+        if (p.lo.size() == p.x.size() && p.hi.size() == p.x.size() && !p.x.empty()) {
+            cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.22);
+            for (std::size_t i = 0; i < p.x.size(); ++i)
+                (i == 0 ? cairo_move_to : cairo_line_to)(cr, f.px(p.x[i]), f.py(p.hi[i]));
+            for (std::size_t i = p.x.size(); i-- > 0;)
+                cairo_line_to(cr, f.px(p.x[i]), f.py(p.lo[i]));
+            cairo_close_path(cr);
+            cairo_fill(cr);
+        }
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_set_line_width(cr, 2.5);
+        for (std::size_t i = 0; i < p.x.size(); ++i)
+            (i == 0 ? cairo_move_to : cairo_line_to)(cr, f.px(p.x[i]), f.py(p.y[i]));
+        cairo_stroke(cr);
+        for (std::size_t i = 0; i < p.x.size(); ++i) {
+            cairo_arc(cr, f.px(p.x[i]), f.py(p.y[i]), 4, 0, 2 * M_PI);
+            cairo_fill(cr);
+        }
+    }
+    legend(cr, f, labels);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    f.draw(cr, xlabel, ylabel, title);
+    text(cr, f.x0, f.y0 + f.h + 62, note, 12);
+    s.save(file);
+}
+
+void draw_histogram_plot(const std::vector<HistogramSeries>& series, double class_width_cm,
+                         const std::string& title, const std::string& note,
+                         const std::filesystem::path& file) {
+    SurfaceOwner s(760, 520);
+    cairo_t* cr = s.cr;
+    white(cr);
+    std::size_t classes = 4;
+    double ymax = 1;
+    for (const auto& h : series) {
+        classes = std::max(classes, h.stems_per_ha.size());
+        for (double v : h.stems_per_ha) ymax = std::max(ymax, v);
+    }
+    const double w = class_width_cm;
+    const Frame f{90, 40, 630, 380, 0, static_cast<double>(classes) * w, 0, ymax * 1.1};
+    const double n = std::max<double>(1, static_cast<double>(series.size()));
+    std::vector<std::string> labels;
+    for (std::size_t k = 0; k < series.size(); ++k) {
+        const auto& h = series[k];
+        const auto c = kPalette[k % 8];
+        cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.85);
+        for (std::size_t i = 0; i < h.stems_per_ha.size(); ++i) {
+            const double left = f.px(static_cast<double>(i) * w) + 1;
+            const double bw = (f.px(w) - f.px(0) - 2) / n;
+            const double v = h.stems_per_ha[i];
+            cairo_rectangle(cr, left + bw * static_cast<double>(k), f.py(v), bw, f.py(0) - f.py(v));
+        }
+        cairo_fill(cr);
+        std::string label = h.label;
+        if (h.fit) {
+            // The fit is drawn over every class; above the frame it is cut at the frame's edge.
+            cairo_set_source_rgb(cr, c[0] * 0.7, c[1] * 0.7, c[2] * 0.7);
+            cairo_set_line_width(cr, 2);
+            cairo_save(cr);
+            cairo_rectangle(cr, f.x0, f.y0, f.w, f.h);
+            cairo_clip(cr);
+            for (int j = 0; j <= 200; ++j) {
+                const double x = 0.5 * w + (static_cast<double>(classes) - 1) * w * j / 200.0;
+                const double y = std::exp(h.intercept - h.rate_per_cm * x);
+                (j == 0 ? cairo_move_to : cairo_line_to)(cr, f.px(x), f.py(y));
+            }
+            cairo_stroke(cr);
+            cairo_restore(cr);
+            label += ": q " + fmt(h.q_per_class, 2) + ", R2 " + fmt(h.r2, 2);
+        }
+        labels.push_back(label);
+    }
+    legend(cr, f, labels);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    f.draw(cr, "trunk diameter at breast height (cm), " + fmt(w, 0) + " cm classes",
+           "stems per ha (mean of the members)", title);
+    text(cr, f.x0, f.y0 + f.h + 62, note, 12);
+    s.save(file);
+}
+
 } // namespace ecoterra::eco

@@ -133,7 +133,7 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
     b.j["asset"] = {{"version", "2.0"},
                     {"generator", "ecoterra export scene"},
                     {"extras",
-                     {{"run", s.run.string()},
+                     {{"run", s.source},
                       {"snapshot", s.snapshot},
                       {"year", s.year},
                       {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},

@@ -139,13 +139,13 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
                   "geotransform %.9g, %.9g, 0, %.9g, 0, %.9g)",
                   g.nx, g.ny, g.cell_size_m, g.origin_x_m, g.origin_y_m, g.origin_x_m,
                   g.cell_size_m, g.origin_y_m + g.height_m(), -g.cell_size_m);
-    folder.write("README.md",
-                 "# GeoTIFF layers from ecoterra\n\nRun: " + s.run.string() + ", snapshot " +
-                     std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
-                     ").\n\nEvery layer: Float32, north-up, " + geo + ", nodata NaN. " + crs +
-                     "\n\n" + table + "\nSpecies indices:\n\n" + species +
-                     "\nLoad: `gdalinfo FILE.tif`; in Python `rasterio.open(FILE)` or "
-                     "`gdal.Open(FILE)`; in QGIS drag the files in.\n");
+    folder.write("README.md", "# GeoTIFF layers from ecoterra\n\nRun: " + s.source + ", snapshot " +
+                                  std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
+                                  ").\n\nEvery layer: Float32, north-up, " + geo +
+                                  ", nodata NaN. " + crs + "\n\n" + table +
+                                  "\nSpecies indices:\n\n" + species +
+                                  "\nLoad: `gdalinfo FILE.tif`; in Python `rasterio.open(FILE)` or "
+                                  "`gdal.Open(FILE)`; in QGIS drag the files in.\n");
 }
 
 } // namespace ecoterra::exporter

@@ -82,6 +82,7 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
                  const std::optional<Region>& region) {
     Scene s;
     s.run = run;
+    s.source = run.string();
     const auto info = eco::read_run_info(run);
     const auto plants = eco::read_snapshot_plants(run, snapshot);
     s.snapshot = plants.index;

@@ -63,7 +63,7 @@ std::string tree_obj(const Scene& s, const SizeClass& c, const std::string& mtll
 }
 
 std::string header_lines(const Scene& s) {
-    return "Run: " + s.run.string() + ", snapshot " + std::to_string(s.snapshot) + " (year " +
+    return "Run: " + s.source + ", snapshot " + std::to_string(s.snapshot) + " (year " +
            std::to_string(s.year) + "), " + std::to_string(s.trees.size()) + " trees, terrain " +
            std::to_string(s.terrain.nx()) + " x " + std::to_string(s.terrain.ny()) + " cells of " +
            num(s.terrain.cell_size()) + " m from (" + num(s.terrain.grid().origin_x_m) + ", " +
@@ -238,7 +238,8 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
         // MAVS: d = diameter * (instance height) / height, so d follows each tree's height.
         veg.push_back({{"mesh", mesh}, {"height", c.height_m}, {"diameter", ratio * c.height_m}});
     }
-    const fs::path abs = fs::absolute(folder.dir()).lexically_normal();
+    const fs::path abs =
+        fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal();
     json scene = {{"PathToMeshes", abs.string() + "/"},
                   {"UseFullPaths", false},
                   {"Surface Mesh",

@@ -175,8 +175,10 @@ struct Hdf5Writer::Impl {
         while ((pos = path.find('/', pos)) != std::string::npos) {
             const std::string g = path.substr(0, pos);
             if (!exists(g)) {
+                Handle gcpl{check(H5Pcreate(H5P_GROUP_CREATE), "H5Pcreate"), H5Pclose};
+                check(H5Pset_obj_track_times(gcpl.id(), false), "H5Pset_obj_track_times");
                 Handle h{
-                    check(H5Gcreate2(file.id(), g.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                    check(H5Gcreate2(file.id(), g.c_str(), H5P_DEFAULT, gcpl.id(), H5P_DEFAULT),
                           "H5Gcreate"),
                     H5Gclose};
                 h.close("H5Gclose");
@@ -192,6 +194,8 @@ struct Hdf5Writer::Impl {
         ensure_parents(path);
         Handle space = dataspace(rank, dims);
         Handle plist{check(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate"), H5Pclose};
+        // No modification times in the objects: the same run gives the same bytes.
+        check(H5Pset_obj_track_times(plist.id(), false), "H5Pset_obj_track_times");
         if (chunk) {
             check(H5Pset_chunk(plist.id(), rank, chunk), "H5Pset_chunk");
             if (shuffle) check(H5Pset_shuffle(plist.id()), "H5Pset_shuffle");
@@ -241,8 +245,10 @@ struct Hdf5Writer::Impl {
         const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
         Handle space = dataspace(1, dims);
         Handle t = utf8_string_type();
+        Handle dcpl{check(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate"), H5Pclose};
+        check(H5Pset_obj_track_times(dcpl.id(), false), "H5Pset_obj_track_times");
         Handle ds{check(H5Dcreate2(file.id(), path.c_str(), t.id(), space.id(), H5P_DEFAULT,
-                                   H5P_DEFAULT, H5P_DEFAULT),
+                                   dcpl.id(), H5P_DEFAULT),
                         "H5Dcreate"),
                   H5Dclose};
         std::vector<const char*> p;

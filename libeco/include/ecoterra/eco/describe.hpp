@@ -13,4 +13,10 @@ std::vector<std::string> describe_topics();
 /// unknown topic, naming the known ones.
 std::string describe(const std::string& topic, bool markdown);
 
+/// Every dotted key an ecosystem scene may set from the catalogues (climate, soil, vegetation,
+/// hydrology, simulation), plus the keys that take objects or files (terrain.generate,
+/// terrain.file, vegetation.ecosystem, vegetation.initial, climate.preset, soil.*). Terrain
+/// generator keys below terrain.generate are not listed: they depend on the method.
+std::vector<std::string> scene_keys();
+
 } // namespace ecoterra::eco

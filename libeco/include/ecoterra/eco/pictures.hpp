@@ -6,6 +6,8 @@
 #include "ecoterra/terrain/picture.hpp"
 
 #include <array>
+#include <string>
+#include <vector>
 
 #include <filesystem>
 
@@ -31,5 +33,30 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
                            const std::vector<mobility::TraverseResult>& results, const RasterD& dem,
                            const std::filesystem::path& dir);
+
+/// One series of a summary plot: y against x with an optional band (lo..hi, e.g. the 10th and
+/// 90th percentiles) drawn behind it.
+struct PlotSeries {
+    std::string label;
+    std::vector<double> x, y, lo, hi; ///< lo and hi empty: no band
+};
+/// A line plot of the series (720 x 500 px) with a legend, axes with units in the labels, and a
+/// note at the bottom (what the band shows, how many members).
+void draw_line_plot(const std::vector<PlotSeries>& series, const std::string& title,
+                    const std::string& xlabel, const std::string& ylabel, const std::string& note,
+                    const std::filesystem::path& file);
+
+/// One mean diameter histogram: stems per ha per class, and its negative-exponential fit
+/// N = exp(intercept - rate d) (per ha) when fit is true.
+struct HistogramSeries {
+    std::string label;
+    std::vector<double> stems_per_ha;
+    bool fit = false;
+    double intercept = 0, rate_per_cm = 0, q_per_class = 0, r2 = 0;
+};
+/// The histograms side by side per class (720 x 500 px) with their fits and a legend.
+void draw_histogram_plot(const std::vector<HistogramSeries>& series, double class_width_cm,
+                         const std::string& title, const std::string& note,
+                         const std::filesystem::path& file);
 
 } // namespace ecoterra::eco

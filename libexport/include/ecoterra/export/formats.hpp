@@ -21,6 +21,9 @@ struct ExportOptions {
     int terrain_step = 1;    ///< keep every k-th terrain vertex in meshes (glTF, MAVS)
     bool gltf_nodes = false; ///< glTF: one node per tree instead of EXT_mesh_gpu_instancing
     const UserMeshes* user = nullptr; ///< the user's meshes by species and stage, if any
+    /// Where the folder will be once it is moved into place (ensemble members are written in a
+    /// staging folder): MAVS's PathToMeshes names it. Empty: the folder itself.
+    std::filesystem::path final_dir;
 };
 
 /// The trees that take a user's mesh, grouped by mesh (in the file's order).

@@ -51,6 +51,7 @@ struct SpeciesLook {
 
 struct Scene {
     std::filesystem::path run;
+    std::string source; ///< how the files name the run (default: the run's path)
     int snapshot = 0, year = 0;
     std::uint64_t seed = 0;       ///< the run's seed (the yaw stream derives from it)
     RasterD terrain;              ///< elevation, m, cut to the region

@@ -1,0 +1,456 @@
+#include "ecoterra/ensemble/member.hpp"
+
+#include "ecoterra/eco/run.hpp"
+#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/export/formats.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/json_util.hpp"
+#include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/mobility/traverse.hpp"
+#include "ecoterra/terrain/analysis.hpp"
+#include "ecoterra/terrain/generate.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+#include "ecoterra/terrain/missions.hpp"
+#include "ecoterra/units.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <unistd.h>
+
+#ifndef ECOTERRA_VERSION
+#define ECOTERRA_VERSION "unknown"
+#endif
+
+namespace ecoterra::ensemble {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string member_name(const Manifest& m, std::size_t index) {
+    std::string s = std::to_string(index);
+    const std::size_t width = std::max<std::size_t>(6, std::to_string(m.members() - 1).size());
+    if (s.size() < width) s.insert(0, width - s.size(), '0');
+    return s;
+}
+
+fs::path member_dir(const fs::path& out, const Manifest& m, std::size_t index) {
+    return out / "members" / member_name(m, index);
+}
+
+std::optional<json> read_member_record(const fs::path& out, const Manifest& m, std::size_t index) {
+    const fs::path p = member_dir(out, m, index) / "member.json";
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) return std::nullopt;
+    try {
+        return json::parse(io::read_text(p));
+    } catch (const std::exception&) {
+        return std::nullopt; // unreadable: not done
+    }
+}
+
+bool member_done(const fs::path& out, const Manifest& m, const Member& mb) {
+    const auto r = read_member_record(out, m, mb.index);
+    return r && r->value("status", "") == "ok" && r->value("input_hash", "") == mb.input_hash;
+}
+
+namespace {
+
+using Metrics = std::vector<std::pair<std::string, double>>;
+
+/// Paths in a member's analyses are relative to the manifest's folder.
+fs::path manifest_path(const Manifest& m, const std::string& p) {
+    return fs::path(p).is_absolute() ? fs::path(p) : m.dir / p;
+}
+
+json provenance(const Manifest& m, const Member& mb) {
+    return {{"software", "ecoterra"},
+            {"version", ECOTERRA_VERSION},
+            {"ensemble", m.name},
+            {"member", mb.index},
+            {"input_hash", mb.input_hash}};
+}
+
+void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
+    out.push_back({"stand.stems", static_cast<double>(s.stems)});
+    out.push_back({"stand.stems_per_ha", s.stems_per_ha});
+    out.push_back({"stand.basal_area_m2_per_ha", s.basal_area_m2_per_ha});
+    out.push_back(
+        {"stand.basal_area_ft2_per_acre", s.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa});
+    out.push_back({"stand.quadratic_mean_dbh_cm", s.quadratic_mean_dbh_m * kCmPerM});
+    out.push_back({"stand.sdi_per_ha", s.sdi_per_ha});
+    out.push_back({"stand.q_per_class", s.fit_valid ? s.q_per_class : std::nan("")});
+    out.push_back({"stand.fit_r2", s.fit_valid ? s.r2 : std::nan("")});
+    std::vector<double> per_ha;
+    for (auto c : s.histogram) per_ha.push_back(static_cast<double>(c) / s.area_ha);
+    record["histogram"] = {
+        {"class_width_cm", s.class_width_cm}, {"stems_per_ha", per_ha}, {"area_ha", s.area_ha}};
+}
+
+std::uint64_t seed_of(const json& a) {
+    return a.value("seed", std::uint64_t{1});
+}
+
+void analyse_mobility(const Manifest& m, const json& a,
+                      const std::vector<mobility::StandStem>& stems, const RasterD& dem,
+                      const fs::path& stage, Metrics& out) {
+    const auto v =
+        mobility::load_vehicle(manifest_path(m, get_string(a, "vehicle", "", "mobility")));
+    mobility::StandLinesOptions opt;
+    opt.lines = static_cast<int>(get_integer(a, "lines", 200, "analyses.mobility", 1, 1000000));
+    opt.length_m = get_number(a, "length_m", 50, "analyses.mobility", 1e-3, 1e6);
+    opt.seed = seed_of(a);
+    const std::size_t layout =
+        get_choice(a, "layout", {"random", "transects"}, 0, "analyses.mobility");
+    opt.layout = layout == 0 ? mobility::LineLayout::random : mobility::LineLayout::transects;
+    const auto r = mobility::analyse_stand(v, stems, dem, opt);
+    json j = mobility::to_json(r, v);
+    j["seed"] = opt.seed;
+    io::write_text_atomic(stage / "mobility.json", j.dump(1) + "\n");
+    out.push_back({"mobility.trees", static_cast<double>(r.trees)});
+    out.push_back({"mobility.critical_diameter_cm", r.critical_diameter_m * kCmPerM});
+    out.push_back({"mobility.smg_mean_m_per_s", r.smg_mean_m_per_s});
+    out.push_back({"mobility.smg_median_m_per_s", r.smg_median_m_per_s});
+    out.push_back({"mobility.smg_p10_m_per_s", r.smg_p10_m_per_s});
+    out.push_back({"mobility.smg_p90_m_per_s", r.smg_p90_m_per_s});
+    out.push_back({"mobility.nogo_fraction", r.nogo_fraction});
+    out.push_back({"mobility.override_fraction", r.override_fraction});
+    out.push_back({"mobility.detour_fraction", r.detour_fraction});
+}
+
+terrain::AnalysisOptions analysis_options(const json& a) {
+    terrain::AnalysisOptions o;
+    o.border_m = get_number(a, "border_m", o.border_m, "analyses.terrain", 0, 1e6);
+    o.closing_radius_m =
+        get_number(a, "closing_radius_m", o.closing_radius_m, "analyses.terrain", 0, 1e6);
+    o.validate();
+    return o;
+}
+
+void analyse_terrain(const json& a, const RasterD& z, const fs::path& stage, Metrics& out) {
+    const auto opt = analysis_options(a);
+    const auto r = terrain::analyze_terrain(z, opt);
+    io::write_text_atomic(stage / "terrain.json", r.to_json(opt).dump(1) + "\n");
+    out.push_back({"terrain.low_pct", r.classes.low_pct});
+    out.push_back({"terrain.semi_pct", r.classes.semi_pct});
+    out.push_back({"terrain.high_pct", r.classes.high_pct});
+    out.push_back({"terrain.closed_low_pct", r.closed_classes.low_pct});
+    out.push_back({"terrain.closed_semi_pct", r.closed_classes.semi_pct});
+    out.push_back({"terrain.closed_high_pct", r.closed_classes.high_pct});
+    out.push_back({"terrain.rms_m", r.rms.rms_m});
+    out.push_back({"terrain.rms_detrended_m", r.rms.rms_detrended_m});
+    out.push_back({"terrain.mean_slope", r.mean_slope});
+    out.push_back({"terrain.fractal_dimension", r.fd.dimension});
+    out.push_back({"terrain.psd_dimension", r.psd.dimension});
+}
+
+void analyse_traverse(const Manifest& m, const json& a, const RasterD& z, const fs::path& stage,
+                      Metrics& out) {
+    const auto v =
+        mobility::load_vehicle(manifest_path(m, get_string(a, "vehicle", "", "traverse")));
+    terrain::MissionOptions mo;
+    mo.count = static_cast<int>(get_integer(a, "missions", 20, "analyses.traverse", 1, 100000));
+    mo.seed = seed_of(a);
+    mo.validate();
+    std::vector<mobility::MissionLine> missions;
+    for (const auto& p : terrain::plan_missions(z, terrain::AnalysisOptions{}, mo))
+        missions.push_back({p.id, p.start_x_m, p.start_y_m, p.goal_x_m, p.goal_y_m});
+    mobility::TraverseOptions to;
+    to.speed_m_per_s = get_number(a, "speed_m_per_s", 0, "analyses.traverse", 0, 100);
+    const auto r = mobility::traverse_missions(v, z, missions, to);
+    json j = mobility::to_json(r, v);
+    j["seed"] = mo.seed;
+    io::write_text_atomic(stage / "traverse.json", j.dump(1) + "\n");
+    out.push_back({"traverse.missions", static_cast<double>(r.results.size())});
+    out.push_back({"traverse.successes", static_cast<double>(r.successes)});
+    out.push_back({"traverse.success_rate", r.success_rate});
+    out.push_back({"traverse.median_rms_vertical_acceleration_m_per_s2",
+                   r.median_rms_vertical_acceleration_m_per_s2});
+    out.push_back({"traverse.median_rms_pitch_rate_deg_per_s", r.median_rms_pitch_rate_deg_per_s});
+    out.push_back({"traverse.median_rms_roll_rate_deg_per_s", r.median_rms_roll_rate_deg_per_s});
+}
+
+void export_scenes(const json& a, const fs::path& run, const fs::path& stage,
+                   const fs::path& final_dir, const std::string& source) {
+    namespace ex = ecoterra::exporter;
+    ex::Scene s = ex::load_scene(run, -1);
+    s.source = source; // not the staging folder, which is gone once the member is in place
+    ex::ExportOptions opt;
+    if (a.contains("formats")) {
+        if (!a["formats"].is_array())
+            throw InputError("analyses.export.formats must be an array of format names");
+        for (const auto& f : a["formats"]) {
+            if (!f.is_string())
+                throw InputError("analyses.export.formats: " + f.dump() + " is not a format name");
+            const auto format = ex::scene_format_from_name(f.get<std::string>());
+            const std::string name = "scene_" + f.get<std::string>();
+            ex::OutputFolder folder(stage / name, false);
+            opt.final_dir = final_dir / name;
+            switch (format) {
+            case ex::SceneFormat::mavs:
+                ex::write_mavs(s, folder, opt);
+                break;
+            case ex::SceneFormat::gazebo:
+                ex::write_gazebo(s, folder, opt);
+                break;
+            case ex::SceneFormat::unreal:
+                ex::write_unreal(s, folder, opt);
+                break;
+            case ex::SceneFormat::gltf:
+                folder.write("scene.glb", ex::glb_bytes(s, opt));
+                break;
+            }
+            folder.commit();
+        }
+    }
+    if (get_bool(a, "layers", false, "analyses.export")) {
+        ex::OutputFolder folder(stage / "layers", false);
+        ex::write_layers(s, folder, ex::LayerOptions{});
+        folder.commit();
+    }
+}
+
+/// The member's work, into `stage`. Fills the metrics and the record's histogram.
+void execute(const Manifest& m, const Member& mb, const fs::path& stage, const fs::path& final_dir,
+             Metrics& metrics, json& record) {
+    const json& an = mb.analyses;
+    if (m.kind == BaseKind::run) {
+        auto scene = eco::load_eco_scene(mb.scene, m.base_dir);
+        eco::RunOptions opt;
+        opt.output = stage / "run.h5";
+        opt.pictures = an.value("pictures", false);
+        opt.picture_dir = stage / "pictures";
+        opt.provenance = provenance(m, mb);
+        const auto sum = eco::run_ecosystem(&scene, opt);
+        metrics.push_back({"run.years", static_cast<double>(sum.years_total)});
+        metrics.push_back({"run.reached_target", sum.reached_target ? 1.0 : 0.0});
+        metrics.push_back({"run.water_residual_relative", sum.water_residual_relative});
+        add_stand(sum.stand, metrics, record);
+        if (an.contains("stand"))
+            io::write_text_atomic(stage / "stand.json", eco::to_json(sum.stand).dump(1) + "\n");
+        RasterD dem;
+        if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
+            dem = terrain::io::read_hdf5(opt.output, "/terrain/elevation");
+        if (an.contains("mobility")) {
+            const auto s = eco::read_snapshot_plants(opt.output, -1);
+            std::vector<mobility::StandStem> stems;
+            for (const auto& p : s.plants) stems.push_back({p.x_m, p.y_m, p.dbh_m, p.height_m});
+            analyse_mobility(m, an["mobility"], stems, dem, stage, metrics);
+        }
+        if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
+        if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
+        if (an.contains("export"))
+            export_scenes(an["export"], opt.output, stage, final_dir,
+                          m.keep_files ? (final_dir / "run.h5").string()
+                                       : "member " + std::to_string(mb.index) + " of ensemble " +
+                                             m.name + " (its run file is not kept)");
+        if (!m.keep_files) {
+            fs::remove(opt.output);
+            fs::remove_all(stage / "run.snapshots");
+        }
+    } else if (m.kind == BaseKind::terrain) {
+        const auto t = terrain::generate_terrain(mb.scene);
+        if (an.contains("terrain")) analyse_terrain(an["terrain"], t.z, stage, metrics);
+        if (an.contains("traverse")) analyse_traverse(m, an["traverse"], t.z, stage, metrics);
+        if (m.keep_files) {
+            terrain::io::WriteOptions wo;
+            wo.provenance = provenance(m, mb);
+            wo.provenance["terrain"] = t.resolved;
+            terrain::io::write_raster(t.z, stage / "terrain.h5", wo);
+        }
+    } else {
+        const fs::path stems_file = m.base_dir / get_string(mb.scene, "stems", "", "base.mobility");
+        const fs::path dem_file = m.base_dir / get_string(mb.scene, "dem", "", "base.mobility");
+        const auto stems = mobility::read_stem_csv(stems_file);
+        const RasterD dem = terrain::io::read_raster(dem_file);
+        if (an.contains("mobility"))
+            analyse_mobility(m, an["mobility"], stems, dem, stage, metrics);
+    }
+}
+
+std::string utc_now() {
+    const std::time_t t = std::time(nullptr);
+    char b[32];
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return b;
+}
+
+std::string host_name() {
+    char b[256] = {0};
+    if (gethostname(b, sizeof b - 1) != 0) return "unknown";
+    return b;
+}
+
+json base_record(const Manifest& m, const Member& mb) {
+    json axes = json::array();
+    for (const auto& [k, v] : mb.axes) axes.push_back({{"key", k}, {"value", v}});
+    return {{"ensemble", m.name},
+            {"member", mb.index},
+            {"combination", mb.combination},
+            {"replicate", mb.replicate},
+            {"axes", axes},
+            {"seed", mb.seed},
+            {"seeds", mb.seeds},
+            {"input_hash", mb.input_hash},
+            {"software", {{"name", "ecoterra"}, {"version", ECOTERRA_VERSION}}}};
+}
+
+/// Moves the staged member into place. Another process may have finished the same member
+/// meanwhile (a resumed ensemble racing an orphaned member): its record stays if it is ok with
+/// the same inputs.
+void publish(const fs::path& stage, const fs::path& final_dir, const std::string& hash) {
+    std::error_code ec;
+    if (fs::exists(final_dir, ec)) {
+        try {
+            const json r = json::parse(io::read_text(final_dir / "member.json"));
+            if (r.value("status", "") == "ok" && r.value("input_hash", "") == hash) {
+                fs::remove_all(stage, ec);
+                return;
+            }
+        } catch (const std::exception&) {
+        }
+        const fs::path old = final_dir.parent_path() / ("." + final_dir.filename().string() +
+                                                        ".old-" + std::to_string(getpid()));
+        fs::remove_all(old, ec);
+        fs::rename(final_dir, old);
+        fs::rename(stage, final_dir);
+        fs::remove_all(old, ec);
+        return;
+    }
+    fs::rename(stage, final_dir);
+}
+
+fs::path stage_dir(const fs::path& out, const Manifest& m, std::size_t index) {
+    return out / "members" / ("." + member_name(m, index) + ".partial-" + std::to_string(getpid()));
+}
+
+void write_record(const fs::path& stage, const json& record, double seconds, int threads) {
+    io::write_text_atomic(stage / "member.json", record.dump(1) + "\n");
+    const json timing = {{"seconds", seconds},
+                         {"threads", threads},
+                         {"host", host_name()},
+                         {"pid", static_cast<long long>(getpid())},
+                         {"finished_utc", utc_now()}};
+    io::write_text_atomic(stage / "timing.json", timing.dump(1) + "\n");
+}
+
+} // namespace
+
+MemberOutcome run_member(const fs::path& out, const Manifest& m, const Member& mb, int threads) {
+    MemberOutcome o;
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path stage = stage_dir(out, m, mb.index);
+    std::error_code ec;
+    fs::remove_all(stage, ec);
+    fs::create_directories(stage);
+    json record = base_record(m, mb);
+    Metrics metrics;
+    try {
+        execute(m, mb, stage, member_dir(out, m, mb.index), metrics, record);
+        o.ok = true;
+    } catch (const std::bad_alloc&) {
+        o.error = "out of memory";
+    } catch (const std::exception& e) {
+        o.error = e.what();
+    }
+    if (!o.ok) {
+        // Nothing half-made stays beside a failed record.
+        for (const auto& e : fs::directory_iterator(stage)) fs::remove_all(e.path(), ec);
+        metrics.clear();
+        record.erase("histogram");
+    }
+    record["status"] = o.ok ? "ok" : "failed";
+    if (!o.ok) record["error"] = o.error;
+    json jm = json::object();
+    for (const auto& [k, v] : metrics) jm[k] = std::isfinite(v) ? json(v) : json(nullptr);
+    record["metrics"] = jm;
+    o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_record(stage, record, o.seconds, threads);
+    publish(stage, member_dir(out, m, mb.index), mb.input_hash);
+    return o;
+}
+
+void record_crashed_member(const fs::path& out, const Manifest& m, const Member& mb,
+                           const std::string& reason, const fs::path& log) {
+    std::string tail;
+    {
+        std::ifstream in(log, std::ios::binary);
+        std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        tail = all.size() > 2000 ? all.substr(all.size() - 2000) : all;
+    }
+    const fs::path stage = stage_dir(out, m, mb.index);
+    std::error_code ec;
+    fs::remove_all(stage, ec);
+    fs::create_directories(stage);
+    json record = base_record(m, mb);
+    record["status"] = "failed";
+    record["error"] = reason + (tail.empty() ? "" : "; its log ends: " + tail);
+    record["metrics"] = json::object();
+    write_record(stage, record, 0, 0);
+    publish(stage, member_dir(out, m, mb.index), mb.input_hash);
+}
+
+void prepare_output(const fs::path& out, const Manifest& m) {
+    const fs::path e = out / "ensemble.json";
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+        throw InputError("-o " + out.string() + ": exists and is not a folder");
+    if (fs::exists(e, ec)) {
+        json j;
+        try {
+            j = json::parse(io::read_text(e));
+        } catch (const std::exception& x) {
+            throw InputError(e.string() + ": unreadable (" + x.what() +
+                             "); this folder is not an ensemble's output: choose another -o");
+        }
+        const std::string other = j.value("name", ""), other_file = j.value("manifest_file", "");
+        if (other != m.name)
+            throw InputError("-o " + out.string() + " holds the members of ensemble '" + other +
+                             "' (manifest " + other_file + "), not of '" + m.name + "' (" +
+                             m.file.string() +
+                             "): choose another -o, or remove that folder to start again");
+    } else if (fs::exists(out, ec) && !fs::is_empty(out, ec)) {
+        throw InputError("-o " + out.string() +
+                         ": the folder has files and no ensemble.json; an ensemble writes only "
+                         "into a new or empty folder (or one of its own)");
+    }
+    fs::create_directories(out / "members");
+    fs::create_directories(out / "logs");
+    const json doc = {{"name", m.name},
+                      {"manifest_file", fs::absolute(m.file).lexically_normal().string()},
+                      {"manifest_dir", m.dir.string()},
+                      {"base_dir", m.base_dir.string()},
+                      {"members", m.members()},
+                      {"combinations", m.combinations()},
+                      {"replicates", m.replicates},
+                      {"manifest", m.document},
+                      {"base", m.base},
+                      {"software", {{"name", "ecoterra"}, {"version", ECOTERRA_VERSION}}}};
+    const std::string text = doc.dump(1) + "\n";
+    // Left alone when it already says the same (many processes may start at once).
+    try {
+        if (io::read_text(e) == text) return;
+    } catch (const std::exception&) {
+    }
+    io::write_text_atomic(e, text);
+}
+
+Manifest manifest_of_output(const fs::path& out) {
+    const fs::path e = out / "ensemble.json";
+    std::error_code ec;
+    if (!fs::is_regular_file(e, ec))
+        throw InputError(out.string() + ": no ensemble.json; not an ensemble's output folder");
+    const json j = parse_json(io::read_text(e), e.string());
+    if (!j.contains("manifest") || !j.contains("base"))
+        throw InputError(e.string() + ": no manifest in it; not an ensemble's output folder");
+    const json base = j["base"];
+    return manifest_from_document(j["manifest"], j.value("manifest_file", e.string()),
+                                  j.value("manifest_dir", out.string()), &base);
+}
+
+} // namespace ecoterra::ensemble

@@ -1,0 +1,482 @@
+#include "ecoterra/ensemble/summary.hpp"
+
+#include "ecoterra/eco/pictures.hpp"
+#include "ecoterra/ensemble/member.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+namespace ecoterra::ensemble {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string index_ranges(const std::vector<std::size_t>& v) {
+    std::string s;
+    for (std::size_t i = 0; i < v.size();) {
+        std::size_t j = i;
+        while (j + 1 < v.size() && v[j + 1] == v[j] + 1) ++j;
+        if (!s.empty()) s += ",";
+        s += std::to_string(v[i]);
+        if (j > i) {
+            s += "-";
+            s += std::to_string(v[j]);
+        }
+        i = j + 1;
+    }
+    return s;
+}
+
+std::string unit_of(const std::string& c) {
+    auto ends = [&](const std::string& suf) {
+        return c.size() >= suf.size() && c.compare(c.size() - suf.size(), suf.size(), suf) == 0;
+    };
+    static const std::vector<std::pair<std::string, std::string>> table{
+        {"_m_per_s2", "m/s2"},
+        {"_m_per_s", "m/s"},
+        {"_deg_per_s", "deg/s"},
+        {"_m2_per_ha", "m2/ha"},
+        {"_ft2_per_acre", "ft2/acre"},
+        {"_per_ha", "1/ha"},
+        {"_pct", "%"},
+        {"_cm", "cm"},
+        {"_m", "m"},
+        {"seconds", "s"},
+        {"years", "yr"}};
+    for (const auto& [suf, u] : table)
+        if (ends(suf)) return u;
+    return "1";
+}
+
+namespace {
+
+struct Stats {
+    double mean = NAN, sd = NAN, p10 = NAN, p50 = NAN, p90 = NAN;
+    std::size_t n = 0;
+};
+
+double quantile(const std::vector<double>& sorted, double q) {
+    if (sorted.empty()) return NAN;
+    const double h = q * static_cast<double>(sorted.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(h));
+    const std::size_t hi = std::min(lo + 1, sorted.size() - 1);
+    return sorted[lo] + (h - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+Stats stats(std::vector<double> v) {
+    v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }),
+            v.end());
+    Stats s;
+    s.n = v.size();
+    if (v.empty()) return s;
+    std::sort(v.begin(), v.end());
+    double sum = 0;
+    for (double x : v) sum += x;
+    s.mean = sum / static_cast<double>(v.size());
+    double ss = 0;
+    for (double x : v) ss += (x - s.mean) * (x - s.mean);
+    s.sd = v.size() > 1 ? std::sqrt(ss / static_cast<double>(v.size() - 1)) : 0.0;
+    s.p10 = quantile(v, 0.1);
+    s.p50 = quantile(v, 0.5);
+    s.p90 = quantile(v, 0.9);
+    return s;
+}
+
+/// The shortest text that reads back as the same double; empty for NaN.
+std::string num(double v) {
+    if (!std::isfinite(v)) return "";
+    char b[40];
+    const auto r = std::to_chars(b, b + sizeof b, v);
+    return std::string(b, r.ptr);
+}
+
+std::string csv_cell(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+/// A table of named columns, each a number, an integer or text, written as CSV and into an
+/// HDF5 group (integers as integers, so seeds stay exact).
+struct Columns {
+    enum Type { number, integer, text };
+    std::vector<std::string> names;
+    std::vector<Type> types;
+    std::vector<std::vector<double>> numbers;
+    std::vector<std::vector<std::int64_t>> integers;
+    std::vector<std::vector<std::string>> strings;
+    std::size_t add(const std::string& name, Type t) {
+        names.push_back(name);
+        types.push_back(t);
+        numbers.emplace_back();
+        integers.emplace_back();
+        strings.emplace_back();
+        return names.size() - 1;
+    }
+    std::size_t rows() const {
+        if (names.empty()) return 0;
+        return types[0] == text      ? strings[0].size()
+               : types[0] == integer ? integers[0].size()
+                                     : numbers[0].size();
+    }
+    std::string csv() const {
+        std::string s;
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            if (k) s += ",";
+            s += csv_cell(names[k]);
+        }
+        s += "\n";
+        for (std::size_t r = 0; r < rows(); ++r) {
+            for (std::size_t k = 0; k < names.size(); ++k) {
+                if (k) s += ",";
+                if (types[k] == text)
+                    s += csv_cell(strings[k][r]);
+                else if (types[k] == integer)
+                    s += std::to_string(integers[k][r]);
+                else
+                    s += num(numbers[k][r]);
+            }
+            s += "\n";
+        }
+        return s;
+    }
+    void hdf5(io::Hdf5Writer& w, const std::string& group, const std::string& what) const {
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            const std::string path = group + "/" + names[k];
+            if (types[k] == text)
+                w.strings(path, strings[k], what + ": " + names[k]);
+            else if (types[k] == integer)
+                w.series(path, integers[k], unit_of(names[k]), what + ": " + names[k]);
+            else
+                w.series(path, numbers[k], unit_of(names[k]), what + ": " + names[k]);
+        }
+    }
+};
+
+struct Fit {
+    bool valid = false;
+    double intercept = 0, rate = 0, q = 0, r2 = 0;
+};
+
+/// Least-squares fit of ln N against the class middles over the non-empty classes.
+Fit fit_histogram(const std::vector<double>& per_ha, double width) {
+    std::vector<double> x, y;
+    for (std::size_t i = 0; i < per_ha.size(); ++i)
+        if (per_ha[i] > 0) {
+            x.push_back((static_cast<double>(i) + 0.5) * width);
+            y.push_back(std::log(per_ha[i]));
+        }
+    Fit f;
+    if (x.size() < 3) return f;
+    const double n = static_cast<double>(x.size());
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+        sx += x[i], sy += y[i], sxx += x[i] * x[i], sxy += x[i] * y[i], syy += y[i] * y[i];
+    const double vx = sxx - sx * sx / n, vy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
+    const double slope = cxy / vx;
+    f.valid = true;
+    f.rate = -slope;
+    f.intercept = (sy - slope * sx) / n;
+    f.q = std::exp(f.rate * width);
+    f.r2 = vy > 0 ? cxy * cxy / (vx * vy) : 0;
+    return f;
+}
+
+struct Row {
+    std::size_t index = 0;
+    json record;
+    json timing;
+    bool ok = false;
+};
+
+std::string axis_text(const json& record, const std::string& key) {
+    for (const auto& a : record.value("axes", json::array()))
+        if (a.value("key", "") == key) return value_text(a["value"]);
+    return "";
+}
+
+double axis_number(const json& record, const std::string& key) {
+    for (const auto& a : record.value("axes", json::array()))
+        if (a.value("key", "") == key && a["value"].is_number()) return a["value"].get<double>();
+    return NAN;
+}
+
+double metric(const json& record, const std::string& name) {
+    const json& m = record.value("metrics", json::object());
+    if (!m.contains(name) || !m[name].is_number()) return NAN;
+    return m[name].get<double>();
+}
+
+std::vector<double> histogram_of(const json& record, double& width) {
+    std::vector<double> h;
+    if (!record.contains("histogram")) return h;
+    width = record["histogram"].value("class_width_cm", 5.0);
+    for (const auto& v : record["histogram"]["stems_per_ha"]) h.push_back(v.get<double>());
+    return h;
+}
+
+/// Mean (and sd) histogram of the rows; classes past a row's end count as empty.
+std::pair<std::vector<double>, std::vector<double>>
+mean_histogram(const std::vector<const Row*>& rows, double& width) {
+    std::vector<std::vector<double>> hs;
+    std::size_t classes = 0;
+    for (const Row* r : rows) {
+        hs.push_back(histogram_of(r->record, width));
+        classes = std::max(classes, hs.back().size());
+    }
+    std::vector<double> mean(classes, 0.0), sd(classes, 0.0);
+    if (hs.empty()) return {mean, sd};
+    const double n = static_cast<double>(hs.size());
+    for (auto& h : hs) h.resize(classes, 0.0);
+    for (std::size_t i = 0; i < classes; ++i) {
+        for (const auto& h : hs) mean[i] += h[i] / n;
+        for (const auto& h : hs) sd[i] += (h[i] - mean[i]) * (h[i] - mean[i]);
+        sd[i] = hs.size() > 1 ? std::sqrt(sd[i] / (n - 1)) : 0.0;
+    }
+    return {mean, sd};
+}
+
+void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::path& dir,
+                   SummaryReport& rep) {
+    for (const auto& p : m.pictures) {
+        // Group the members that succeeded by the series' value (in the axis' order).
+        std::vector<std::string> series_values{""};
+        if (!p.series.empty()) {
+            series_values.clear();
+            for (const auto& a : m.axes)
+                if (a.key == p.series)
+                    for (const auto& v : a.values) series_values.push_back(value_text(v));
+        }
+        const fs::path file = dir / (p.name + ".png");
+        const std::string title = p.title.empty() ? m.name : p.title;
+        if (p.histogram) {
+            std::vector<eco::HistogramSeries> hs;
+            double width = 5;
+            std::size_t count = 0;
+            for (const auto& sv : series_values) {
+                std::vector<const Row*> sel;
+                for (const auto& r : rows)
+                    if (r.ok && (p.series.empty() || axis_text(r.record, p.series) == sv))
+                        sel.push_back(&r);
+                if (sel.empty()) continue;
+                count = std::max(count, sel.size());
+                eco::HistogramSeries h;
+                h.label = sv.empty() ? "all members" : sv;
+                h.stems_per_ha = mean_histogram(sel, width).first;
+                const Fit f = fit_histogram(h.stems_per_ha, width);
+                h.fit = f.valid;
+                h.intercept = f.intercept, h.rate_per_cm = f.rate, h.q_per_class = f.q, h.r2 = f.r2;
+                hs.push_back(std::move(h));
+            }
+            eco::draw_histogram_plot(hs, width, title,
+                                     "mean of up to " + std::to_string(count) +
+                                         " members per series; lines: negative-exponential fits "
+                                         "of the means",
+                                     file);
+        } else {
+            std::vector<eco::PlotSeries> ps;
+            std::vector<double> xs;
+            for (const auto& a : m.axes)
+                if (a.key == p.x)
+                    for (const auto& v : a.values)
+                        if (v.is_number()) xs.push_back(v.get<double>());
+            std::size_t per_point = 0;
+            for (const auto& sv : series_values) {
+                eco::PlotSeries s;
+                s.label = sv.empty() ? p.y : sv;
+                for (double x : xs) {
+                    std::vector<double> ys;
+                    for (const auto& r : rows)
+                        if (r.ok && axis_number(r.record, p.x) == x &&
+                            (p.series.empty() || axis_text(r.record, p.series) == sv))
+                            ys.push_back(metric(r.record, p.y));
+                    const Stats st = stats(ys);
+                    if (st.n == 0) continue;
+                    per_point = std::max(per_point, st.n);
+                    s.x.push_back(x);
+                    s.y.push_back(st.mean);
+                    s.lo.push_back(st.p10);
+                    s.hi.push_back(st.p90);
+                }
+                if (!s.x.empty()) ps.push_back(std::move(s));
+            }
+            const std::string unit = unit_of(p.y);
+            eco::draw_line_plot(ps, title, p.x, p.y + (unit == "1" ? "" : " (" + unit + ")"),
+                                "points: mean of up to " + std::to_string(per_point) +
+                                    " members; band: 10th to 90th percentile",
+                                file);
+        }
+        rep.files.push_back(file);
+    }
+}
+
+} // namespace
+
+SummaryReport write_summary(const fs::path& out, const Manifest& m) {
+    SummaryReport rep;
+    rep.members = m.members();
+    std::vector<Row> rows;
+    for (std::size_t i = 0; i < m.members(); ++i) {
+        auto r = read_member_record(out, m, i);
+        if (!r) {
+            rep.missing_members.push_back(i);
+            continue;
+        }
+        Row row;
+        row.index = i;
+        row.record = std::move(*r);
+        row.ok = row.record.value("status", "") == "ok";
+        try {
+            row.timing = json::parse(io::read_text(member_dir(out, m, i) / "timing.json"));
+        } catch (const std::exception&) {
+            row.timing = json::object();
+        }
+        if (row.ok) {
+            ++rep.ok;
+        } else {
+            rep.failed_members.push_back(i);
+            rep.failures.push_back("member " + std::to_string(i) + ": " +
+                                   row.record.value("error", "failed"));
+        }
+        rows.push_back(std::move(row));
+    }
+    rep.failed = rep.failed_members.size();
+    rep.missing = rep.missing_members.size();
+
+    // Metric columns in the order they first appear.
+    std::vector<std::string> metrics;
+    std::set<std::string> seen;
+    for (const auto& r : rows)
+        for (auto it = r.record["metrics"].begin(); it != r.record["metrics"].end(); ++it)
+            if (seen.insert(it.key()).second) metrics.push_back(it.key());
+
+    Columns mt;
+    using C = Columns;
+    const auto c_member = mt.add("member", C::integer), c_comb = mt.add("combination", C::integer),
+               c_rep = mt.add("replicate", C::integer), c_seed = mt.add("seed", C::integer),
+               c_status = mt.add("status", C::text);
+    std::vector<std::size_t> c_axes;
+    for (const auto& a : m.axes) c_axes.push_back(mt.add(a.key, C::text));
+    std::vector<std::size_t> c_metrics;
+    for (const auto& k : metrics) c_metrics.push_back(mt.add(k, C::number));
+    const auto c_sec = mt.add("seconds", C::number), c_threads = mt.add("threads", C::integer),
+               c_host = mt.add("host", C::text), c_err = mt.add("error", C::text);
+    for (const auto& r : rows) {
+        mt.integers[c_member].push_back(static_cast<std::int64_t>(r.index));
+        mt.integers[c_comb].push_back(r.record.value("combination", std::int64_t{0}));
+        mt.integers[c_rep].push_back(r.record.value("replicate", std::int64_t{0}));
+        mt.integers[c_seed].push_back(r.record.value("seed", std::int64_t{0}));
+        mt.strings[c_status].push_back(r.record.value("status", ""));
+        for (std::size_t k = 0; k < m.axes.size(); ++k)
+            mt.strings[c_axes[k]].push_back(axis_text(r.record, m.axes[k].key));
+        for (std::size_t k = 0; k < metrics.size(); ++k)
+            mt.numbers[c_metrics[k]].push_back(metric(r.record, metrics[k]));
+        mt.numbers[c_sec].push_back(r.timing.value("seconds", NAN));
+        mt.integers[c_threads].push_back(r.timing.value("threads", std::int64_t{0}));
+        mt.strings[c_host].push_back(r.timing.value("host", ""));
+        mt.strings[c_err].push_back(r.record.value("error", ""));
+    }
+
+    // Aggregates per combination.
+    Columns ag;
+    const auto a_comb = ag.add("combination", C::integer);
+    std::vector<std::size_t> a_axes;
+    for (const auto& a : m.axes) a_axes.push_back(ag.add(a.key, C::text));
+    const auto a_members = ag.add("members", C::integer), a_ok = ag.add("ok", C::integer),
+               a_failed = ag.add("failed", C::integer);
+    std::vector<std::array<std::size_t, 5>> a_metrics;
+    for (const auto& k : metrics)
+        a_metrics.push_back({ag.add(k + ".mean", C::number), ag.add(k + ".sd", C::number),
+                             ag.add(k + ".p10", C::number), ag.add(k + ".p50", C::number),
+                             ag.add(k + ".p90", C::number)});
+    const bool histograms = m.kind == BaseKind::run;
+    std::size_t a_fit_q = 0, a_fit_r2 = 0;
+    if (histograms) {
+        a_fit_q = ag.add("histogram.fit_q_per_class", C::number);
+        a_fit_r2 = ag.add("histogram.fit_r2", C::number);
+    }
+    Columns hg;
+    const auto h_comb = hg.add("combination", C::integer);
+    std::vector<std::size_t> h_axes;
+    for (const auto& a : m.axes) h_axes.push_back(hg.add(a.key, C::text));
+    const auto h_lo = hg.add("class_lower_cm", C::number),
+               h_hi = hg.add("class_upper_cm", C::number),
+               h_mean = hg.add("mean_stems_per_ha", C::number),
+               h_sd = hg.add("sd_stems_per_ha", C::number);
+
+    std::map<std::size_t, std::vector<const Row*>> by_comb;
+    for (const auto& r : rows) by_comb[r.record.value("combination", std::size_t{0})].push_back(&r);
+    for (std::size_t c = 0; c < m.combinations(); ++c) {
+        const auto& sel = by_comb[c];
+        const Member first = make_member(m, c * static_cast<std::size_t>(m.replicates));
+        std::vector<const Row*> good;
+        for (const Row* r : sel)
+            if (r->ok) good.push_back(r);
+        ag.integers[a_comb].push_back(static_cast<std::int64_t>(c));
+        for (std::size_t k = 0; k < m.axes.size(); ++k)
+            ag.strings[a_axes[k]].push_back(value_text(first.axes[k].second));
+        ag.integers[a_members].push_back(m.replicates);
+        ag.integers[a_ok].push_back(static_cast<std::int64_t>(good.size()));
+        ag.integers[a_failed].push_back(static_cast<std::int64_t>(sel.size() - good.size()));
+        for (std::size_t k = 0; k < metrics.size(); ++k) {
+            std::vector<double> v;
+            for (const Row* r : good) v.push_back(metric(r->record, metrics[k]));
+            const Stats s = stats(v);
+            const double vals[5] = {s.mean, s.sd, s.p10, s.p50, s.p90};
+            for (int q = 0; q < 5; ++q) ag.numbers[a_metrics[k][q]].push_back(vals[q]);
+        }
+        if (histograms) {
+            double width = 5;
+            const auto [mean, sd] = mean_histogram(good, width);
+            const Fit f = fit_histogram(mean, width);
+            ag.numbers[a_fit_q].push_back(f.valid ? f.q : NAN);
+            ag.numbers[a_fit_r2].push_back(f.valid ? f.r2 : NAN);
+            for (std::size_t i = 0; i < mean.size(); ++i) {
+                hg.integers[h_comb].push_back(static_cast<std::int64_t>(c));
+                for (std::size_t k = 0; k < m.axes.size(); ++k)
+                    hg.strings[h_axes[k]].push_back(value_text(first.axes[k].second));
+                hg.numbers[h_lo].push_back(static_cast<double>(i) * width);
+                hg.numbers[h_hi].push_back(static_cast<double>(i + 1) * width);
+                hg.numbers[h_mean].push_back(mean[i]);
+                hg.numbers[h_sd].push_back(sd[i]);
+            }
+        }
+    }
+
+    const fs::path dir = out / "summary";
+    fs::create_directories(dir);
+    io::write_text_atomic(dir / "members.csv", mt.csv());
+    io::write_text_atomic(dir / "aggregate.csv", ag.csv());
+    rep.files = {dir / "members.csv", dir / "aggregate.csv"};
+    if (histograms) {
+        io::write_text_atomic(dir / "histograms.csv", hg.csv());
+        rep.files.push_back(dir / "histograms.csv");
+    }
+    {
+        io::Hdf5Writer w(dir / "summary.h5");
+        w.attribute("/", "ensemble", m.name);
+        w.attribute("/", "description", m.description);
+        w.integer_attribute("/", "members", static_cast<std::int64_t>(m.members()));
+        w.integer_attribute("/", "ok", static_cast<std::int64_t>(rep.ok));
+        w.integer_attribute("/", "failed", static_cast<std::int64_t>(rep.failed));
+        w.integer_attribute("/", "missing", static_cast<std::int64_t>(rep.missing));
+        mt.hdf5(w, "/members", "one row per finished member");
+        ag.hdf5(w, "/aggregate", "one row per combination of axis values");
+        if (histograms) hg.hdf5(w, "/histograms", "mean diameter histogram per combination");
+        w.commit();
+        rep.files.push_back(dir / "summary.h5");
+    }
+    draw_pictures(m, rows, dir, rep);
+    return rep;
+}
+
+} // namespace ecoterra::ensemble

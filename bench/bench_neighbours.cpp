@@ -3,6 +3,8 @@
 // while they wait) and with OMP_WAIT_POLICY=active (threads spin), as ratios to the time alone.
 // A fair share of a 2-core machine beside two busy processes is about 2x.
 // Usage: bench_neighbours [--years N] [--repeat R] [--scene FILE]
+#include "busy.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -15,17 +17,6 @@
 #include <vector>
 
 namespace {
-
-/// A child process that spins until it is killed.
-pid_t start_busy() {
-    std::fflush(stdout);
-    const pid_t pid = fork();
-    if (pid == 0) {
-        volatile unsigned long x = 0;
-        for (;;) x = x + 1;
-    }
-    return pid;
-}
 
 /// Runs the command (argv) with OMP_WAIT_POLICY set as given ("" = unset); returns seconds.
 double timed_run(const std::vector<std::string>& args, const std::string& policy) {
@@ -89,13 +80,10 @@ int main(int argc, char** argv) {
         double alone = 0;
         for (int busy = 0; busy <= 2; ++busy) {
             std::vector<pid_t> spinners;
-            for (int b = 0; b < busy; ++b) spinners.push_back(start_busy());
+            for (int b = 0; b < busy; ++b) spinners.push_back(ecoterra::bench::start_busy());
             std::vector<double> t;
             for (int r = 0; r < repeat; ++r) t.push_back(timed_run(cmd, policy));
-            for (const pid_t p : spinners) {
-                kill(p, SIGKILL);
-                waitpid(p, nullptr, 0);
-            }
+            for (const pid_t p : spinners) ecoterra::bench::stop_busy(p);
             std::sort(t.begin(), t.end());
             const double med = t[t.size() / 2];
             if (busy == 0) alone = med;

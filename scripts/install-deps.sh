@@ -9,6 +9,7 @@ packages=(
   libhdf5-dev nlohmann-json3-dev catch2
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
   libsdformat-dev gdal-bin
+  libopenmpi-dev openmpi-bin
 )
 if [ "${1:-}" = "--sanitize" ]; then
   packages+=(clang libclang-rt-14-dev libomp-14-dev)

@@ -14,7 +14,7 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 flags="-O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link"
 flags+=" -fno-sanitize-recover=all"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=None -DCMAKE_C_COMPILER=clang \
-  -DCMAKE_CXX_COMPILER=clang++ -DECOTERRA_FUZZ=ON -DECOTERRA_BUILD_BENCH=OFF \
+  -DCMAKE_CXX_COMPILER=clang++ -DECOTERRA_FUZZ=ON -DECOTERRA_BUILD_BENCH=OFF -DECOTERRA_MPI=OFF \
   -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined"
@@ -30,7 +30,7 @@ seconds="${ECOTERRA_FUZZ_SECONDS:-20}"
 [ "$seconds" -gt 0 ] || exit 0
 # hdf5_dem is left out: libhdf5 1.10.8 itself crashes on some damaged files
 # (fuzz/library-defects/README.md); its corpus is still replayed by the suite above.
-targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii png16 png_sidecar geotiff}"
+targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii png16 png_sidecar geotiff ensemble_manifest}"
 work="$build/fuzz-corpus"
 failed=()
 for target in $targets; do

@@ -157,6 +157,7 @@ int finish(const fs::path& out, const en::Manifest& m, double seconds, std::size
 int run_local(const EnsembleArgs& a, const en::Manifest& m) {
     const fs::path out = a.output;
     en::prepare_output(out, m);
+    en::sweep_stale_stages(out);
     const auto todo = todo_list(out, m);
     const int cores = usable_cores();
     const int jobs =
@@ -164,7 +165,8 @@ int run_local(const EnsembleArgs& a, const en::Manifest& m) {
                                   static_cast<int>(std::max<std::size_t>(1, todo.size()))));
     const int threads = a.threads > 0 ? a.threads : std::max(1, cores / jobs);
     print_plan(m, todo.size(),
-               std::to_string(jobs) + " processes x " + std::to_string(threads) + " threads");
+               std::to_string(jobs) + (jobs == 1 ? " process" : " processes") + " of " +
+                   std::to_string(threads) + (threads == 1 ? " thread" : " threads"));
     Stopwatch sw;
     std::map<pid_t, std::size_t> running;
     std::size_t next = 0, done = 0, failed = 0;
@@ -278,11 +280,12 @@ int run_mpi(const EnsembleArgs& a, const en::Manifest& m) {
             MPI_Finalize();
             throw InputError(error);
         }
+        en::sweep_stale_stages(out);
         const auto todo = todo_list(out, m);
         const int threads = a.threads > 0 ? a.threads : 1;
         print_plan(m, todo.size(),
-                   std::to_string(size - 1) + " worker ranks x " + std::to_string(threads) +
-                       " threads (rank 0 hands out members)");
+                   std::to_string(size - 1) + " worker ranks of " + std::to_string(threads) +
+                       (threads == 1 ? " thread" : " threads") + " (rank 0 hands out members)");
         Stopwatch sw;
         std::size_t next = 0, done = 0, failed = 0;
         int active = size - 1;

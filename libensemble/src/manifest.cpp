@@ -67,6 +67,8 @@ std::uint64_t derive_seed(std::uint64_t seed, const std::string& stream, std::ui
 
 namespace {
 
+constexpr std::size_t kMaxMembers = 10000000;
+
 /// The dotted paths of every leaf and object of `j` (prefix included).
 void dotted_paths(const json& j, const std::string& prefix, std::set<std::string>& out) {
     if (!j.is_object()) return;
@@ -291,9 +293,12 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
                                      "): values is empty; an axis needs at least one value");
                 for (const auto& v : a["values"]) ax.values.push_back(v);
                 m.axes.push_back(std::move(ax));
+                // Checked as it grows, so that a product past the limit cannot wrap around.
+                if (m.combinations() > kMaxMembers)
+                    throw InputError("the axes make more than 10 000 000 combinations");
             }
         }
-        if (m.members() > 10000000)
+        if (m.members() > kMaxMembers)
             throw InputError("the axes and replicates make " + std::to_string(m.members()) +
                              " members; at most 10 000 000");
         if (d.contains("pictures")) {
@@ -304,7 +309,10 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
             for (std::size_t i = 0; i < d["pictures"].size(); ++i) {
                 const json& p = d["pictures"][i];
                 const std::string w = "pictures[" + std::to_string(i) + "]";
-                require_known_keys(p, {"name", "title", "x", "y", "series", "histogram"}, w);
+                require_known_keys(p,
+                                   {"name", "title", "x", "y", "series", "histogram", "x_label",
+                                    "y_label", "x_scale"},
+                                   w);
                 PictureSpec s;
                 s.name = get_string(p, "name", "", w);
                 s.title = get_string(p, "title", "", w);
@@ -312,6 +320,9 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
                 s.y = get_string(p, "y", "", w);
                 s.series = get_string(p, "series", "", w);
                 s.histogram = get_bool(p, "histogram", false, w);
+                s.x_label = get_string(p, "x_label", "", w);
+                s.y_label = get_string(p, "y_label", "", w);
+                s.x_scale = get_number(p, "x_scale", 1, w, 1e-300, 1e300);
                 if (s.name.empty() || s.name.find('/') != std::string::npos)
                     throw InputError(w + ".name must be a file name (without .png)");
                 if (!s.x.empty() && !axis_keys.count(s.x))

@@ -15,8 +15,11 @@
 #include "ecoterra/terrain/missions.hpp"
 #include "ecoterra/units.hpp"
 
+#include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <unistd.h>
@@ -300,6 +303,8 @@ json base_record(const Manifest& m, const Member& mb) {
             {"software", {{"name", "ecoterra"}, {"version", ECOTERRA_VERSION}}}};
 }
 
+std::string owner_tag();
+
 /// Moves the staged member into place. Another process may have finished the same member
 /// meanwhile (a resumed ensemble racing an orphaned member): its record stays if it is ok with
 /// the same inputs.
@@ -314,8 +319,9 @@ void publish(const fs::path& stage, const fs::path& final_dir, const std::string
             }
         } catch (const std::exception&) {
         }
-        const fs::path old = final_dir.parent_path() / ("." + final_dir.filename().string() +
-                                                        ".old-" + std::to_string(getpid()));
+        std::string old_name = ".";
+        old_name += final_dir.filename().string() + ".old-" + owner_tag();
+        const fs::path old = final_dir.parent_path() / old_name;
         fs::remove_all(old, ec);
         fs::rename(final_dir, old);
         fs::rename(stage, final_dir);
@@ -325,8 +331,18 @@ void publish(const fs::path& stage, const fs::path& final_dir, const std::string
     fs::rename(stage, final_dir);
 }
 
+/// The suffix of this process's staging folders: the host, because the folder may be shared by
+/// machines whose process ids mean nothing to each other, and the process id.
+std::string owner_tag() {
+    return host_name() + "-" + std::to_string(getpid());
+}
+
+/// `.NNNNNN.partial-HOST-PID`: member `index` being written by this process.
 fs::path stage_dir(const fs::path& out, const Manifest& m, std::size_t index) {
-    return out / "members" / ("." + member_name(m, index) + ".partial-" + std::to_string(getpid()));
+    std::string name = ".";
+    name += member_name(m, index);
+    name += ".partial-" + owner_tag();
+    return out / "members" / name;
 }
 
 void write_record(const fs::path& stage, const json& record, double seconds, int threads) {
@@ -373,6 +389,44 @@ MemberOutcome run_member(const fs::path& out, const Manifest& m, const Member& m
     write_record(stage, record, o.seconds, threads);
     publish(stage, member_dir(out, m, mb.index), mb.input_hash);
     return o;
+}
+
+namespace {
+
+/// True when the process exists and is not a zombie (an orphan whose parent died is a zombie
+/// until someone reaps it, and in a container nobody may).
+bool process_alive(pid_t pid) {
+    if (kill(pid, 0) != 0 && errno == ESRCH) return false;
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string text;
+    if (!std::getline(stat, text)) return true; // no /proc: trust kill()
+    const auto close = text.rfind(')');
+    return close == std::string::npos || close + 2 >= text.size() || text[close + 2] != 'Z';
+}
+
+} // namespace
+
+std::size_t sweep_stale_stages(const fs::path& out) {
+    const std::string host = host_name();
+    std::size_t removed = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out / "members", ec)) {
+        const std::string n = e.path().filename().string();
+        if (n.empty() || n[0] != '.') continue;
+        std::size_t at = n.find(".partial-");
+        std::size_t len = 9;
+        if (at == std::string::npos) at = n.find(".old-"), len = 5;
+        if (at == std::string::npos) continue;
+        const std::string tag = n.substr(at + len);
+        const auto dash = tag.rfind('-');
+        if (dash == std::string::npos || tag.substr(0, dash) != host) continue;
+        const long pid = std::strtol(tag.c_str() + dash + 1, nullptr, 10);
+        if (pid <= 0 || !process_alive(static_cast<pid_t>(pid))) {
+            fs::remove_all(e.path(), ec);
+            ++removed;
+        }
+    }
+    return removed;
 }
 
 void record_crashed_member(const fs::path& out, const Manifest& m, const Member& mb,

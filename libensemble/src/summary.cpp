@@ -302,7 +302,7 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                     const Stats st = stats(ys);
                     if (st.n == 0) continue;
                     per_point = std::max(per_point, st.n);
-                    s.x.push_back(x);
+                    s.x.push_back(x * p.x_scale);
                     s.y.push_back(st.mean);
                     s.lo.push_back(st.p10);
                     s.hi.push_back(st.p90);
@@ -310,7 +310,9 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                 if (!s.x.empty()) ps.push_back(std::move(s));
             }
             const std::string unit = unit_of(p.y);
-            eco::draw_line_plot(ps, title, p.x, p.y + (unit == "1" ? "" : " (" + unit + ")"),
+            eco::draw_line_plot(ps, title, p.x_label.empty() ? p.x : p.x_label,
+                                p.y_label.empty() ? p.y + (unit == "1" ? "" : " (" + unit + ")")
+                                                  : p.y_label,
                                 "points: mean of up to " + std::to_string(per_point) +
                                     " members; band: 10th to 90th percentile",
                                 file);

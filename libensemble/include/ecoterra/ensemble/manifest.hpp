@@ -27,6 +27,8 @@ struct Axis {
 /// (an axis, optional); or, with `histogram`, the mean diameter histograms of each series.
 struct PictureSpec {
     std::string name, title, x, y, series;
+    std::string x_label, y_label; ///< default: the key and the metric with its unit
+    double x_scale = 1;           ///< x shown = axis value x_scale (e.g. m2/ha to ft2/acre)
     bool histogram = false;
 };
 

@@ -5,7 +5,7 @@
 //   OUT/ensemble.json              the manifest as read, its name and member count
 //   OUT/members/NNNNNN/            a finished member (ok or failed): member.json, timing.json and
 //                                  the files of its analyses
-//   OUT/members/.NNNNNN.partial-P  a member being written (never counted)
+//   OUT/members/.NNNNNN.partial-HOST-PID  a member being written (never counted)
 //   OUT/logs/NNNNNN.log            what the member's process printed
 //   OUT/summary/                   members.csv, aggregate.csv, histograms.csv, summary.h5, *.png
 #include "ecoterra/ensemble/manifest.hpp"
@@ -47,6 +47,11 @@ MemberOutcome run_member(const std::filesystem::path& out, const Manifest& m, co
 /// with `reason` and the end of its log.
 void record_crashed_member(const std::filesystem::path& out, const Manifest& m, const Member& mb,
                            const std::string& reason, const std::filesystem::path& log);
+
+/// Removes the staging folders left by processes of this host that are gone (a member killed
+/// while it was writing); folders of live processes and of other hosts are left alone. Returns
+/// how many were removed.
+std::size_t sweep_stale_stages(const std::filesystem::path& out);
 
 /// Prepares OUT for the manifest: creates it, or checks that it holds this ensemble (same name)
 /// and nothing else; writes ensemble.json. InputError naming both manifests otherwise.

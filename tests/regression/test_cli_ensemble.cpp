@@ -1,0 +1,357 @@
+// `ecoterra ensemble` as users run it: the same members whatever the number of processes (and
+// under mpirun), resuming after kill -9, failing members reported, bad input refused.
+#include "ecoterra/io/atomic_file.hpp"
+#include "support/run_cli.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <map>
+#include <thread>
+
+using namespace ecoterra;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A small ensemble over the quickstart scene cut to 0.25 ha: 2 x 2 combinations x 2 replicates,
+/// with the stand and MRZR mobility of every member.
+json small_manifest(const std::string& name = "small") {
+    const std::string data = test::data_dir().string();
+    return {{"name", name},
+            {"base", {{"run", data + "/scenes/quickstart.json"}}},
+            {"seed", 5},
+            {"replicates", 2},
+            {"keep_files", true},
+            {"set",
+             {{"terrain.generate.size", 25},
+              {"simulation.years", 12},
+              {"simulation.snapshot_interval_years", 6}}},
+            {"axes",
+             {{{"key", "vegetation.competition"}, {"values", {"coupled", "light_only"}}},
+              {{"key", "soil.random.patch_size_m"}, {"values", {20, 40}}}}},
+            {"analyses",
+             {{"stand", json::object()},
+              {"mobility", {{"vehicle", data + "/vehicles/mrzr4.json"}, {"lines", 20}}}}},
+            {"pictures",
+             {{{"name", "smg"},
+               {"x", "soil.random.patch_size_m"},
+               {"y", "mobility.smg_mean_m_per_s"},
+               {"series", "vegetation.competition"}},
+              {{"name", "hist"}, {"histogram", true}}}}};
+}
+
+void write(const fs::path& p, const json& j) {
+    io::write_text_atomic(p, j.dump(1));
+}
+
+/// Every file under `dir` (relative path -> bytes), leaving out the run-dependent timing.json and
+/// the logs.
+std::map<std::string, std::string> member_files(const fs::path& dir) {
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir / "members")) {
+        if (!e.is_regular_file() || e.path().filename() == "timing.json") continue;
+        out[fs::relative(e.path(), dir).string()] = io::read_text(e.path());
+    }
+    return out;
+}
+
+json record(const fs::path& dir, int member) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", member);
+    return json::parse(io::read_text(dir / "members" / name / "member.json"));
+}
+
+/// Rows of a CSV as maps column -> text (RFC 4180 quoting: "..." with "" inside).
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
+    const std::string text = io::read_text(p);
+    std::vector<std::vector<std::string>> table(1);
+    std::string cell;
+    bool quoted = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+                cell += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                cell += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            table.back().push_back(cell);
+            cell.clear();
+        } else if (c == '\n') {
+            table.back().push_back(cell);
+            cell.clear();
+            table.emplace_back();
+        } else {
+            cell += c;
+        }
+    }
+    if (table.back().empty()) table.pop_back();
+    std::vector<std::map<std::string, std::string>> rows;
+    for (std::size_t r = 1; r < table.size(); ++r) {
+        std::map<std::string, std::string> row;
+        for (std::size_t k = 0; k < table[0].size() && k < table[r].size(); ++k)
+            row[table[0][k]] = table[r][k];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+} // namespace
+
+TEST_CASE("ensemble: members are the same bytes with 1 or 2 processes and under mpirun",
+          "[ensemble][cli]") {
+    test::TempDir d;
+    write(d / "m.json", small_manifest());
+    const auto one = test::run(d, "ensemble m.json -o out --jobs 1");
+    INFO(one.out);
+    REQUIRE(one.code == 0);
+    CHECK_THAT(one.out, Catch::Contains("8 of 8 members ok, 0 failed, 0 not run"));
+    const auto a = member_files(d.path() / "out");
+    // run.h5, its snapshots, stand.json, mobility.json, member.json per member
+    CHECK(a.size() == 8 * 6);
+    fs::rename(d / "out", d / "out-jobs1");
+    const auto two = test::run(d, "ensemble m.json -o out --jobs 2");
+    INFO(two.out);
+    REQUIRE(two.code == 0);
+    CHECK(member_files(d.path() / "out") == a);
+#ifdef ECOTERRA_MPIRUN
+    fs::rename(d / "out", d / "out-jobs2");
+    const auto mpi =
+        test::shell(d, ECOTERRA_MPIRUN " --allow-run-as-root --oversubscribe -np 3 '" ECOTERRA_BIN
+                                       "' ensemble m.json -o out");
+    INFO(mpi.out);
+    REQUIRE(mpi.code == 0);
+    CHECK_THAT(mpi.out, Catch::Contains("2 worker ranks") && Catch::Contains("rank 0 spent"));
+    CHECK(member_files(d.path() / "out") == a);
+#endif
+    // Every member records its axes and its seed; replicate r shares its seeds across the axes.
+    std::map<int, std::uint64_t> seed_of_replicate;
+    for (int i = 0; i < 8; ++i) {
+        const json r = record(d.path() / "out", i);
+        CHECK(r["status"] == "ok");
+        CHECK(r["member"] == i);
+        CHECK(r["replicate"] == i % 2);
+        const auto s = r["seed"].get<std::uint64_t>();
+        CHECK(r["seeds"]["simulation.seed"].get<std::uint64_t>() == s);
+        if (seed_of_replicate.count(i % 2))
+            CHECK(seed_of_replicate[i % 2] == s);
+        else
+            seed_of_replicate[i % 2] = s;
+    }
+    CHECK(seed_of_replicate[0] != seed_of_replicate[1]);
+}
+
+TEST_CASE("ensemble: the summary is the members' figures, gathered", "[ensemble][cli]") {
+    test::TempDir d;
+    write(d / "m.json", small_manifest());
+    REQUIRE(test::run(d, "ensemble m.json -o out").code == 0);
+    const auto members = read_csv(d / "out/summary/members.csv");
+    REQUIRE(members.size() == 8);
+    for (const auto& row : members) {
+        const json r = record(d.path() / "out", std::stoi(row.at("member")));
+        CHECK(row.at("status") == "ok");
+        CHECK(row.at("vegetation.competition") == r["axes"][0]["value"].get<std::string>());
+        CHECK(std::stod(row.at("mobility.smg_mean_m_per_s")) ==
+              Approx(r["metrics"]["mobility.smg_mean_m_per_s"].get<double>()).epsilon(1e-15));
+        CHECK(std::stoull(row.at("seed")) == r["seed"].get<std::uint64_t>());
+    }
+    // Aggregates: each combination's mean and extremes of its members.
+    const auto agg = read_csv(d / "out/summary/aggregate.csv");
+    REQUIRE(agg.size() == 4);
+    for (const auto& row : agg) {
+        std::vector<double> v;
+        for (const auto& m : members)
+            if (m.at("combination") == row.at("combination"))
+                v.push_back(std::stod(m.at("stand.basal_area_m2_per_ha")));
+        REQUIRE(v.size() == 2);
+        CHECK(row.at("ok") == "2");
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.mean")) ==
+              Approx((v[0] + v[1]) / 2).epsilon(1e-12));
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.p50")) ==
+              Approx((v[0] + v[1]) / 2).epsilon(1e-12));
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.sd")) ==
+              Approx(std::abs(v[0] - v[1]) / std::sqrt(2.0)).epsilon(1e-9));
+    }
+    // The mean histogram per combination holds as many stems per ha as the members' mean.
+    const auto hist = read_csv(d / "out/summary/histograms.csv");
+    for (const auto& row : agg) {
+        double sum = 0;
+        for (const auto& h : hist)
+            if (h.at("combination") == row.at("combination"))
+                sum += std::stod(h.at("mean_stems_per_ha"));
+        CHECK(sum == Approx(std::stod(row.at("stand.stems_per_ha.mean"))).epsilon(1e-9));
+    }
+    for (const char* f : {"summary.h5", "smg.png", "hist.png"})
+        CHECK(fs::file_size(d / "out/summary" / f) > 1000);
+    // --summary gathers the same tables again from the folder alone.
+    const std::string before = io::read_text(d / "out/summary/aggregate.csv");
+    fs::remove(d / "out/summary/aggregate.csv");
+    const auto s = test::run(d, "ensemble --summary out");
+    INFO(s.out);
+    CHECK(s.code == 0);
+    CHECK(io::read_text(d / "out/summary/aggregate.csv") == before);
+}
+
+TEST_CASE("ensemble: a failing member is reported and the others complete", "[ensemble][cli]") {
+    test::TempDir d;
+    json m = small_manifest();
+    m["axes"][0]["values"] = {"coupled", "geometric"};
+    write(d / "m.json", m);
+    const auto r = test::run(d, "ensemble m.json -o out");
+    INFO(r.out);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.out, Catch::Contains("4 of 8 members ok, 4 failed"));
+    CHECK_THAT(r.out, Catch::Contains("--array=4-7"));
+    for (int i = 0; i < 8; ++i) {
+        const json rec = record(d.path() / "out", i);
+        CHECK(rec["status"] == (i < 4 ? "ok" : "failed"));
+        if (i >= 4) {
+            CHECK_THAT(rec["error"].get<std::string>(),
+                       Catch::Contains("vegetation.competition") && Catch::Contains("geometric"));
+            // Nothing half-made beside a failed record.
+            char name[16];
+            std::snprintf(name, sizeof name, "%06d", i);
+            CHECK_FALSE(fs::exists(d / "out/members" / name / "run.h5"));
+        }
+    }
+    const auto rows = read_csv(d / "out/summary/members.csv");
+    REQUIRE(rows.size() == 8);
+    CHECK(rows[5].at("status") == "failed");
+    CHECK_THAT(rows[5].at("error"), Catch::Contains("geometric"));
+    CHECK(read_csv(d / "out/summary/aggregate.csv")[2].at("failed") == "2");
+    // One member alone (a Slurm array task) runs the same and fails the same.
+    const auto one = test::run(d, "ensemble m.json -o out --member 5");
+    CHECK(one.code == 1);
+    CHECK_THAT(one.out, Catch::Contains("member 5 of small: failed"));
+}
+
+TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again completes it",
+          "[ensemble][cli]") {
+    test::TempDir d;
+    json m = small_manifest("slow");
+    m["set"]["terrain.generate.size"] = 50; // 1 ha, 40 years: a second or two per member
+    m["set"]["simulation.years"] = 40;
+    m["set"]["simulation.snapshot_interval_years"] = 5;
+    write(d / "m.json", m);
+    const fs::path out = d / "out";
+    auto wait_for = [&](const std::function<bool()>& f) {
+        for (int k = 0; k < 600 && !f(); ++k)
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        return f();
+    };
+    // The driver in the background; kill -9 once the first member is in place.
+    REQUIRE(test::shell(d,
+                        "('" ECOTERRA_BIN "' ensemble m.json -o out --jobs 2 > driver.log 2>&1 & "
+                        "echo $! > driver.pid)")
+                .code == 0);
+    REQUIRE(wait_for([&] { return fs::exists(out / "members/000000/member.json"); }));
+    const std::string pid = io::read_text(d / "driver.pid");
+    test::shell(d, "kill -9 " + pid);
+    // Its member processes finish or are killed too (here: killed, as a crashed node would).
+    test::shell(d, "pkill -9 -f '[e]nsemble .*m.json -o .*out --member' || true");
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const std::string kept = io::read_text(out / "members/000000/member.json");
+    const std::string kept_timing = io::read_text(out / "members/000000/timing.json");
+    auto second = test::run(d, "ensemble m.json -o out --jobs 2");
+    INFO(second.out);
+    CHECK(second.code == 0);
+    CHECK_THAT(second.out, Catch::Contains("8 of 8 members ok"));
+    CHECK_THAT(second.out, !Catch::Contains("0 done before"));
+    // The member finished before the kill is untouched (its timing names the first run's process).
+    CHECK(io::read_text(out / "members/000000/member.json") == kept);
+    CHECK(io::read_text(out / "members/000000/timing.json") == kept_timing);
+    // No staging folder is left behind or counted.
+    for (const auto& e : fs::directory_iterator(out / "members"))
+        CHECK(e.path().filename().string().find("partial") == std::string::npos);
+
+    // kill -9 of one member: the driver records it as failed with the signal, the rest go on.
+    fs::rename(out, d / "out-first");
+    REQUIRE(test::shell(d,
+                        "('" ECOTERRA_BIN "' ensemble m.json -o out --jobs 1 > driver2.log 2>&1 & "
+                        "echo $! > driver2.pid)")
+                .code == 0);
+    REQUIRE(wait_for([&] { return test::shell(d, "pgrep -f '[o]ut --member 0 '").code == 0; }));
+    test::shell(d, "pkill -9 -f '[o]ut --member 0 '");
+    REQUIRE(wait_for([&] { return fs::exists(out / "summary/members.csv"); }));
+    REQUIRE(wait_for(
+        [&] { return test::shell(d, "kill -0 $(cat driver2.pid) 2>/dev/null").code != 0; }));
+    const json crashed = record(out, 0);
+    CHECK(crashed["status"] == "failed");
+    CHECK_THAT(crashed["error"].get<std::string>(), Catch::Contains("killed by signal 9"));
+    CHECK_THAT(io::read_text(d / "driver2.log"), Catch::Contains("7 of 8 members ok, 1 failed"));
+    const auto third = test::run(d, "ensemble m.json -o out");
+    INFO(third.out);
+    CHECK(third.code == 0);
+    CHECK_THAT(third.out, Catch::Contains("7 done before, 1 to run"));
+    CHECK(record(out, 0)["status"] == "ok");
+    // The resumed ensemble's members are those of the uninterrupted one.
+    CHECK(member_files(out) == member_files(d / "out-first"));
+}
+
+TEST_CASE("ensemble: a finished ensemble runs nothing again; a changed input reruns its members",
+          "[ensemble][cli]") {
+    test::TempDir d;
+    json m = small_manifest();
+    write(d / "m.json", m);
+    REQUIRE(test::run(d, "ensemble m.json -o out").code == 0);
+    const std::string timing = io::read_text(d / "out/members/000003/timing.json");
+    const auto again = test::run(d, "ensemble m.json -o out");
+    CHECK(again.code == 0);
+    CHECK_THAT(again.out, Catch::Contains("8 done before, 0 to run"));
+    CHECK(io::read_text(d / "out/members/000003/timing.json") == timing);
+    // More lines in the mobility analysis: every member's inputs changed.
+    m["analyses"]["mobility"]["lines"] = 21;
+    write(d / "m.json", m);
+    const auto changed = test::run(d, "ensemble m.json -o out");
+    CHECK_THAT(changed.out, Catch::Contains("0 done before, 8 to run"));
+    CHECK(record(d.path() / "out", 3)["metrics"].contains("mobility.smg_mean_m_per_s"));
+}
+
+TEST_CASE("ensemble: bad input gets a clear error and loses nothing", "[ensemble][cli]") {
+    test::TempDir d;
+    write(d / "m.json", small_manifest());
+    json other = small_manifest("other");
+    write(d / "other.json", other);
+    REQUIRE(test::run(d, "ensemble m.json -o out --member 2").code == 0);
+    const std::string kept = io::read_text(d / "out/members/000002/member.json");
+    struct Case {
+        std::string args;
+        std::vector<std::string> says;
+    };
+    const std::vector<Case> cases{
+        {"ensemble other.json -o out",
+         {"-o out holds the members of ensemble 'small'", "m.json", "not of 'other' (other.json)"}},
+        {"ensemble m.json -o out --member 8", {"--member 8 is out of range", "members 0 to 7"}},
+        {"ensemble m.json -o out --member -3", {"--member -3 is out of range"}},
+        {"ensemble m.json", {"-o DIR"}},
+        {"ensemble m.json -o m.json", {"-o m.json"}},
+        {"ensemble m.json -o out --jobs -1", {"--jobs -1"}},
+        {"ensemble missing.json -o x", {"missing.json"}},
+        {"ensemble --summary nowhere", {"nowhere", "ensemble.json"}},
+    };
+    for (const auto& c : cases) {
+        const auto r = test::run(d, c.args);
+        INFO(c.args + "\n" + r.out);
+        CHECK(r.code == 2);
+        for (const auto& s : c.says) CHECK_THAT(r.out, Catch::Contains(s));
+    }
+    // A folder of other files is not an ensemble's: refused, its files untouched.
+    fs::create_directories(d / "mine");
+    io::write_text_atomic(d / "mine/notes.txt", "mine");
+    const auto r = test::run(d, "ensemble m.json -o mine");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("no ensemble.json"));
+    CHECK(io::read_text(d / "mine/notes.txt") == "mine");
+    CHECK(io::read_text(d / "out/members/000002/member.json") == kept);
+}

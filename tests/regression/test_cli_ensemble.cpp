@@ -299,7 +299,7 @@ TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again c
     CHECK(member_files(out) == member_files(d / "out-first"));
 }
 
-TEST_CASE("ensemble: a finished ensemble runs nothing again; a changed input reruns its members",
+TEST_CASE("ensemble: a finished ensemble runs nothing again and a changed input reruns its members",
           "[ensemble][cli]") {
     test::TempDir d;
     json m = small_manifest();

@@ -85,7 +85,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_ke
         {"stand", {}},
         {"mobility", {"vehicle", "lines", "length_m", "layout"}},
         {"terrain", {"border_m", "closing_radius_m"}},
-        {"traverse", {"vehicle", "missions", "speed_m_per_s"}},
+        {"traverse", {"vehicle", "missions", "length_m", "speed_m_per_s"}},
         {"export", {"formats", "layers"}},
         {"pictures", {}}};
     return k;

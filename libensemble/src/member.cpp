@@ -156,6 +156,7 @@ void analyse_traverse(const Manifest& m, const json& a, const RasterD& z, const 
         mobility::load_vehicle(manifest_path(m, get_string(a, "vehicle", "", "traverse")));
     terrain::MissionOptions mo;
     mo.count = static_cast<int>(get_integer(a, "missions", 20, "analyses.traverse", 1, 100000));
+    mo.length_m = get_number(a, "length_m", mo.length_m, "analyses.traverse", 1e-3, 1e6);
     mo.seed = seed_of(a);
     mo.validate();
     std::vector<mobility::MissionLine> missions;

@@ -355,3 +355,69 @@ TEST_CASE("ensemble: bad input gets a clear error and loses nothing", "[ensemble
     CHECK(io::read_text(d / "mine/notes.txt") == "mine");
     CHECK(io::read_text(d / "out/members/000002/member.json") == kept);
 }
+
+TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli]") {
+    test::TempDir d;
+    const std::string data = test::data_dir().string();
+    // Terrains: the multifractal at two D_high, analysed and driven over by the Husky.
+    write(d / "t.json", {{"name", "terrains"},
+                         {"base", {{"terrain", {{"preset", "majhor2023"}, {"size", 401}}}}},
+                         {"replicates", 2},
+                         {"keep_files", true},
+                         {"axes", {{{"key", "params.d_high"}, {"values", {2.3, 2.6}}}}},
+                         {"analyses",
+                          {{"terrain", json::object()},
+                           {"traverse",
+                            {{"vehicle", data + "/vehicles/husky_a200.json"},
+                             {"missions", 4},
+                             {"length_m", 6}}}}}});
+    const auto t = test::run(d, "ensemble t.json -o t");
+    INFO(t.out);
+    REQUIRE(t.code == 0);
+    for (int i = 0; i < 4; ++i) {
+        const json r = record(d.path() / "t", i);
+        CHECK(r["metrics"]["traverse.missions"] == 4);
+        const double low = r["metrics"]["terrain.low_pct"], semi = r["metrics"]["terrain.semi_pct"],
+                     high = r["metrics"]["terrain.high_pct"];
+        CHECK(low + semi + high == Approx(100).epsilon(1e-9));
+    }
+    // Replicate r shares its terrain seed across D_high; the member's terrain is the one
+    // `terrain generate` makes with that seed (both stored as HDF5, float32).
+    const json r0 = record(d.path() / "t", 0), r2 = record(d.path() / "t", 2);
+    CHECK(r0["seed"] == r2["seed"]);
+    CHECK(r0["seed"] != record(d.path() / "t", 1)["seed"]);
+    const auto gen = test::run(d, "terrain generate --preset majhor2023 --size 401 --d-high 2.3 "
+                                  "--seed " +
+                                      std::to_string(r0["seed"].get<std::uint64_t>()) + " -o g.h5");
+    REQUIRE(gen.code == 0);
+    REQUIRE(test::run(d, "terrain convert g.h5 g.asc").code == 0);
+    REQUIRE(test::run(d, "terrain convert t/members/000000/terrain.h5 m.asc").code == 0);
+    CHECK(io::read_text(d / "g.asc") == io::read_text(d / "m.asc"));
+    // A stand given as a stem list over a DEM, driven by two vehicles.
+    REQUIRE(
+        test::run(d, "run " + data + "/scenes/quickstart.json -o run.h5 --years 15 --no-pictures")
+            .code == 0);
+    REQUIRE(test::run(d, "export vegetation run.h5 -o stems.csv").code == 0);
+    REQUIRE(test::run(d, "terrain convert run.h5 dem.tif").code == 0);
+    write(d / "mob.json",
+          {{"name", "vehicles"},
+           {"base", {{"mobility", {{"stems", "stems.csv"}, {"dem", "dem.tif"}}}}},
+           {"axes",
+            {{{"key", "analyses.mobility.vehicle"},
+              {"values", {data + "/vehicles/mrzr4.json", data + "/vehicles/husky_a200.json"}}}}},
+           {"analyses", {{"mobility", {{"vehicle", "none"}, {"lines", 30}}}}}});
+    const auto mob = test::run(d, "ensemble mob.json -o mob");
+    INFO(mob.out);
+    REQUIRE(mob.code == 0);
+    const double mrzr = record(d.path() / "mob", 0)["metrics"]["mobility.smg_mean_m_per_s"];
+    const double husky = record(d.path() / "mob", 1)["metrics"]["mobility.smg_mean_m_per_s"];
+    CHECK(husky < 1.01); // the Husky's top speed is 1 m/s
+    CHECK(mrzr > 3 * husky);
+    // The same figures as `ecoterra mobility` with the member's seed.
+    const std::uint64_t seed = record(d.path() / "mob", 0)["seeds"]["analyses.mobility.seed"];
+    const auto direct = test::run(d, "mobility --stems stems.csv --dem dem.tif --vehicle " + data +
+                                         "/vehicles/mrzr4.json --lines 30 --seed " +
+                                         std::to_string(seed) + " --json direct.json");
+    REQUIRE(direct.code == 0);
+    CHECK(json::parse(io::read_text(d / "direct.json"))["smg_mean_m_per_s"].get<double>() == mrzr);
+}

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Test-only tools: Debian's python3-h5py and python3-pandas (the Python readers of run files), and
+# Test-only tools: Debian's python3-h5py and python3-pandas (the Python readers of run files),
+# hdf5-tools (h5ls), and
 # from the npm registry, into .tools/ in the repository (git-ignored), the Khronos glTF validator
 # that the export tests run on every .glb. Idempotent.
 set -euo pipefail
@@ -9,6 +10,11 @@ version=2.0.0-dev.3.10
 if ! /usr/bin/python3 -c "import h5py, pandas" 2>/dev/null; then
   echo "install-test-tools: installing python3-h5py and python3-pandas"
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-h5py python3-pandas
+fi
+# HDF5's own tools (h5ls lists run files as users see them).
+if ! command -v h5ls >/dev/null; then
+  echo "install-test-tools: installing hdf5-tools"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends hdf5-tools
 fi
 if [ -f .tools/node_modules/gltf-validator/package.json ] &&
    grep -q "\"version\": \"$version\"" .tools/node_modules/gltf-validator/package.json; then

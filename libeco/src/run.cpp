@@ -221,7 +221,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
                                  st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
             const bool last = y == to_run || reached;
             if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
-                write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots));
+                write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots), snapshots);
                 ++snapshots;
                 write_main(*eco, work, prov, snapshots);
             }

@@ -29,14 +29,21 @@ std::uint64_t raster_hash(const RasterD& r) {
     return fnv1a64(r.data(), static_cast<std::size_t>(r.size()) * sizeof(double));
 }
 
-void write_snapshot(const Ecosystem& eco, const fs::path& path) {
+std::string snapshot_group(int index) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/%04d", index);
+    return name;
+}
+
+void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     io::Hdf5Writer h5(path);
+    const std::string g = snapshot_group(index);
     const auto& w = eco.last_weather();
     std::vector<PlantRecord> rows;
     rows.reserve(eco.plants().size());
     for (const auto& p : eco.plants()) rows.push_back(plant_record(p));
     for (const auto& c : plant_columns()) {
-        const std::string dataset = "/plants/" + c.name;
+        const std::string dataset = g + "/plants/" + c.name;
         auto write = [&]<class T>(T) {
             std::vector<T> v;
             v.reserve(rows.size());
@@ -51,12 +58,12 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path) {
             write(double{});
     }
     const auto& hy = eco.hydrology();
-    write_layers(h5, "", hydro::water_state_layers(), hy);
-    h5.raster("/shade_fraction", eco.ground_shade(), "1",
+    write_layers(h5, g, hydro::water_state_layers(), hy);
+    h5.raster(g + "/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
-    h5.integer_attribute("/", "year", eco.years_done());
-    h5.integer_attribute("/", "day", eco.days_done());
-    h5.attribute("/", "date",
+    h5.integer_attribute(g, "year", eco.years_done());
+    h5.integer_attribute(g, "day", eco.days_done());
+    h5.attribute(g, "date",
                  "simulation year " + std::to_string(w.year) + ", day " + std::to_string(w.doy));
     h5.commit();
 }
@@ -97,7 +104,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     for (int k = 0; k < snapshots; ++k) {
         char link[32];
         std::snprintf(link, sizeof link, "/snapshots/%04d", k);
-        h5.external_link(link, dir + "/" + snapshot_file_name(k), "/");
+        h5.external_link(link, dir + "/" + snapshot_file_name(k), snapshot_group(k));
     }
     h5.integer_attribute("/snapshots", "count", snapshots);
     h5.attribute("/", "area_m2", eco.plant_grid().width_m() * eco.plant_grid().height_m());

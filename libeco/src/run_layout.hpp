@@ -27,8 +27,13 @@ std::string snapshot_dir_name(const fs::path& output);
 std::string snapshot_file_name(int index);
 /// FNV-1a of a raster's bytes (the terrain a checkpoint belongs to).
 std::uint64_t raster_hash(const RasterD& r);
-/// Writes snapshot file `path`: plants, soil moisture, standing water, weather of the day.
-void write_snapshot(const Ecosystem& eco, const fs::path& path);
+/// "/NNNN": the group that holds snapshot `index` in its file. The run file's link points to it;
+/// a group of its own name per file (not the root) lets `h5ls -r --follow-symlinks` list every
+/// snapshot (it takes links to the same path as visited).
+std::string snapshot_group(int index);
+/// Writes snapshot file `path`: plants, soil moisture, standing water, weather of the day, under
+/// snapshot_group(index).
+void write_snapshot(const Ecosystem& eco, const fs::path& path, int index);
 /// Writes the run file `path` (atomically): rasters, species, series, checkpoint and the links to
 /// `snapshots` snapshot files.
 void write_main(const Ecosystem& eco, const fs::path& path, const nlohmann::json& provenance,
@@ -50,7 +55,7 @@ std::vector<T> read_vector(const H5::Group& g, const std::string& name, const H5
     return v;
 }
 
-/// Opens snapshot `k` of `run` and calls f on its root group. The file is found by the run file's
+/// Opens snapshot `k` of `run` and calls f on its group. The file is found by the run file's
 /// present name (RUN.snapshots/NNNN.h5 beside RUN.h5), so that a run file renamed together with
 /// its folder still reads; the external links in RUN.h5 serve other tools (h5py, HDFView).
 template <class F>
@@ -66,7 +71,9 @@ void open_snapshot(const fs::path& run, int k, F&& f) {
     try {
         if (!H5::H5File::isHdf5(file.string())) throw InputError(what + "is not an HDF5 file");
         H5::H5File h(file.string(), H5F_ACC_RDONLY);
-        f(h.openGroup("/"));
+        // The snapshot's own group /NNNN; files written before it existed hold it at the root.
+        const std::string group = snapshot_group(k);
+        f(h.openGroup(h.nameExists(group) ? group : std::string("/")));
     } catch (const H5::Exception& e) {
         throw InputError(what + "is damaged (" + e.getDetailMsg() + ")");
     }

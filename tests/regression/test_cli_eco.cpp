@@ -334,3 +334,19 @@ TEST_CASE("run: bad input names the file, species and key", "[eco][cli][errors]"
     CHECK_THAT(r.out, Catch::Contains("vegetation.competition"));
     CHECK_FALSE(fs::exists(dir / "out.h5"));
 }
+
+TEST_CASE("run: h5ls follows every snapshot link", "[eco][cli]") {
+    test::TempDir d;
+    REQUIRE(test::run(d, "run '" + (test::data_dir() / "scenes/quickstart.json").string() +
+                             "' -o run.h5 --years 15 --no-pictures")
+                .code == 0);
+    // HDF5's own lister, as users run it: each of the 3 snapshots is listed through its link.
+    const auto ls = test::shell(d, "h5ls -r --follow-symlinks run.h5");
+    INFO(ls.out);
+    REQUIRE(ls.code == 0);
+    CHECK_THAT(ls.out, !Catch::Contains("Already Visited"));
+    for (const char* s : {"0000", "0001", "0002"}) {
+        CHECK_THAT(ls.out, Catch::Contains(std::string("/snapshots/") + s + "/plants/dbh_m"));
+        CHECK_THAT(ls.out, Catch::Contains(std::string("/snapshots/") + s + "/soil_moisture"));
+    }
+}

@@ -350,3 +350,39 @@ TEST_CASE("run: h5ls follows every snapshot link", "[eco][cli]") {
         CHECK_THAT(ls.out, Catch::Contains(std::string("/snapshots/") + s + "/soil_moisture"));
     }
 }
+
+TEST_CASE("raster commands read a snapshot's raster as RUN.h5:/snapshots/NNNN/NAME", "[eco][cli]") {
+    test::TempDir d;
+    REQUIRE(test::run(d, "run '" + (test::data_dir() / "scenes/quickstart.json").string() +
+                             "' -o run.h5 --years 10 --no-pictures")
+                .code == 0);
+    const auto c = test::run(d, "terrain convert run.h5:/snapshots/0001/soil_moisture m.asc");
+    INFO(c.out);
+    REQUIRE(c.code == 0);
+    // The values are the snapshot's, as ecoterra's own reader sees them.
+    const auto grid = eco::read_run_terrain(d / "run.h5").grid();
+    const RasterD want = eco::read_snapshot_raster(d / "run.h5", 1, "soil_moisture", grid);
+    std::ifstream in(d / "m.asc");
+    std::string word;
+    for (int k = 0; k < 12; ++k) in >> word; // the six header lines
+    for (int j = grid.ny - 1; j >= 0; --j)   // ESRI ASCII: the north row first
+        for (int i = 0; i < grid.nx; ++i) {
+            double v = 0;
+            in >> v;
+            REQUIRE(v == Approx(want(i, j)).epsilon(1e-6));
+        }
+    // Any raster command takes it, the leading slash optional.
+    CHECK(test::run(d, "terrain convert run.h5:snapshots/0000/surface_water_depth_m w.tif").code ==
+          0);
+    const auto gone = test::run(d, "terrain convert run.h5:/snapshots/0009/soil_moisture x.asc");
+    CHECK(gone.code == 2);
+    CHECK_THAT(gone.out, Catch::Contains("run.h5: has no dataset /snapshots/0009/soil_moisture"));
+    // Bad names: the file and the dataset named.
+    const auto missing = test::run(d, "terrain convert run.h5:/snapshots/0001/moisture x.asc");
+    CHECK(missing.code == 2);
+    CHECK_THAT(missing.out, Catch::Contains("run.h5: has no dataset /snapshots/0001/moisture"));
+    const auto empty = test::run(d, "terrain convert run.h5: x.asc");
+    CHECK(empty.code == 2);
+    CHECK_THAT(empty.out, Catch::Contains("name a dataset after the colon"));
+    CHECK_FALSE(fs::exists(d / "x.asc"));
+}

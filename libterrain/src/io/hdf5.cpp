@@ -27,6 +27,17 @@ std::string read_string_attr(const H5::H5Object& obj, const char* name) {
 
 } // namespace
 
+namespace {
+/// True when every part of the absolute `path` exists (H5Lexists fails, rather than answer
+/// false, when a part before the last is missing).
+bool path_exists(const H5::H5File& f, const std::string& path) {
+    std::size_t at = 0;
+    while ((at = path.find('/', at + 1)) != std::string::npos)
+        if (!f.nameExists(path.substr(0, at))) return false;
+    return f.nameExists(path);
+}
+} // namespace
+
 RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset) {
     H5::Exception::dontPrint();
     const std::string where = path.string();
@@ -41,9 +52,11 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
                                          f.openGroup("/terrain").nameExists("elevation")
                                      ? "/terrain/elevation"
                                      : dataset;
-        if (!f.nameExists(name))
+        if (!path_exists(f, name))
             throw InputError(where + ": has no dataset " + dataset +
-                             " (nor /terrain/elevation, the terrain of a run file)");
+                             (dataset == "/elevation"
+                                  ? " (nor /terrain/elevation, the terrain of a run file)"
+                                  : ""));
         H5::DataSet ds = f.openDataSet(name);
         H5::DataSpace sp = ds.getSpace();
         if (sp.getSimpleExtentNdims() != 2)

@@ -58,6 +58,27 @@ std::string format_name(RasterFormat f) {
 }
 
 RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>* warnings) {
+    // FILE.h5:/DATASET names one dataset of an HDF5 file, e.g. a snapshot's raster of a run file
+    // (run.h5:/snapshots/0002/soil_moisture; the snapshot links are followed).
+    const std::string text = path.string();
+    for (const std::string ext : {".h5:", ".hdf5:"}) {
+        const auto at = lower(text).rfind(ext);
+        if (at == std::string::npos || ends_with(lower(text), ext.substr(0, ext.size() - 1)))
+            continue;
+        const std::string file = text.substr(0, at + ext.size() - 1);
+        std::string dataset = text.substr(at + ext.size());
+        if (dataset.empty() || dataset == "/")
+            throw InputError(text + ": name a dataset after the colon, e.g. " + file +
+                             ":/snapshots/0000/soil_moisture");
+        if (dataset.front() != '/') {
+            std::string absolute(1, '/');
+            absolute += dataset;
+            dataset = absolute;
+        }
+        RasterD z = read_hdf5(file, dataset);
+        require_valid_cells(z, text);
+        return z;
+    }
     if (!std::filesystem::exists(path)) throw InputError(path.string() + ": no such file");
     const std::string name = lower(path.filename().string());
     RasterD z;

@@ -1,5 +1,6 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
 #include "ecoterra/eco/pictures.hpp"
+#include "ecoterra/hydro/pictures.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/picture.hpp"
 #include "ecoterra/terrain/roughness.hpp"
@@ -133,7 +134,7 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
     SurfaceOwner s(mw + static_cast<int>(kLegendPx), mh + 40);
     cairo_t* cr = s.cr;
     white(cr);
-    paint_image(cr, terrain::hillshade_image(dem), 0, 30, mw, mh);
+    terrain::paint_image(cr, terrain::hillshade_image(dem), 0, 30, mw, mh, true);
     // Crowns, largest first so small plants stay visible.
     std::vector<std::size_t> order(eco.plants().size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -185,6 +186,9 @@ void draw_histogram(const Ecosystem& eco, const fs::path& path) {
     const double nclass = std::max<double>(4, static_cast<double>(st.histogram.size()));
     double ymax = 1;
     for (auto c : st.histogram) ymax = std::max(ymax, static_cast<double>(c) / st.area_ha);
+    // The frame holds the fitted curve too, from the first class middle on.
+    if (st.fit_valid)
+        ymax = std::max(ymax, std::exp(st.intercept - st.rate_per_cm * 0.5 * w) / st.area_ha);
     Frame f{80, 40, 600, 340, 0, nclass * w, 0, ymax * 1.1};
     for (std::size_t i = 0; i < st.histogram.size(); ++i) {
         const double v = static_cast<double>(st.histogram[i]) / st.area_ha;
@@ -199,10 +203,7 @@ void draw_histogram(const Ecosystem& eco, const fs::path& path) {
         for (int k = 0; k <= 200; ++k) {
             const double x = 0.5 * w + (nclass - 1) * w * k / 200.0;
             const double y = std::exp(st.intercept - st.rate_per_cm * x) / st.area_ha;
-            if (k == 0)
-                cairo_move_to(cr, f.px(x), f.py(std::min(y, f.ymax)));
-            else
-                cairo_line_to(cr, f.px(x), f.py(std::min(y, f.ymax)));
+            (k == 0 ? cairo_move_to : cairo_line_to)(cr, f.px(x), f.py(y));
         }
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0, 0, 0);
@@ -218,7 +219,7 @@ void draw_histogram(const Ecosystem& eco, const fs::path& path) {
 }
 
 void draw_history(const Ecosystem& eco, const fs::path& path) {
-    SurfaceOwner s(720, 680);
+    SurfaceOwner s(1320, 760);
     cairo_t* cr = s.cr;
     white(cr);
     const Table& t = eco.yearly();
@@ -228,50 +229,59 @@ void draw_history(const Ecosystem& eco, const fs::path& path) {
         throw Error(std::string("no yearly column ") + name);
     };
     const auto& year = col("year");
-    const auto draw_line = [&](const std::vector<double>& y, double top, const std::string& label,
-                               const std::string& title) {
+    // A panel of one or more yearly series (scaled by `factor`), with a legend when several.
+    using Series = std::pair<std::string, std::vector<double>>;
+    const auto panel = [&](const std::vector<Series>& series, double x0, double y0,
+                           const std::string& label, const std::string& title) {
         double ymax = 1e-9;
-        for (double v : y) ymax = std::max(ymax, v);
-        Frame f{80, top,       600, 230, 0, std::max(1.0, year.empty() ? 1.0 : year.back()),
-                0,  ymax * 1.1};
-        cairo_set_source_rgb(cr, 0.0, 0.45, 0.70);
-        cairo_set_line_width(cr, 2);
-        for (std::size_t k = 0; k < y.size(); ++k) {
-            if (k == 0)
-                cairo_move_to(cr, f.px(year[k]), f.py(y[k]));
-            else
-                cairo_line_to(cr, f.px(year[k]), f.py(y[k]));
+        for (const auto& [name, y] : series)
+            for (double v : y) ymax = std::max(ymax, v);
+        const Frame f{x0, y0,        520, 250, 0, std::max(1.0, year.empty() ? 1.0 : year.back()),
+                      0,  ymax * 1.1};
+        for (std::size_t k = 0; k < series.size(); ++k) {
+            const auto* c = kPalette[(k + 4) % 8];
+            cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+            cairo_set_line_width(cr, 2);
+            const auto& y = series[k].second;
+            for (std::size_t i = 0; i < y.size() && i < year.size(); ++i)
+                (i == 0 ? cairo_move_to : cairo_line_to)(cr, f.px(year[i]), f.py(y[i]));
+            cairo_stroke(cr);
+            if (series.size() > 1) {
+                const double ly = f.y0 + 16 + 16.0 * static_cast<double>(k);
+                cairo_rectangle(cr, f.x0 + 10, ly - 9, 14, 10);
+                cairo_fill(cr);
+                cairo_set_source_rgb(cr, 0, 0, 0);
+                text(cr, f.x0 + 30, ly, series[k].first, 12);
+            }
         }
-        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
         f.draw(cr, "simulation year", label, title);
     };
-    draw_line(col("basal_area_m2_per_ha"), 40, "m2/ha", "Basal area");
-    draw_line(col("stems_per_ha"), 380, "stems/ha", "Stems at breast height");
+    const double area_ha = eco.plant_grid().width_m() * eco.plant_grid().height_m() / 1e4;
+    auto scaled = [](const std::vector<double>& v, double k) {
+        std::vector<double> out(v);
+        for (double& x : out) x *= k;
+        return out;
+    };
+    panel({{"basal area", col("basal_area_m2_per_ha")}}, 90, 50, "m2/ha", "Basal area");
+    panel({{"stems", col("stems_per_ha")}}, 760, 50, "stems/ha", "Stems at breast height");
+    panel({{"quadratic mean", scaled(col("quadratic_mean_dbh_m"), 100)},
+           {"arithmetic mean", scaled(col("mean_dbh_m"), 100)}},
+          90, 440, "cm", "Mean trunk diameter at breast height");
+    panel({{"starvation", scaled(col("deaths_starvation"), 1 / area_ha)},
+           {"suppression", scaled(col("deaths_suppression"), 1 / area_ha)},
+           {"overlap (light-only)", scaled(col("deaths_overlap"), 1 / area_ha)},
+           {"age", scaled(col("deaths_age"), 1 / area_ha)},
+           {"background", scaled(col("deaths_background"), 1 / area_ha)}},
+          760, 440, "deaths per ha and year", "Deaths by cause (all plants)");
+    text(cr, 20, 24,
+         "Stand history: " + eco.scene().ecosystem.name + ", " + fmt(area_ha, 2) + " ha, " +
+             competition_name(eco.scene().competition) + " competition",
+         16);
     s.save(path);
 }
 
 } // namespace
-
-void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h) {
-    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, im.width, im.height);
-    unsigned char* data = cairo_image_surface_get_data(img);
-    const int stride = cairo_image_surface_get_stride(img);
-    for (int r = 0; r < im.height; ++r)
-        for (int c = 0; c < im.width; ++c) {
-            const auto& p = im.pixels[static_cast<std::size_t>(r) * im.width + c];
-            auto* q = reinterpret_cast<std::uint32_t*>(data + r * stride) + c;
-            *q = (static_cast<std::uint32_t>(p.r) << 16) | (static_cast<std::uint32_t>(p.g) << 8) |
-                 p.b;
-        }
-    cairo_surface_mark_dirty(img);
-    cairo_save(cr);
-    cairo_translate(cr, x, y);
-    cairo_scale(cr, w / im.width, h / im.height);
-    cairo_set_source_surface(cr, img, 0, 0);
-    cairo_paint(cr);
-    cairo_restore(cr);
-    cairo_surface_destroy(img);
-}
 
 std::array<double, 3> species_colour(std::size_t k) {
     const auto* c = kPalette[std::min<std::size_t>(k, 7)];
@@ -284,9 +294,9 @@ void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
     draw_histogram(eco, dir / "dbh_histogram.png");
     draw_history(eco, dir / "stand_history.png");
     const auto& hy = eco.hydrology();
-    terrain::write_png_rgb(terrain::colormap_image(hy.soil_moisture()), dir / "soil_moisture.png");
-    terrain::write_png_rgb(terrain::colormap_image(hy.surface_water_depth()),
-                           dir / "surface_water_depth.png");
+    hydro::write_water_pictures(eco.scene().hydro.dem, eco.scene().hydro.soil, hy.soil_moisture(),
+                                hy.surface_water_depth(),
+                                "year " + std::to_string(eco.years_done()), dir);
 }
 
 void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
@@ -297,7 +307,7 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
         SurfaceOwner s(f.w + 230, f.h + 40);
         cairo_t* cr = s.cr;
         white(cr);
-        paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h);
+        terrain::paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h, true);
         std::vector<char> pushed(m.stems.size(), 0);
         for (const auto& l : m.lines)
             for (const auto k : l.result.pushed_stems) pushed[static_cast<std::size_t>(k)] = 1;
@@ -406,8 +416,8 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
     cairo_t* cr = s.cr;
     white(cr);
     // The slope map (maximum gradient to a neighbour, as the roughness classes use), 0 to 1.
-    paint_image(cr, terrain::colormap_image(terrain::max_gradient_map(dem), 0.0, 1.0), 0, f.top,
-                f.w, f.h);
+    terrain::paint_image(cr, terrain::colormap_image(terrain::max_gradient_map(dem), 0.0, 1.0), 0,
+                         f.top, f.w, f.h, true);
     int ok = 0;
     for (std::size_t k = 0; k < missions.size() && k < results.size(); ++k) {
         const auto& m = missions[k];

@@ -76,7 +76,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     auto py = [&](double y) { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; };
 
     // Left: the run's records, crowns as circles over the hillshade.
-    eco::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, w, h);
+    terrain::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, w, h, true);
     std::vector<std::size_t> order(s.trees.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

@@ -1,5 +1,7 @@
 #include "ecoterra/hydro/scene.hpp"
 
+#include "ecoterra/hydro/pictures.hpp"
+
 #include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/generate.hpp"
@@ -327,11 +329,14 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     h5.commit();
     if (!png_dir.empty()) {
         io::create_folder(png_dir, "the picture folder");
-        terrain::write_png_rgb(terrain::hillshade_image(sc.dem), png_dir / "hillshade.png");
-        terrain::write_png_rgb(terrain::colormap_image(model.soil_moisture()),
-                               png_dir / "soil_moisture.png");
-        terrain::write_png_rgb(terrain::colormap_image(model.surface_water_depth()),
-                               png_dir / "surface_water_depth.png");
+        terrain::MapFigure f;
+        f.title = "Hillshade of the terrain";
+        f.colour_bar = false;
+        f.notes = {"light from the north-west (azimuth 315 deg, altitude 45 deg)"};
+        terrain::write_map_figure(terrain::hillshade_image(sc.dem), sc.dem.grid(), f,
+                                  png_dir / "hillshade.png");
+        write_water_pictures(sc.dem, sc.soil, model.soil_moisture(), model.surface_water_depth(),
+                             "end of day " + std::to_string(total), png_dir);
     }
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return sum;

@@ -4,6 +4,8 @@
 
 #include "ecoterra/terrain/picture.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -117,23 +119,103 @@ std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
     return buf;
 }
 
+namespace {
+
+/// The q-quantile of the finite values (nearest rank).
+double quantile_of(const RasterD& z, double q) {
+    std::vector<double> v;
+    v.reserve(static_cast<std::size_t>(z.size()));
+    for (Eigen::Index k = 0; k < z.size(); ++k)
+        if (std::isfinite(z.data()[k])) v.push_back(z.data()[k]);
+    if (v.empty()) return 0;
+    const auto n = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n), v.end());
+    return v[n];
+}
+
+std::string fixed(double v, int digits) {
+    char b[48];
+    std::snprintf(b, sizeof b, "%.*f", digits, v);
+    return b;
+}
+
+} // namespace
+
 std::vector<std::filesystem::path> write_analysis_pictures(const RasterD& z,
                                                            const TerrainAnalysis& a,
                                                            const AnalysisOptions& opt,
                                                            const std::filesystem::path& dir) {
     io::create_folder(dir, "the picture folder");
     std::vector<std::filesystem::path> out;
-    auto put = [&](const Image& img, const char* name) {
+    const GridSpec& g = z.grid();
+    auto put = [&](const Image& img, const MapFigure& f, const char* name) {
         out.push_back(dir / name);
-        write_png_rgb(img, out.back());
+        write_map_figure(img, g, f, out.back());
     };
     const RasterD shade = hillshade(z);
     const int border = static_cast<int>(std::ceil(opt.border_m / z.cell_size() - 1e-9));
-    put(hillshade_image(z), "hillshade.png");
-    put(colormap_image(z), "elevation.png");
-    put(colormap_image(slope_aspect(z).slope, 0.0, 2.0 * opt.thresholds.high), "slope.png");
-    put(classes_image(a.class_map, &shade, border), "gradient_classes.png");
-    put(classes_image(a.closed_class_map, &shade, border), "closed_classes.png");
+    const auto s = stats(z);
+    const std::string full = "elevation " + fixed(s.min, 3) + " to " + fixed(s.max, 3) +
+                             " m, standard deviation " + fixed(s.stddev, 3) + " m";
+    {
+        MapFigure f;
+        f.title = "Hillshade";
+        f.colour_bar = false;
+        f.notes = {"light from the north-west (azimuth 315 deg, altitude 45 deg)", full};
+        put(hillshade_image(z), f, "hillshade.png");
+    }
+    {
+        // The colours span the 2nd to 98th percentile, so that one high corner does not wash
+        // out the rest.
+        MapFigure f;
+        f.title = "Elevation";
+        f.bar_label = "elevation (m)";
+        f.vmin = quantile_of(z, 0.02);
+        f.vmax = quantile_of(z, 0.98);
+        if (!(f.vmax > f.vmin)) f.vmin = s.min, f.vmax = s.max > s.min ? s.max : s.min + 1;
+        f.notes = {"colours span the 2nd to 98th percentile (" + fixed(f.vmin, 3) + " to " +
+                       fixed(f.vmax, 3) + " m); lower and higher cells take the end colours",
+                   full};
+        put(colormap_image(z, f.vmin, f.vmax), f, "elevation.png");
+    }
+    {
+        const RasterD slope = slope_aspect(z).slope;
+        MapFigure f;
+        f.title = "Slope (steepest descent, Horn)";
+        f.bar_label = "slope (rise/run)";
+        f.vmin = 0;
+        f.vmax = 2.0 * opt.thresholds.high;
+        std::int64_t above = 0, valid = 0;
+        for (Eigen::Index k = 0; k < slope.size(); ++k)
+            if (std::isfinite(slope.data()[k])) ++valid, above += slope.data()[k] > f.vmax;
+        f.notes = {"fixed range 0 to " + fixed(f.vmax, 3) + " (twice the semi/high class limit); " +
+                       fixed(valid ? 100.0 * static_cast<double>(above) / valid : 0.0, 1) +
+                       " % of cells are steeper and take the top colour",
+                   "mean slope " + fixed(a.mean_slope, 3) + ", steepest " + fixed(a.max_slope, 3)};
+        put(colormap_image(slope, f.vmin, f.vmax), f, "slope.png");
+    }
+    auto classes = [&](const RasterU8& map, const ClassAreas& c, const char* title,
+                       const char* name, const std::string& how) {
+        MapFigure f;
+        f.title = title;
+        f.smooth = false;
+        const std::string lo = fixed(opt.thresholds.low, 3), hi = fixed(opt.thresholds.high, 3);
+        const Image img = classes_image(map, &shade, border);
+        f.legend = {
+            {"low\ngradient <= " + lo + "\n" + fixed(c.low_pct, 1) + " % of area", class_colour(0)},
+            {"semi\n<= " + hi + "\n" + fixed(c.semi_pct, 1) + " % of area", class_colour(1)},
+            {"high\n> " + hi + "\n" + fixed(c.high_pct, 1) + " % of area", class_colour(2)}};
+        f.notes = {"colours of Majhor & Bos Fig. 4, shaded by the hillshade; " + how,
+                   "the darker " + fixed(opt.border_m, 2) +
+                       " m border is left out of the percentages and the missions"};
+        put(img, f, name);
+    };
+    classes(a.class_map, a.classes, "Roughness classes (Moore-neighbourhood maximum gradient)",
+            "gradient_classes.png", "before closing (as the paper reports the areas)");
+    classes(a.closed_class_map, a.closed_classes, "Roughness classes after closing",
+            "closed_classes.png",
+            "after a morphological closing with a disk of radius " +
+                fixed(opt.closing_radius_m, 2) + " m");
     return out;
 }
 

@@ -15,17 +15,34 @@ constexpr Rgb kNodata{200, 225, 240};
 /// Majhor & Bos Fig. 4 colours: low blue, semi orange, high yellow.
 constexpr Rgb kClassColours[3] = {{40, 90, 200}, {240, 140, 30}, {250, 225, 40}};
 
-Rgb viridis(double t) {
-    t = std::clamp(t, 0.0, 1.0) * 8.0;
+/// Water: white to deep blue (ColorBrewer Blues, 9 classes).
+constexpr double kWater[9][3] = {{247, 251, 255}, {222, 235, 247}, {198, 219, 239},
+                                 {158, 202, 225}, {107, 174, 214}, {66, 146, 198},
+                                 {33, 113, 181},  {8, 81, 156},    {8, 48, 107}};
+
+Rgb ramp(const double (&table)[9][3], double t) {
+    t = std::clamp(std::isnan(t) ? 0.0 : t, 0.0, 1.0) * 8.0;
     const int k = std::min(7, static_cast<int>(t));
     const double f = t - k;
     auto c = [&](int ch) {
         return static_cast<std::uint8_t>(
-            std::lround(kViridis[k][ch] * (1 - f) + kViridis[k + 1][ch] * f));
+            std::lround(table[k][ch] * (1 - f) + table[k + 1][ch] * f));
     };
     return {c(0), c(1), c(2)};
 }
 } // namespace
+
+Rgb palette_colour(Palette p, double t) {
+    return ramp(p == Palette::water ? kWater : kViridis, t);
+}
+
+Rgb nodata_colour() {
+    return kNodata;
+}
+
+Rgb class_colour(int c) {
+    return c >= 0 && c < 3 ? kClassColours[c] : kNodata;
+}
 
 Image hillshade_image(const RasterD& z) {
     const RasterD h = hillshade(z);
@@ -39,7 +56,7 @@ Image hillshade_image(const RasterD& z) {
     return img;
 }
 
-Image colormap_image(const RasterD& v, double vmin, double vmax) {
+Image colormap_image(const RasterD& v, double vmin, double vmax, Palette palette) {
     const auto s = stats(v);
     if (std::isnan(vmin)) vmin = s.min;
     if (std::isnan(vmax)) vmax = s.max;
@@ -48,7 +65,8 @@ Image colormap_image(const RasterD& v, double vmin, double vmax) {
     for (int j = 0; j < v.ny(); ++j)
         for (int i = 0; i < v.nx(); ++i) {
             const double x = v(i, j);
-            img.at(i, v.ny() - 1 - j) = std::isnan(x) ? kNodata : viridis((x - vmin) / span);
+            img.at(i, v.ny() - 1 - j) =
+                std::isnan(x) ? kNodata : palette_colour(palette, (x - vmin) / span);
         }
     return img;
 }

@@ -1,4 +1,5 @@
 // End-to-end runs of `ecoterra hydro ...` as a user types them.
+#include "support/png_size.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -123,7 +124,10 @@ TEST_CASE("hydro run writes snapshots and a budget that closes", "[cli][hydro]")
         .openAttribute("cumulative_residual_relative")
         .read(H5::PredType::NATIVE_DOUBLE, &rel);
     CHECK(rel < 1e-9);
-    CHECK(std::filesystem::exists(d / "pics" / "soil_moisture.png"));
+    for (const char* p : {"hillshade.png", "soil_moisture.png", "surface_water_depth.png"}) {
+        INFO(p);
+        CHECK(test::png_size(d / "pics" / p).first >= 600);
+    }
     // Bad input: unknown keys, wrong types, a missing file; earlier output kept.
     const auto before = std::filesystem::file_size(d / "out.h5");
     Run bad = run(d, "hydro run scene.json -o out.h5 --set hydrology.groundwatr=true");

@@ -1,4 +1,5 @@
 // End-to-end runs of `ecoterra terrain ...` as a user types them.
+#include "support/png_size.hpp"
 #include "support/run_cli.hpp"
 #include "support/temp_dir.hpp"
 
@@ -53,8 +54,14 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
                          rep["classes_pct"]["semi"].get<double>() +
                          rep["classes_pct"]["high"].get<double>();
     CHECK(total == Approx(100.0));
-    for (const char* p : {"hillshade.png", "gradient_classes.png", "closed_classes.png"})
-        CHECK(std::filesystem::exists(d / "pictures" / p));
+    // Readable figures (title, colour bar or legend, scale bar): at least 600 px across whatever
+    // the grid.
+    for (const char* p : {"hillshade.png", "elevation.png", "slope.png", "gradient_classes.png",
+                          "closed_classes.png"}) {
+        INFO(p);
+        CHECK(test::png_size(d / "pictures" / p).first >= 600);
+        CHECK(test::png_size(d / "pictures" / p).second >= 600);
+    }
     // 20 missions plus a header.
     const std::string csv = slurp(d / "missions.csv");
     CHECK(std::count(csv.begin(), csv.end(), '\n') == 21);

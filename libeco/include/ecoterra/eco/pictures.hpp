@@ -15,8 +15,6 @@ typedef struct _cairo cairo_t; // cairo.h's own declaration
 
 namespace ecoterra::eco {
 
-/// Paints an image scaled to w x h pixels at (x, y) (shared with the export picture).
-void paint_image(cairo_t* cr, const terrain::Image& im, double x, double y, double w, double h);
 /// The colour of species k in every picture: Okabe-Ito (colour-blind safe), grey from the 8th.
 std::array<double, 3> species_colour(std::size_t k);
 

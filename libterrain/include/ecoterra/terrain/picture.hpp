@@ -2,9 +2,13 @@
 // Pictures of rasters as 8-bit RGB PNG files (libpng). Image row 0 is the top (north) edge.
 #include "ecoterra/raster.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
+
+typedef struct _cairo cairo_t; // cairo.h's own declaration
 
 namespace ecoterra::terrain {
 
@@ -19,13 +23,52 @@ struct Image {
     Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// Paints `img` scaled to w x h pixels at (x, y) of a Cairo drawing; `smooth` interpolates
+/// (continuous fields), otherwise each cell stays a sharp block (classes).
+void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
+                 bool smooth = false);
 /// Writes an RGB PNG atomically; throws IoError naming the file.
 void write_png_rgb(const Image& img, const std::filesystem::path& path);
 
 /// Grey hillshade; NODATA cells are drawn in light blue.
 Image hillshade_image(const RasterD& z);
-/// A continuous field through the viridis colour map between vmin and vmax (NaN: auto range).
-Image colormap_image(const RasterD& v, double vmin = std::nan(""), double vmax = std::nan(""));
+/// Colour maps of continuous fields: viridis (matplotlib, perceptually uniform) and water (white
+/// to deep blue, for depths).
+enum class Palette { viridis, water };
+/// The colour at t in [0, 1] (clamped).
+Rgb palette_colour(Palette p, double t);
+/// The colour of NODATA cells (light blue-grey).
+Rgb nodata_colour();
+/// A continuous field through a colour map between vmin and vmax (NaN: auto range); values
+/// outside are drawn at the ends.
+Image colormap_image(const RasterD& v, double vmin = std::nan(""), double vmax = std::nan(""),
+                     Palette palette = Palette::viridis);
+
+/// A labelled colour of a categorical map's legend.
+struct LegendEntry {
+    std::string label;
+    Rgb colour;
+};
+
+/// How a map is presented: title, colour bar (units and range) or legend, and notes.
+struct MapFigure {
+    std::string title;
+    std::string bar_label;     ///< the colour bar's quantity and unit, e.g. "elevation (m)"
+    double vmin = 0, vmax = 1; ///< the colour bar's range (the image's colours span it)
+    Palette palette = Palette::viridis;
+    bool colour_bar = true;          ///< false: no bar (hillshade) or the legend below
+    std::vector<LegendEntry> legend; ///< categorical maps: shown instead of a colour bar
+    std::vector<std::string> notes; ///< lines under the map (ranges, clipping, "no standing water")
+    bool smooth = true; ///< scale continuous fields smoothly; categorical ones cell by cell
+};
+
+/// Writes `img` (one pixel per cell of the grid `g`, row 0 north) as a figure 800 px wide: the
+/// title, the map scaled to fill 600 px, its colour bar with ticks (or legend), a scale bar in
+/// metres and the notes. Atomic; IoError naming the file.
+void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
+                      const std::filesystem::path& path);
+/// The colour of roughness class c (0 low, 1 semi, 2 high; others NODATA), unshaded.
+Rgb class_colour(int c);
 /// Roughness classes (low blue, semi orange, high yellow as in Majhor & Bos Fig. 4) over
 /// hillshade; `border_cells` > 0 draws the excluded border darker.
 Image classes_image(const RasterU8& classes, const RasterD* shade = nullptr, int border_cells = 0);

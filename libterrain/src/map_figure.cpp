@@ -1,0 +1,194 @@
+// Map figures drawn with Cairo: a raster picture scaled to a readable size with its title, colour
+// bar or legend, scale bar and notes.
+#include "ecoterra/error.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/terrain/picture.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace ecoterra::terrain {
+
+namespace {
+
+constexpr double kMapPx = 600, kLeft = 30, kTop = 56, kWidth = 800;
+
+void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0) {
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_show_text(cr, s.c_str());
+}
+
+/// 1, 2 or 5 times a power of ten, at most `limit`.
+double nice_below(double limit) {
+    const double p = std::pow(10.0, std::floor(std::log10(limit)));
+    for (double m : {5.0, 2.0, 1.0})
+        if (m * p <= limit) return m * p;
+    return p;
+}
+
+std::string number(double v, double step) {
+    char b[32];
+    const int digits = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
+    std::snprintf(b, sizeof b, "%.*f", std::min(digits, 6), v);
+    return b;
+}
+
+void set(cairo_t* cr, const Rgb& c) {
+    cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0);
+}
+
+} // namespace
+
+void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
+                 bool smooth) {
+    cairo_surface_t* raster = cairo_image_surface_create(CAIRO_FORMAT_RGB24, img.width, img.height);
+    cairo_surface_flush(raster);
+    unsigned char* data = cairo_image_surface_get_data(raster);
+    const int stride = cairo_image_surface_get_stride(raster);
+    for (int r = 0; r < img.height; ++r) {
+        auto* row =
+            reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(r) * stride);
+        for (int c = 0; c < img.width; ++c) {
+            const Rgb& p = img.pixels[static_cast<std::size_t>(r) * img.width + c];
+            row[c] = (std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b;
+        }
+    }
+    cairo_surface_mark_dirty(raster);
+    const double sx = w / img.width, sy = h / img.height;
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_scale(cr, sx, sy);
+    cairo_set_source_surface(cr, raster, 0, 0);
+    cairo_pattern_set_filter(
+        cairo_get_source(cr),
+        !smooth ? CAIRO_FILTER_NEAREST
+                : (std::min(sx, sy) < 1 ? CAIRO_FILTER_GOOD : CAIRO_FILTER_BILINEAR));
+    cairo_pattern_set_extend(cairo_get_source(cr), CAIRO_EXTEND_PAD);
+    cairo_rectangle(cr, 0, 0, img.width, img.height);
+    cairo_fill(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(raster);
+}
+
+void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
+                      const std::filesystem::path& path) {
+    if (img.width < 1 || img.height < 1) throw Error("map figure: empty image");
+    const double scale = kMapPx / std::max(img.width, img.height);
+    const double mw = img.width * scale, mh = img.height * scale;
+    const double notes_h = 20.0 * static_cast<double>(f.notes.size());
+    const int height = static_cast<int>(std::ceil(kTop + mh + 60 + notes_h + 10));
+    cairo_surface_t* surface =
+        cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(kWidth), height);
+    cairo_t* cr = cairo_create(surface);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+
+    paint_image(cr, img, kLeft, kTop, mw, mh, f.smooth);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, kLeft - 0.5, kTop - 0.5, mw + 1, mh + 1);
+    cairo_stroke(cr);
+
+    // Title and north.
+    text(cr, kLeft, 30, f.title, 17);
+    text(cr, kLeft + mw, 30, "north up", 12, 1.0);
+
+    // Colour bar or legend, right of the map.
+    const double bx = kLeft + mw + 40;
+    if (!f.legend.empty()) {
+        // Each entry: a swatch, and its label's lines ('\n') beside and under it.
+        double y = kTop + 4;
+        for (const auto& e : f.legend) {
+            set(cr, e.colour);
+            cairo_rectangle(cr, bx, y, 18, 14);
+            cairo_fill(cr);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            cairo_rectangle(cr, bx - 0.5, y - 0.5, 19, 15);
+            cairo_stroke(cr);
+            std::size_t start = 0;
+            double ly = y + 12;
+            for (;;) {
+                const auto nl = e.label.find('\n', start);
+                text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12);
+                if (nl == std::string::npos) break;
+                start = nl + 1;
+                ly += 16;
+            }
+            y = ly + 16;
+        }
+    } else if (f.colour_bar) {
+        const double bh = std::min(mh, 360.0), bw = 20;
+        text(cr, bx, kTop - 8, f.bar_label, 12);
+        const int steps = 200;
+        for (int k = 0; k < steps; ++k) {
+            set(cr, palette_colour(f.palette, (k + 0.5) / steps));
+            const double y0 = kTop + bh * (1 - static_cast<double>(k + 1) / steps);
+            cairo_rectangle(cr, bx, y0, bw, bh / steps + 0.6);
+            cairo_fill(cr);
+        }
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_rectangle(cr, bx - 0.5, kTop - 0.5, bw + 1, bh + 1);
+        cairo_stroke(cr);
+        const double span = f.vmax - f.vmin;
+        if (span > 0 && std::isfinite(span)) {
+            const double raw = span / 5;
+            const double p = std::pow(10.0, std::floor(std::log10(raw)));
+            double step = p;
+            for (double m : {1.0, 2.0, 5.0, 10.0})
+                if (m * p >= raw) {
+                    step = m * p;
+                    break;
+                }
+            for (double v = std::ceil(f.vmin / step - 1e-9) * step; v <= f.vmax + 1e-9 * span;
+                 v += step) {
+                const double y = kTop + bh * (1 - (v - f.vmin) / span);
+                cairo_move_to(cr, bx + bw, y);
+                cairo_line_to(cr, bx + bw + 5, y);
+                cairo_stroke(cr);
+                text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12);
+            }
+        }
+    }
+
+    // Scale bar under the map: a round length near a quarter of the map's width.
+    const double width_m = g.width_m();
+    if (width_m > 0) {
+        const double len_m = nice_below(width_m / 4);
+        const double px = len_m / width_m * mw;
+        const double y = kTop + mh + 24;
+        cairo_set_line_width(cr, 3);
+        cairo_move_to(cr, kLeft, y);
+        cairo_line_to(cr, kLeft + px, y);
+        cairo_stroke(cr);
+        cairo_set_line_width(cr, 1);
+        for (double x : {kLeft, kLeft + px}) {
+            cairo_move_to(cr, x, y - 6);
+            cairo_line_to(cr, x, y + 6);
+            cairo_stroke(cr);
+        }
+        text(cr, kLeft + px + 10, y + 5,
+             number(len_m, len_m) + " m  (map " + number(g.width_m(), 0.01) + " x " +
+                 number(g.height_m(), 0.01) + " m, " + std::to_string(g.nx) + " x " +
+                 std::to_string(g.ny) + " cells of " + number(g.cell_size_m, 0.001) + " m)",
+             12);
+    }
+    for (std::size_t k = 0; k < f.notes.size(); ++k)
+        text(cr, kLeft, kTop + mh + 56 + 20.0 * static_cast<double>(k), f.notes[k], 12);
+
+    cairo_destroy(cr);
+    cairo_surface_flush(surface);
+    io::AtomicOutput out(path);
+    const auto status = cairo_surface_write_to_png(surface, out.temp_path().c_str());
+    cairo_surface_destroy(surface);
+    if (status != CAIRO_STATUS_SUCCESS)
+        throw IoError(path.string() + ": cannot write the PNG picture");
+    out.commit();
+}
+
+} // namespace ecoterra::terrain

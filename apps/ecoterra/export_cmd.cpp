@@ -103,22 +103,7 @@ void run_scene(const SceneArgs& a) {
         return;
     }
     ex::OutputFolder folder(a.output, a.force);
-    switch (format) {
-    case ex::SceneFormat::mavs:
-        ex::write_mavs(s, folder, opt);
-        break;
-    case ex::SceneFormat::gazebo:
-        ex::write_gazebo(s, folder, opt);
-        break;
-    case ex::SceneFormat::unreal:
-        ex::write_unreal(s, folder, opt);
-        break;
-    case ex::SceneFormat::gltf:
-        folder.write("scene.glb", ex::glb_bytes(s, opt));
-        folder.write("README.md", "# glTF scene from ecoterra\n\nscene.glb: glTF 2.0 binary, +Y "
-                                  "up, metres; see docs/exports.md.\n");
-        break;
-    }
+    ex::write_scene(s, format, folder, opt);
     const auto bytes = folder.bytes(); // the scene, without its picture
     if (!a.no_pictures) ex::draw_export_picture(s, folder.staged_path("picture.png"), opt.user);
     folder.commit();

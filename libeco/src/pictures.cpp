@@ -40,11 +40,7 @@ constexpr double kPalette[8][3] = {{0.90, 0.62, 0.00}, {0.34, 0.71, 0.91}, {0.00
                                    {0.80, 0.47, 0.65}, {0.40, 0.40, 0.40}};
 
 void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0) {
-    cairo_set_font_size(cr, size);
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, s.c_str(), &e);
-    cairo_move_to(cr, x - align * e.width, y);
-    cairo_show_text(cr, s.c_str());
+    terrain::draw_text(cr, x, y, s, size, align);
 }
 
 std::string fmt(double v, int digits = 1) {

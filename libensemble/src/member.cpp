@@ -193,20 +193,7 @@ void export_scenes(const json& a, const fs::path& run, const fs::path& stage,
             const std::string name = "scene_" + f.get<std::string>();
             ex::OutputFolder folder(stage / name, false);
             opt.final_dir = final_dir / name;
-            switch (format) {
-            case ex::SceneFormat::mavs:
-                ex::write_mavs(s, folder, opt);
-                break;
-            case ex::SceneFormat::gazebo:
-                ex::write_gazebo(s, folder, opt);
-                break;
-            case ex::SceneFormat::unreal:
-                ex::write_unreal(s, folder, opt);
-                break;
-            case ex::SceneFormat::gltf:
-                folder.write("scene.glb", ex::glb_bytes(s, opt));
-                break;
-            }
+            ex::write_scene(s, format, folder, opt);
             folder.commit();
         }
     }

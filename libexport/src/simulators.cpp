@@ -462,4 +462,24 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             notes_text(folder));
 }
 
+void write_scene(const Scene& s, SceneFormat format, OutputFolder& folder,
+                 const ExportOptions& opt) {
+    switch (format) {
+    case SceneFormat::mavs:
+        write_mavs(s, folder, opt);
+        break;
+    case SceneFormat::gazebo:
+        write_gazebo(s, folder, opt);
+        break;
+    case SceneFormat::unreal:
+        write_unreal(s, folder, opt);
+        break;
+    case SceneFormat::gltf:
+        folder.write("scene.glb", glb_bytes(s, opt));
+        folder.write("README.md", "# glTF scene from ecoterra\n\nscene.glb: glTF 2.0 binary, +Y "
+                                  "up, metres; see docs/exports.md.\n");
+        break;
+    }
+}
+
 } // namespace ecoterra::exporter

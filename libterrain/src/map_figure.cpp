@@ -17,11 +17,7 @@ namespace {
 constexpr double kMapPx = 600, kLeft = 30, kTop = 56, kWidth = 800;
 
 void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0) {
-    cairo_set_font_size(cr, size);
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, s.c_str(), &e);
-    cairo_move_to(cr, x - align * e.x_advance, y);
-    cairo_show_text(cr, s.c_str());
+    draw_text(cr, x, y, s, size, align);
 }
 
 /// 1, 2 or 5 times a power of ten, at most `limit`.
@@ -44,6 +40,14 @@ void set(cairo_t* cr, const Rgb& c) {
 }
 
 } // namespace
+
+void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size, double align) {
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, x - align * e.width, y);
+    cairo_show_text(cr, s.c_str());
+}
 
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
                  bool smooth) {

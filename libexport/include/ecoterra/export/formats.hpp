@@ -46,6 +46,9 @@ std::vector<Prototype> prototypes(const Scene& s, const UserMeshes* user = nullp
 /// The scene as glTF 2.0 binary (.glb bytes): Y-up, metres, the terrain mesh and per (species,
 /// stage) a trunk and a crown mesh with their instances.
 std::string glb_bytes(const Scene& s, const ExportOptions& opt);
+/// Writes the scene in `format` into the folder (glTF: scene.glb and a short README).
+void write_scene(const Scene& s, SceneFormat format, OutputFolder& folder,
+                 const ExportOptions& opt);
 void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt);
 void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt);
 void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt);

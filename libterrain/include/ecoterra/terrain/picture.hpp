@@ -23,6 +23,9 @@ struct Image {
     Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// Text at (x, y) (the baseline) in a Cairo drawing; `align` 0 left, 0.5 centred, 1 right.
+void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size,
+               double align = 0);
 /// Paints `img` scaled to w x h pixels at (x, y) of a Cairo drawing; `smooth` interpolates
 /// (continuous fields), otherwise each cell stays a sharp block (classes).
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,

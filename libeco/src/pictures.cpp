@@ -168,8 +168,9 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
         cairo_set_source_rgb(cr, 0, 0, 0);
         text(cr, mw + 34, y, species[k].name, 12);
     }
-    text(cr, mw + 12, 50 + 24.0 * static_cast<double>(species.size()) + 10,
-         "circle = crown, " + fmt(g.width_m(), 0) + " m wide", 11);
+    const double below = 50 + 24.0 * static_cast<double>(species.size());
+    text(cr, mw + 12, below + 10, "circle = crown; north up", 11);
+    terrain::draw_scale_bar(cr, mw + 14, below + 36, scale, kLegendPx - 80);
     s.save(path);
 }
 
@@ -372,6 +373,7 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
             ly += 22;
         }
         text(cr, lx, ly, "dashed: the straight line", 12);
+        terrain::draw_scale_bar(cr, lx, ly + 30, f.scale, 150);
         s.save(dir / "smg_lines.png");
     }
     {
@@ -448,6 +450,7 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
     text(cr, f.w + 12, 56, "slope map:", 12);
     text(cr, f.w + 12, 76, "max gradient 0 (dark)", 12);
     text(cr, f.w + 12, 96, "to 1 (yellow)", 12);
+    terrain::draw_scale_bar(cr, f.w + 14, 130, f.scale, 150);
     s.save(dir / "missions.png");
 }
 

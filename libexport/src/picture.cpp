@@ -67,7 +67,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     const double scale = kPanelPx / std::max(g.width_m(), g.height_m());
     const double w = g.width_m() * scale, h = g.height_m() * scale;
     const int W = static_cast<int>(std::ceil(2 * w + kGapPx)),
-              H = static_cast<int>(std::ceil(h + kTitlePx + 24));
+              H = static_cast<int>(std::ceil(h + kTitlePx + 54));
     cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
     cairo_t* cr = cairo_create(surf);
     cairo_set_source_rgb(cr, 1, 1, 1);
@@ -141,7 +141,8 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     label(cr, 8, kTitlePx + h + 18,
           std::to_string(s.trees.size()) + " trees, " +
               std::to_string(static_cast<int>(g.width_m())) + " m x " +
-              std::to_string(static_cast<int>(g.height_m())) + " m; colours by species");
+              std::to_string(static_cast<int>(g.height_m())) + " m; colours by species; north up");
+    terrain::draw_scale_bar(cr, 10, kTitlePx + h + 40, scale, w / 4);
     cairo_surface_flush(surf);
     const auto status = cairo_surface_write_to_png(surf, png.string().c_str());
     cairo_destroy(cr);

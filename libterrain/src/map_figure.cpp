@@ -49,6 +49,27 @@ void draw_text(cairo_t* cr, double x, double y, const std::string& s, double siz
     cairo_show_text(cr, s.c_str());
 }
 
+double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double max_px) {
+    if (!(px_per_m > 0) || !(max_px > 0)) return 0;
+    const double len_m = nice_below(max_px / px_per_m);
+    const double px = len_m * px_per_m;
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 3);
+    cairo_move_to(cr, x, y);
+    cairo_line_to(cr, x + px, y);
+    cairo_stroke(cr);
+    cairo_set_line_width(cr, 1);
+    for (const double e : {x, x + px}) {
+        cairo_move_to(cr, e, y - 6);
+        cairo_line_to(cr, e, y + 6);
+        cairo_stroke(cr);
+    }
+    draw_text(cr, x + px + 8, y + 5, number(len_m, len_m) + " m", 12);
+    cairo_restore(cr);
+    return len_m;
+}
+
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
                  bool smooth) {
     cairo_surface_t* raster = cairo_image_surface_create(CAIRO_FORMAT_RGB24, img.width, img.height);
@@ -160,26 +181,15 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
         }
     }
 
-    // Scale bar under the map: a round length near a quarter of the map's width.
-    const double width_m = g.width_m();
-    if (width_m > 0) {
-        const double len_m = nice_below(width_m / 4);
-        const double px = len_m / width_m * mw;
+    // Scale bar under the map: a round length up to a quarter of the map's width.
+    if (g.width_m() > 0) {
         const double y = kTop + mh + 24;
-        cairo_set_line_width(cr, 3);
-        cairo_move_to(cr, kLeft, y);
-        cairo_line_to(cr, kLeft + px, y);
-        cairo_stroke(cr);
-        cairo_set_line_width(cr, 1);
-        for (double x : {kLeft, kLeft + px}) {
-            cairo_move_to(cr, x, y - 6);
-            cairo_line_to(cr, x, y + 6);
-            cairo_stroke(cr);
-        }
-        text(cr, kLeft + px + 10, y + 5,
-             number(len_m, len_m) + " m  (map " + number(g.width_m(), 0.01) + " x " +
-                 number(g.height_m(), 0.01) + " m, " + std::to_string(g.nx) + " x " +
-                 std::to_string(g.ny) + " cells of " + number(g.cell_size_m, 0.001) + " m)",
+        const double len_m = draw_scale_bar(cr, kLeft, y, mw / g.width_m(), mw / 4);
+        const double px = len_m * mw / g.width_m();
+        text(cr, kLeft + px + 60, y + 5,
+             "(map " + number(g.width_m(), 0.01) + " x " + number(g.height_m(), 0.01) + " m, " +
+                 std::to_string(g.nx) + " x " + std::to_string(g.ny) + " cells of " +
+                 number(g.cell_size_m, 0.001) + " m)",
              12);
     }
     for (std::size_t k = 0; k < f.notes.size(); ++k)

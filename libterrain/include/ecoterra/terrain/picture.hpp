@@ -26,6 +26,9 @@ struct Image {
 /// Text at (x, y) (the baseline) in a Cairo drawing; `align` 0 left, 0.5 centred, 1 right.
 void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size,
                double align = 0);
+/// A scale bar at (x, y) (its left end): a round length (1, 2 or 5 x 10^k m) of at most
+/// `max_px` pixels at `px_per_m`, with its length written after it. Returns the bar's length, m.
+double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double max_px);
 /// Paints `img` scaled to w x h pixels at (x, y) of a Cairo drawing; `smooth` interpolates
 /// (continuous fields), otherwise each cell stays a sharp block (classes).
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,

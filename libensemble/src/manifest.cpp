@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <set>
 
 #ifndef ECOTERRA_VERSION
@@ -189,6 +191,36 @@ std::uint64_t fnv(std::uint64_t h, const std::string& bytes) {
 
 /// Folds in the contents of every file the JSON names (strings that are paths of existing files,
 /// relative to `dir`), in key order, so an edited ecosystem or vehicle file reruns the member.
+/// FNV-1a of a file's bytes, remembered by path, size and modification time (an ensemble of
+/// many members names the same few files in each).
+std::uint64_t file_hash(const fs::path& p) {
+    struct Seen {
+        std::uintmax_t size;
+        fs::file_time_type time;
+        std::uint64_t hash;
+    };
+    static std::map<std::string, Seen> cache;
+    static std::mutex lock;
+    std::error_code ec;
+    const auto size = fs::file_size(p, ec);
+    const auto time = fs::last_write_time(p, ec);
+    const std::string key = fs::absolute(p).lexically_normal().string();
+    {
+        const std::lock_guard<std::mutex> g(lock);
+        const auto it = cache.find(key);
+        if (it != cache.end() && it->second.size == size && it->second.time == time)
+            return it->second.hash;
+    }
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    std::ifstream in(p, std::ios::binary);
+    std::string buf(1 << 16, '\0');
+    while (in.read(buf.data(), static_cast<std::streamsize>(buf.size())) || in.gcount() > 0)
+        h = fnv(h, buf.substr(0, static_cast<std::size_t>(in.gcount())));
+    const std::lock_guard<std::mutex> g(lock);
+    cache[key] = {size, time, h};
+    return h;
+}
+
 void hash_files(const json& j, const fs::path& dir, std::uint64_t& h) {
     if (j.is_object() || j.is_array()) {
         for (const auto& v : j) hash_files(v, dir, h);
@@ -199,10 +231,8 @@ void hash_files(const json& j, const fs::path& dir, std::uint64_t& h) {
         const fs::path p = fs::path(s).is_absolute() ? fs::path(s) : dir / s;
         if (!fs::is_regular_file(p, ec)) return;
         h = fnv(h, s);
-        std::ifstream in(p, std::ios::binary);
-        std::string buf(1 << 16, '\0');
-        while (in.read(buf.data(), static_cast<std::streamsize>(buf.size())) || in.gcount() > 0)
-            h = fnv(h, buf.substr(0, static_cast<std::size_t>(in.gcount())));
+        h ^= file_hash(p);
+        h *= 0x100000001b3ULL;
     }
 }
 

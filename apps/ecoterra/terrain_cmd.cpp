@@ -4,6 +4,7 @@
 
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/progress.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/generate.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
@@ -128,7 +129,13 @@ void run_generate(const GenerateArgs& a) {
                                          : terrain::io::format_from_name(a.format);
     // Check the output folder before the (possibly long) generation.
     { ecoterra::io::AtomicOutput probe(a.output); }
-    GeneratedTerrain t = generate_terrain(spec);
+    GeneratedTerrain t = [&] {
+        // Progress (with an ETA) for large grids: a 2017 x 2017 multifractal takes seconds.
+        const ProgressScope progress(
+            [&](double f) { progress_line(f, sw.seconds(), "  generating terrain  "); });
+        return generate_terrain(spec);
+    }();
+    end_progress_line();
     const double gen_s = sw.seconds();
     std::vector<std::string> warnings = t.warnings;
     terrain::io::WriteOptions wo;

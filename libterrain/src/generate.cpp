@@ -2,6 +2,7 @@
 
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/progress.hpp"
 #include "ecoterra/terrain/noise.hpp"
 #include "ecoterra/terrain/spectral.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
@@ -373,6 +374,7 @@ GeneratedTerrain generate_terrain(const json& spec) {
     } else {
         out.z = fbm_surface(g, fbm_from(p, "params"), seed);
     }
+    report_progress(1.0); // the workers' last reports are not the caller's
     return out;
 }
 

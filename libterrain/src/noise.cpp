@@ -1,8 +1,10 @@
 #include "ecoterra/terrain/noise.hpp"
 
+#include "ecoterra/progress.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/fft.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -40,11 +42,13 @@ RasterD evaluate(const GridSpec& grid, F&& f) {
     grid.validate("surface grid");
     ensure_fits_in_memory(grid.size(), 8.0, "surface grid");
     RasterD z(grid, 0.0);
+    std::atomic<int> done{0};
 #pragma omp parallel for schedule(static)
     for (int j = 0; j < grid.ny; ++j) {
         const double y = grid.y_of(j);
         double* row = z.row(j);
         for (int i = 0; i < grid.nx; ++i) row[i] = f(grid.x_of(i), y);
+        report_progress(static_cast<double>(++done) / grid.ny);
     }
     return z;
 }

@@ -1,5 +1,6 @@
 #include "ecoterra/terrain/spectral.hpp"
 
+#include "ecoterra/progress.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/fft.hpp"
 
@@ -52,6 +53,7 @@ RasterD fbm_surface(const GridSpec& grid, const FbmParams& p, std::uint64_t seed
         }
     }
     RasterD z(grid, 0.0);
+    report_progress(0.5);
     inverse_real_fft(spec, z);
     const auto s = stats(z);
     z.array() = (z.array() - s.mean) * (s.stddev > 0 ? p.rms_m / s.stddev : 0.0);

@@ -1,10 +1,13 @@
 #include "ecoterra/terrain/weierstrass.hpp"
 
+#include "ecoterra/progress.hpp"
+
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/filters.hpp"
 
 #include <Eigen/Dense>
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -157,6 +160,7 @@ WMResult wm_generate(const GridSpec& grid, const WMParams& p, const Eigen::Matri
     res.z = RasterD(grid, 0.0);
     const Eigen::MatrixXd Ut = U.transpose();
     const int blocks = (ny + kRowBlock - 1) / kRowBlock;
+    std::atomic<int> done{0};
 #pragma omp parallel for schedule(dynamic, 1)
     for (int b = 0; b < blocks; ++b) {
         const int j0 = b * kRowBlock;
@@ -166,6 +170,8 @@ WMResult wm_generate(const GridSpec& grid, const WMParams& p, const Eigen::Matri
             double* row = res.z.row(j0 + j);
             for (int i = 0; i < nx; ++i) row[i] = C - block(j, i);
         }
+        // Only the thread that asked for progress reports it (the others' calls do nothing).
+        report_progress(static_cast<double>(++done) / blocks);
     }
     return res;
 }
@@ -201,6 +207,7 @@ MultifractalResult multifractal_generate(const GridSpec& grid, const Multifracta
     const WMParams* layers[3] = {&p.low, &p.mid, &p.high};
     RasterD product(grid, 1.0);
     for (int k = 0; k < 3; ++k) {
+        const ProgressStage stage(k / 3.0, (k + 1) / 3.0);
         WMResult w = wm_generate(grid, *layers[k], seed, static_cast<std::uint64_t>(k));
         for (auto& s : w.warnings) res.warnings.push_back("layer " + std::to_string(k) + ": " + s);
         RasterD f = gaussian_filter(w.z, p.filter_sigma_m);

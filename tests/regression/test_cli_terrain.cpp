@@ -42,6 +42,11 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
         const Run r = run(d, c);
         INFO(c << "\n" << r.out);
         REQUIRE(r.code == 0);
+        // Generation shows its progress; into a log (not a terminal) as whole lines, no '\r'.
+        if (std::string(c).rfind("terrain generate --method wm", 0) == 0) {
+            CHECK_THAT(r.out, Catch::Contains("generating terrain") && Catch::Contains("100 %"));
+            CHECK(r.out.find('\r') == std::string::npos);
+        }
     }
     const auto rep = parse_json(slurp(d / "report.json"), "report.json");
     for (const char* k :

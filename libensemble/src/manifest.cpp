@@ -261,7 +261,10 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
         if (!d.contains("base") || !d["base"].is_object() || d["base"].size() != 1)
             throw InputError("base must be an object with one key: run (a scene file or object), "
                              "terrain (a terrain specification) or mobility ({stems, dem})");
-        const auto& [kind_name, base] = *d["base"].items().begin();
+        // (Not a structured binding of items(): it would refer into a temporary.)
+        const auto first = d["base"].begin();
+        const std::string kind_name = first.key();
+        const json& base = first.value();
         if (kind_name == "run")
             m.kind = BaseKind::run;
         else if (kind_name == "terrain")

@@ -64,21 +64,7 @@ Figure run(const Scene& s, SceneFormat f, const fs::path& dir) {
     Figure fig;
     {
         OutputFolder folder(dir, false);
-        const ExportOptions opt;
-        switch (f) {
-        case SceneFormat::mavs:
-            write_mavs(s, folder, opt);
-            break;
-        case SceneFormat::gazebo:
-            write_gazebo(s, folder, opt);
-            break;
-        case SceneFormat::unreal:
-            write_unreal(s, folder, opt);
-            break;
-        case SceneFormat::gltf:
-            folder.write("scene.glb", glb_bytes(s, opt));
-            break;
-        }
+        write_scene(s, f, folder, ExportOptions{});
         fig.bytes = folder.bytes();
         folder.commit();
     }

@@ -1,5 +1,6 @@
 #include "ecoterra/terrain/missions.hpp"
 
+#include "ecoterra/error.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 
@@ -43,10 +44,12 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
                 starts.push_back(static_cast<std::int64_t>(j) * g.nx + i);
     if (starts.empty())
         throw InputError("missions: no low-roughness cell lies inside the " +
-                         std::to_string(opt.border_m) + " m border");
+                         format_number(opt.border_m) + " m border");
     if (opt.length_m > std::hypot(x1 - x0, y1 - y0))
-        throw InputError("missions: a " + std::to_string(opt.length_m) +
-                         " m mission cannot fit inside the border");
+        throw InputError("missions: a " + format_number(opt.length_m) +
+                         " m mission does not fit in this " + format_number(g.width_m()) + " x " +
+                         format_number(g.height_m()) + " m terrain less its " +
+                         format_number(opt.border_m) + " m border");
 
     Rng rng(opt.seed, "terrain.missions");
     std::vector<Mission> out;

@@ -260,7 +260,10 @@ TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again c
     const std::string pid = io::read_text(d / "driver.pid");
     test::shell(d, "kill -9 " + pid);
     // Its member processes finish or are killed too (here: killed, as a crashed node would).
-    test::shell(d, "pkill -9 -f '[e]nsemble .*m.json -o .*out --member' || true");
+    // Only this test's members: their command lines hold this test's folder (other tests run
+    // ensembles at the same time). The [e] keeps the pattern from matching the shell running it.
+    const std::string mine = d.path().string() + "/out --member";
+    test::shell(d, "pkill -9 -f '[e]nsemble .* -o " + mine + "' || true");
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const std::string kept = io::read_text(out / "members/000000/member.json");
     const std::string kept_timing = io::read_text(out / "members/000000/timing.json");
@@ -282,8 +285,9 @@ TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again c
                         "('" ECOTERRA_BIN "' ensemble m.json -o out --jobs 1 > driver2.log 2>&1 & "
                         "echo $! > driver2.pid)")
                 .code == 0);
-    REQUIRE(wait_for([&] { return test::shell(d, "pgrep -f '[o]ut --member 0 '").code == 0; }));
-    test::shell(d, "pkill -9 -f '[o]ut --member 0 '");
+    const std::string member0 = "'[-]o " + mine + " 0 '";
+    REQUIRE(wait_for([&] { return test::shell(d, "pgrep -f " + member0).code == 0; }));
+    test::shell(d, "pkill -9 -f " + member0);
     REQUIRE(wait_for([&] { return fs::exists(out / "summary/members.csv"); }));
     REQUIRE(wait_for(
         [&] { return test::shell(d, "kill -0 $(cat driver2.pid) 2>/dev/null").code != 0; }));

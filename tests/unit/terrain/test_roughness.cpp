@@ -167,5 +167,7 @@ TEST_CASE("Missions start low, end low or semi, and keep their length and border
     RasterU8 rough(g, 2);
     CHECK_THROWS_WITH(plan_missions(rough, rough, opt), Catch::Contains("no low-roughness"));
     opt.length_m = 80;
-    CHECK_THROWS_WITH(plan_missions(raw, raw, opt), Catch::Contains("cannot fit"));
+    CHECK_THROWS_WITH(plan_missions(raw, raw, opt),
+                      Catch::Contains("a 80 m mission does not fit in this 50 x 50 m terrain less "
+                                      "its 5 m border"));
 }

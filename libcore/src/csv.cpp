@@ -72,6 +72,11 @@ double CsvReader::number(int col, const std::string& name, bool non_negative) co
     return v;
 }
 
+std::string CsvReader::text(int col) const {
+    return col >= 0 && col < static_cast<int>(m_row.size()) ? m_row[static_cast<std::size_t>(col)]
+                                                            : std::string();
+}
+
 std::string CsvReader::where() const {
     return m_path.string() + " line " + std::to_string(m_line);
 }

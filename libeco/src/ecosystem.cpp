@@ -49,7 +49,8 @@ double mavs_competition_radius_m(const Species& s, double height_m) {
 constexpr std::uint32_t kCheckpointMagic = 0x45434f54; // "ECOT"
 // 4: catchments on the depression hierarchy; 5: no padding in plants and the weather state,
 // bands sorted once (the order wet cells are walked in)
-constexpr std::uint32_t kCheckpointVersion = 5;
+// 6: life forms (the ground layer's cover)
+constexpr std::uint32_t kCheckpointVersion = 6;
 } // namespace
 
 Ecosystem::Ecosystem(const EcoScene& scene)
@@ -69,6 +70,16 @@ Ecosystem::Ecosystem(const EcoScene& scene)
                                                 scene.hydro.options, scene.hydro.climate);
     m_ground_shade = RasterD(m_pgrid, 0.0);
     m_request_mm = RasterD(hg, 0.0);
+    const auto& species = scene.ecosystem.species;
+    for (const auto& s : species) m_is_object.push_back(s.life_form == LifeForm::object);
+    const auto& soil = scene.hydro.soil;
+    m_ground = GroundLayer(species, hg.size(), [&](std::uint16_t k, std::int64_t c) {
+        const int i = static_cast<int>(c % hg.nx), j = static_cast<int>(c / hg.nx);
+        const Species& s = species[k];
+        return texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(i, j),
+                              soil.silt_pct(i, j), soil.clay_pct(i, j)) *
+               ph_factor(s.ph, soil.ph(i, j));
+    });
     m_daily = Table::of(hydro::daily_budget_columns());
     m_yearly = Table::of(yearly_columns());
     place_initial_plants();
@@ -89,7 +100,9 @@ Plant Ecosystem::new_plant(std::uint16_t sp, double x, double y, double dbh) {
     p.y_m = y;
     p.z_m = m_scene.hydro.dem.sample_bilinear(x, y);
     p.dbh_m = dbh;
-    if (m_scene.competition == Competition::light_only) {
+    if (s.life_form == LifeForm::object) {
+        allometry::apply(s, p); // full size, no carbon
+    } else if (m_scene.competition == Competition::light_only) {
         p.dbh_m = 0;
         allometry::apply(s, p);
         p.height_m = 0;
@@ -115,8 +128,15 @@ void Ecosystem::place_initial_plants() {
         Rng rng(m_scene.seed, "eco.initial");
         const double area_ha = g.width_m() * g.height_m() / kM2PerHa;
         const std::int64_t n = std::llround(ini.stems_per_ha * area_ha);
+        // Trees and shrubs only (the ground layer starts bare; objects arrive).
+        std::vector<std::uint16_t> plants;
+        for (std::uint16_t k = 0; k < nsp; ++k)
+            if (is_individual_plant(m_scene.ecosystem.species[k])) plants.push_back(k);
+        if (n > 0 && plants.empty())
+            throw InputError("vegetation.initial: random stems need a tree or shrub species in " +
+                             m_scene.ecosystem.source.string());
         for (std::int64_t k = 0; k < n; ++k) {
-            const auto sp = static_cast<std::uint16_t>(rng.below(nsp));
+            const auto sp = plants[static_cast<std::size_t>(rng.below(plants.size()))];
             const double x = g.origin_x_m + rng.uniform() * g.width_m();
             const double y = g.origin_y_m + rng.uniform() * g.height_m();
             const Species& s = m_scene.ecosystem.species[sp];
@@ -190,6 +210,12 @@ void Ecosystem::place_initial_plants() {
             if (sp < 0)
                 throw InputError(where + ": species '" + f[2] + "' is not in " +
                                  m_scene.ecosystem.source.string());
+            if (!is_individual_plant(m_scene.ecosystem.species[static_cast<std::size_t>(sp)]))
+                throw InputError(
+                    where + ": species '" + f[2] + "' is a " +
+                    life_form_name(
+                        m_scene.ecosystem.species[static_cast<std::size_t>(sp)].life_form) +
+                    ", not a tree or shrub: it has no stem to list");
             Plant p = new_plant(static_cast<std::uint16_t>(sp), x, y, dcm / kCmPerM);
             p.age_yr = age;
             if (m_scene.competition == Competition::light_only) {
@@ -210,6 +236,7 @@ void Ecosystem::refresh_canopy() {
         for (std::int64_t k = 0; k < n; ++k) {
             Plant& p = m_plants[static_cast<std::size_t>(k)];
             const Species& s = sp[p.species];
+            if (s.life_form == LifeForm::object) continue;
             p.dbh_m = allometry::dbh_from_stem_mass(s, p.wood_kg, p.dbh_m);
             allometry::apply(s, p);
         }
@@ -219,11 +246,44 @@ void Ecosystem::refresh_canopy() {
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         const Plant& p = m_plants[k];
         h[k] = p.height_m;
-        lai[k] = sp[p.species].leaf_area_per_crown_area;
+        lai[k] = m_is_object[p.species] ? 0.0 : sp[p.species].leaf_area_per_crown_area;
     }
     const auto shade = compute_shading(m_pgrid, m_crowns, h, lai, m_scene.shading,
                                        m_scene.extinction, &m_ground_shade);
     for (std::size_t k = 0; k < m_plants.size(); ++k) m_plants[k].shade_fraction = shade[k];
+    crown_shade_per_cell();
+}
+
+void Ecosystem::crown_shade_per_cell() {
+    const auto& hg = m_scene.hydro.dem.grid();
+    m_cell_shade.assign(static_cast<std::size_t>(hg.size()), 0.0);
+    const double inv = 1.0 / (m_map.factor * m_map.factor);
+    for (int j = 0; j < m_pgrid.ny; ++j)
+        for (int i = 0; i < m_pgrid.nx; ++i)
+            m_cell_shade[static_cast<std::size_t>(j / m_map.factor) * hg.nx + i / m_map.factor] +=
+                m_ground_shade(i, j) * inv;
+    for (auto& v : m_cell_shade) v = std::clamp(v, 0.0, 1.0);
+}
+
+double Ecosystem::relative_water(int hi, int hj) const {
+    const auto& soil = m_scene.hydro.soil;
+    const double wp = soil.wilting_point(hi, hj), fc = soil.field_capacity(hi, hj);
+    return (m_hydro->soil_moisture()(hi, hj) - wp) / std::max(fc - wp, kMinAvailableWater);
+}
+
+void Ecosystem::ground_environment(bool coupled) {
+    const auto& hg = m_scene.hydro.dem.grid();
+    m_ground_env.resize(static_cast<std::size_t>(hg.size()));
+    for (std::int64_t c = 0; c < hg.size(); ++c) {
+        GroundCell& e = m_ground_env[static_cast<std::size_t>(c)];
+        const auto k = static_cast<std::size_t>(c);
+        e.crown_shade = m_cell_shade[k];
+        e.relative_water = relative_water(static_cast<int>(c % hg.nx), static_cast<int>(c / hg.nx));
+        e.ponded = m_hydro->catchments().owner(c) != 0;
+        e.water_met = 1.0;
+        if (coupled && m_ground_demand[k] > 0)
+            e.water_met = m_ratio[k] * m_ground_request[k] / m_ground_demand[k];
+    }
 }
 
 const hydro::DayWeather& Ecosystem::next_weather() {
@@ -251,6 +311,25 @@ void Ecosystem::plant_water_demand(double et0_m, const std::vector<double>& phen
     }
     m_request.assign(static_cast<std::size_t>(hg.size()), 0.0);
     scatter_demand(m_roots, m_demand, m_request);
+    // The ground layer asks for its demand, at most the water above its roots.
+    m_ground_demand.assign(m_request.size(), 0.0);
+    m_ground_request.assign(m_request.size(), 0.0);
+    if (!m_ground.empty()) {
+        const double zr = m_scene.hydro.options.root_zone_depth_m;
+        const auto& soil = m_scene.hydro.soil;
+        for (std::int64_t c = 0; c < hg.size(); ++c) {
+            const auto k = static_cast<std::size_t>(c);
+            const double d = m_ground.demand_m3(species, c, phen, et0_m, m_hydro_cell_area);
+            if (!(d > 0)) continue;
+            const int i = static_cast<int>(c % hg.nx), j = static_cast<int>(c / hg.nx);
+            const double above =
+                std::max(0.0, m_hydro->soil_moisture()(i, j) - soil.wilting_point(i, j)) *
+                std::min(m_ground.root_depth_m(species, c), zr) * m_hydro_cell_area;
+            m_ground_demand[k] = d;
+            m_ground_request[k] = std::min(d, above);
+            m_request[k] += m_ground_request[k];
+        }
+    }
     for (std::int64_t c = 0; c < hg.size(); ++c)
         m_request_mm.data()[c] =
             m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
@@ -284,7 +363,7 @@ void Ecosystem::carbon_balance(const std::vector<double>& phen, const std::vecto
 #pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(n) >= parallel_min_items())
     for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k) {
         Plant& p = m_plants[static_cast<std::size_t>(k)];
-        if (!p.alive) continue;
+        if (!p.alive || m_is_object[p.species]) continue;
         const Species& s = species[p.species];
         const double ph = phen[p.species];
         const double g = shade_factor(s.shade, p.shade_fraction) *
@@ -301,6 +380,7 @@ void Ecosystem::carbon_balance(const std::vector<double>& phen, const std::vecto
         m_sum.production += cd[k].production_kg;
         m_sum.maintenance += cd[k].maintenance_kg;
         m_sum.growth_resp += cd[k].growth_respiration_kg;
+        m_sum.turnover += cd[k].turnover_kg;
         m_sum.demand_m3 += m_demand[k];
         m_sum.supplied_m3 += m_demand[k] * m_fraction[k];
         if (cd[k].starved) {
@@ -333,6 +413,20 @@ bool Ecosystem::step_day() {
         f = m_hydro->step(w, &m_request_mm);
         water_supply_fractions();
         carbon_balance(phen, ftemp, q10);
+        if (!m_ground.empty()) {
+            ground_environment(true);
+            for (std::size_t c = 0; c < m_ground_demand.size(); ++c) {
+                m_sum.ground_demand_m3 += m_ground_demand[c];
+                m_sum.ground_supplied_m3 += m_ground_demand[c] * m_ground_env[c].water_met;
+            }
+            // "Growth Rate" is the rate over a growing season: a leaf-on day grows 1/season of it.
+            std::vector<double> season_phen(phen);
+            for (std::size_t k = 0; k < species.size(); ++k)
+                if (!species[k].evergreen)
+                    season_phen[k] *= static_cast<double>(year_length(w)) /
+                                      std::max(1, species[k].leaf_off_doy - species[k].leaf_on_doy);
+            m_ground.step(species, m_ground_env, 1.0 / year_length(w), season_phen, ftemp);
+        }
         if (m_days_done % m_scene.canopy_interval_days == 0) refresh_canopy();
     } else {
         f = m_hydro->step(w, nullptr);
@@ -384,21 +478,30 @@ void Ecosystem::update_vegetation_density() {
     for (int j = 0; j < m_pgrid.ny; ++j)
         for (int i = 0; i < m_pgrid.nx; ++i)
             density(i / m_map.factor, j / m_map.factor) += m_ground_shade(i, j) * inv;
-    for (std::int64_t c = 0; c < density.size(); ++c)
-        density.data()[c] = std::clamp(density.data()[c], 0.0, 1.0);
+    for (std::int64_t c = 0; c < density.size(); ++c) {
+        // Crowns and the ground layer below them: 1 - (1 - crown cover)(1 - ground cover).
+        const double crown = std::clamp(density.data()[c], 0.0, 1.0);
+        density.data()[c] =
+            m_ground.empty()
+                ? crown
+                : 1.0 - (1.0 - crown) * (1.0 - std::clamp(m_ground.total(c), 0.0, 1.0));
+    }
     m_hydro->set_vegetation_density(density);
 }
 
 bool Ecosystem::establishes(const Species& s, double x, double y, Rng& rng) const {
     const double draw = rng.uniform(); // always drawn: the stream does not depend on the tests
     const auto [i, j] = m_pgrid.clamped_cell(x, y);
-    if (1.0 - m_ground_shade(i, j) < s.germination_min_light) return false;
     const int hi = i / m_map.factor, hj = j / m_map.factor;
+    // Light through the crowns and then through the grass and herbs (none without a ground layer).
+    double light = 1.0 - m_ground_shade(i, j);
+    if (!m_ground.empty())
+        light *= m_ground.transmission(m_scene.ecosystem.species,
+                                       static_cast<std::int64_t>(hj) * m_map.hydro_nx + hi,
+                                       m_scene.extinction);
+    if (light < s.germination_min_light) return false;
     const auto& soil = m_scene.hydro.soil;
-    const double wp = soil.wilting_point(hi, hj), fc = soil.field_capacity(hi, hj);
-    const double rel =
-        (m_hydro->soil_moisture()(hi, hj) - wp) / std::max(fc - wp, kMinAvailableWater);
-    if (rel < s.germination_min_soil_water) return false;
+    if (relative_water(hi, hj) < s.germination_min_soil_water) return false;
     if (m_hydro->catchments().owner(static_cast<std::int64_t>(hj) * m_map.hydro_nx + hi) != 0)
         return false;
     const double suit = texture_factor(s.texture, s.texture_tolerance_pct, soil.sand_pct(hi, hj),
@@ -432,6 +535,13 @@ std::vector<char> Ecosystem::ageing_and_mortality() {
         const double u = m_rng_mort.uniform(); // drawn for every plant: the stream stays aligned
         if (!p.alive) continue;                // starved this year, counted then
         p.age_yr += 1;
+        if (m_is_object[p.species]) { // no growth, no background death: removed at Max Age
+            if (p.age_yr >= s.max_age_yr) {
+                dead[k] = 1;
+                m_sum.deaths_age += 1;
+            }
+            continue;
+        }
         update_growth_efficiency(p);
         const double suppression = suppression_mortality(s, p.growth_efficiency);
         if (p.age_yr >= s.max_age_yr) {
@@ -455,7 +565,7 @@ std::vector<Plant> Ecosystem::seed_dispersal(const std::vector<char>& dead) {
     for (std::size_t k = 0; k < m_plants.size(); ++k) {
         const Plant& p = m_plants[k];
         const Species& s = species[p.species];
-        if (dead[k] || !p.alive || p.age_yr < s.maturity_age_yr) continue;
+        if (dead[k] || !p.alive || m_is_object[p.species] || p.age_yr < s.maturity_age_yr) continue;
         const double vigor = p.growth_days > 0 ? p.growth_sum / p.growth_days : 0.0;
         const std::int64_t n = poisson(m_rng_seed, seeds_per_year(s, p.dbh_m, vigor));
         m_sum.seeds += static_cast<double>(n);
@@ -482,11 +592,12 @@ void Ecosystem::background_arrivals(std::vector<Plant>& recruits) {
     const double area = g.width_m() * g.height_m();
     for (std::size_t sp = 0; sp < species.size(); ++sp) {
         const Species& s = species[sp];
+        if (s.life_form == LifeForm::grass) continue; // arrives into the ground layer's cover
         const std::int64_t n = poisson(m_rng_arrival, s.new_per_area_per_yr * area);
         for (std::int64_t q = 0; q < n; ++q) {
             const double x = g.origin_x_m + m_rng_arrival.uniform() * g.width_m();
             const double y = g.origin_y_m + m_rng_arrival.uniform() * g.height_m();
-            if (establishes(s, x, y, m_rng_arrival))
+            if (m_is_object[sp] || establishes(s, x, y, m_rng_arrival))
                 recruits.push_back(
                     new_plant(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));
         }
@@ -494,6 +605,13 @@ void Ecosystem::background_arrivals(std::vector<Plant>& recruits) {
 }
 
 void Ecosystem::year_end_light_only() {
+    if (!m_ground.empty()) {
+        // The ground layer in a whole-year step: light under the crowns, no water limit.
+        const auto& sp = m_scene.ecosystem.species;
+        ground_environment(false);
+        m_ground.step(sp, m_ground_env, 1.0, std::vector<double>(sp.size(), 1.0),
+                      std::vector<double>(sp.size(), 1.0));
+    }
     std::vector<char> dead = light_only_growth();
     light_only_arrivals(dead);
     overlap_thinning(dead);
@@ -516,6 +634,7 @@ std::vector<char> Ecosystem::light_only_growth() {
             m_sum.deaths_age += 1;
             continue;
         }
+        if (m_is_object[p.species]) continue;
         p.dbh_m = light_only_dbh_m(s, p.age_yr);
         allometry::apply(s, p);
     }
@@ -527,6 +646,7 @@ void Ecosystem::light_only_arrivals(std::vector<char>& dead) {
     const auto& g = m_pgrid;
     const double area = g.width_m() * g.height_m();
     for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        if (species[sp].life_form == LifeForm::grass) continue;
         const std::int64_t n = poisson(m_rng_arrival, species[sp].new_per_area_per_yr * area);
         for (std::int64_t q = 0; q < n; ++q) {
             const double x = g.origin_x_m + m_rng_arrival.uniform() * g.width_m();
@@ -601,11 +721,12 @@ Ecosystem::CarbonStocks Ecosystem::close_carbon_budget() {
     for (const auto& p : m_plants) c.wood_kg += p.wood_kg, c.reserve_kg += p.reserve_kg;
     const double stock = c.wood_kg + c.reserve_kg;
     const double expected = m_stock_at_year_start + m_sum.production - m_sum.maintenance -
-                            m_sum.growth_resp + m_sum.recruit_carbon - m_sum.dead_carbon;
+                            m_sum.growth_resp + m_sum.recruit_carbon - m_sum.dead_carbon -
+                            m_sum.turnover;
     c.residual_kg = stock - expected;
     m_cum_carbon_residual += c.residual_kg;
     m_cum_carbon_throughput += m_sum.production + m_sum.maintenance + m_sum.growth_resp +
-                               m_sum.recruit_carbon + std::abs(m_sum.dead_carbon);
+                               m_sum.recruit_carbon + std::abs(m_sum.dead_carbon) + m_sum.turnover;
     if (std::abs(m_cum_carbon_residual) >
         kCarbonTolerance * std::max(m_cum_carbon_throughput, 1.0) + kCarbonStockRounding * stock)
         throw Error("carbon budget broke in year " + std::to_string(m_years_done) + ": residual " +
@@ -640,19 +761,68 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.growth_respiration_kg = m_sum.growth_resp;
     row.recruit_carbon_kg = m_sum.recruit_carbon;
     row.dead_carbon_kg = m_sum.dead_carbon;
+    row.turnover_kg = m_sum.turnover;
     row.wood_stock_kg = c.wood_kg;
     row.reserve_stock_kg = c.reserve_kg;
     row.carbon_residual_kg = c.residual_kg;
     row.transpiration_demand_mm = m_sum.demand_m3 * to_mm;
     row.transpiration_supplied_mm = m_sum.supplied_m3 * to_mm;
+    const UndergrowthMetrics u = undergrowth();
+    row.shrubs_per_ha = u.shrubs_per_ha;
+    row.ground_cover_fraction = u.ground_cover_fraction;
+    row.ground_transpiration_demand_mm = m_sum.ground_demand_m3 * to_mm;
+    row.ground_transpiration_supplied_mm = m_sum.ground_supplied_m3 * to_mm;
     m_yearly.push(row, yearly_columns());
 }
 
 StandMetrics Ecosystem::stand() const {
+    const auto& sp = m_scene.ecosystem.species;
     std::vector<double> d;
     d.reserve(m_plants.size());
-    for (const auto& p : m_plants) d.push_back(p.dbh_m); // 0 below breast height
+    for (const auto& p : m_plants)
+        if (sp[p.species].life_form == LifeForm::tree) d.push_back(p.dbh_m); // 0 below 1.3 m
     return stand_metrics(d, m_pgrid.width_m() * m_pgrid.height_m());
+}
+
+UndergrowthMetrics Ecosystem::undergrowth() const {
+    const auto& sp = m_scene.ecosystem.species;
+    UndergrowthMetrics u;
+    const double area = m_pgrid.width_m() * m_pgrid.height_m();
+    u.area_ha = area / kM2PerHa;
+    double shrubs = 0, crown = 0, height = 0, objects = 0;
+    for (const auto& p : m_plants) {
+        if (sp[p.species].life_form == LifeForm::shrub) {
+            shrubs += 1;
+            crown += std::numbers::pi * p.crown_radius_m * p.crown_radius_m;
+            height += p.height_m;
+        } else if (sp[p.species].life_form == LifeForm::object) {
+            objects += 1;
+        }
+    }
+    u.shrubs_per_ha = shrubs / u.area_ha;
+    u.shrub_crown_cover_fraction = crown / area;
+    u.shrub_mean_height_m = shrubs > 0 ? height / shrubs : 0.0;
+    u.objects_per_ha = objects / u.area_ha;
+    const auto cells = static_cast<double>(std::max<std::int64_t>(m_ground.cells(), 1));
+    for (std::size_t g = 0; g < m_ground.species().size(); ++g) {
+        double a = 0;
+        for (std::int64_t c = 0; c < m_ground.cells(); ++c) a += m_ground.cover(g, c);
+        u.ground_cover_by_species.push_back({m_ground.species()[g], a / cells});
+        u.ground_cover_fraction += a / cells;
+    }
+    return u;
+}
+
+RasterD Ecosystem::ground_cover() const {
+    RasterD r(m_scene.hydro.dem.grid(), 0.0);
+    for (std::int64_t c = 0; c < r.size(); ++c) r.data()[c] = m_ground.total(c);
+    return r;
+}
+
+RasterD Ecosystem::ground_cover(std::size_t g) const {
+    RasterD r(m_scene.hydro.dem.grid(), 0.0);
+    for (std::int64_t c = 0; c < r.size(); ++c) r.data()[c] = m_ground.cover(g, c);
+    return r;
 }
 
 std::uint64_t Ecosystem::observed_weather_hash() const {
@@ -687,6 +857,7 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
     a.put_vector(m_plants);
     a.put(m_next_id);
     a.put_raster(m_ground_shade);
+    a.put_vector(m_ground.raw());
     m_hydro->save_state(a);
     a.put_raster(m_hydro->vegetation_density());
     for (const auto& c : m_daily.columns) a.put_vector(c);
@@ -721,6 +892,7 @@ void Ecosystem::load_state(ArchiveReader& a) {
     m_plants = a.get_vector<Plant>();
     m_next_id = a.get<std::int64_t>();
     m_ground_shade = a.get_raster<double>();
+    m_ground.set_raw(a.get_vector<double>());
     m_hydro->load_state(a);
     m_hydro->set_vegetation_density(a.get_raster<double>());
     for (auto& c : m_daily.columns) c = a.get_vector<double>();
@@ -731,6 +903,7 @@ void Ecosystem::load_state(ArchiveReader& a) {
     m_cum_carbon_throughput = a.get<double>();
     // Crowns are derived from the plants; shade fractions are restored with them.
     rebuild_crowns();
+    crown_shade_per_cell();
 }
 
 } // namespace ecoterra::eco

@@ -85,10 +85,14 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
     if (net >= 0) {
         c.to_reserve_kg = std::clamp(cap - p.reserve_kg, 0.0, net);
         const double rest = net - c.to_reserve_kg;
-        c.growth_respiration_kg = kGrowthRespiration * rest;
-        c.to_wood_kg = rest - c.growth_respiration_kg;
+        const double w = wood_allocation(s, p.dbh_m);
+        const double built = rest * w;
+        c.turnover_kg = rest - built; // 0 below 0.9 D_max
+        c.growth_respiration_kg = kGrowthRespiration * built;
+        c.to_wood_kg = built - c.growth_respiration_kg;
         p.reserve_kg += c.to_reserve_kg;
         p.wood_kg += c.to_wood_kg;
+        p.turnover_kg += c.turnover_kg;
     } else {
         c.to_reserve_kg = net;
         p.reserve_kg += net;
@@ -97,10 +101,19 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
     return c;
 }
 
+double wood_allocation(const Species& s, double d) {
+    const double dmax = s.max_stem_diameter_m;
+    if (!(dmax > 0)) return 1.0;
+    return std::clamp((dmax - d) / ((1.0 - kWoodTaperStart) * dmax), 0.0, 1.0);
+}
+
 double update_growth_efficiency(Plant& p) {
     const double mass = p.wood_kg + p.reserve_kg;
-    const double e = (mass - p.mass_at_year_start_kg) / std::max(p.leaf_area_m2, 1e-12);
+    // Carbon turned over at the maximum diameter counts as growth: such a plant is not suppressed.
+    const double e =
+        (mass - p.mass_at_year_start_kg + p.turnover_kg) / std::max(p.leaf_area_m2, 1e-12);
     p.mass_at_year_start_kg = mass;
+    p.turnover_kg = 0;
     p.growth_efficiency =
         std::isnan(p.growth_efficiency)
             ? e

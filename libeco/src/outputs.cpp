@@ -4,15 +4,17 @@
 
 namespace ecoterra::eco {
 
-PlantRecord plant_record(const Plant& p) {
+PlantRecord plant_record(const Plant& p, const Species& s) {
     PlantRecord r;
     r.id = p.id;
     r.species = p.species;
+    r.life_form = static_cast<std::int32_t>(s.life_form);
     r.x_m = p.x_m;
     r.y_m = p.y_m;
     r.z_m = p.z_m;
     r.height_m = p.height_m;
-    r.dbh_m = p.dbh_m;
+    r.dbh_m = measured_at_breast_height(s) ? p.dbh_m : 0.0;
+    r.stem_diameter_m = p.dbh_m;
     r.crown_radius_m = p.crown_radius_m;
     r.age_yr = p.age_yr;
     r.carbohydrate_kg = p.reserve_kg;
@@ -29,7 +31,16 @@ const std::vector<Column<PlantRecord>>& plant_columns() {
         column("y_m", &R::y_m, "m", "stem position, north"),
         column("z_m", &R::z_m, "m", "ground elevation at the stem"),
         column("height_m", &R::height_m, "m", "plant height"),
-        column("dbh_m", &R::dbh_m, "m", "trunk diameter at breast height (1.3 m; 0 below it)"),
+        column("life_form", &R::life_form, "1",
+               "0 tree, 1 shrub, 3 object (grasses are the ground layer, not plants); "
+               "/species/life_form names them",
+               ColumnType::int32),
+        column("dbh_m", &R::dbh_m, "m",
+               "trunk diameter at breast height (1.3 m) of a tree; 0 below it and for shrubs and "
+               "objects"),
+        column("stem_diameter_m", &R::stem_diameter_m, "m",
+               "stem diameter: a tree's at breast height, a shrub's at the ground, an object's "
+               "footprint"),
         column("crown_radius_m", &R::crown_radius_m, "m", "crown (and root) radius"),
         column("age_yr", &R::age_yr, "yr", "age"),
         column("carbohydrate_kg", &R::carbohydrate_kg, "kg", "carbohydrate reserve"),
@@ -80,11 +91,21 @@ const std::vector<Column<YearRow>>& yearly_columns() {
         column("reserve_stock_kg", &R::reserve_stock_kg, "kg",
                "carbohydrate reserve of live plants at year end"),
         column("carbon_residual_kg", &R::carbon_residual_kg, "kg",
-               "stock change - (production - respiration + recruits - dead); round-off only"),
+               "stock change - (production - respiration - turnover + recruits - dead); round-off "
+               "only"),
         column("transpiration_demand_mm", &R::transpiration_demand_mm, "mm",
                "plant water demand over the domain"),
         column("transpiration_supplied_mm", &R::transpiration_supplied_mm, "mm",
                "plant water supplied by the soil"),
+        column("turnover_kg", &R::turnover_kg, "kg",
+               "carbohydrate turned over by plants at their maximum stem diameter"),
+        column("shrubs_per_ha", &R::shrubs_per_ha, "1/ha", "live shrubs (not in the tree metrics)"),
+        column("ground_cover_fraction", &R::ground_cover_fraction, "1",
+               "mean cover of the ground layer (grasses and herbs) at year end, 0..1"),
+        column("ground_transpiration_demand_mm", &R::ground_transpiration_demand_mm, "mm",
+               "the ground layer's water demand over the domain"),
+        column("ground_transpiration_supplied_mm", &R::ground_transpiration_supplied_mm, "mm",
+               "the ground layer's water supplied (from above its roots)"),
     };
     return c;
 }
@@ -117,8 +138,17 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
          }},
         {"species_index", "", "0-based index of the species in the run (plants/species)",
          ColumnType::int32, [](const R& r, const N&) { return std::to_string(r.species); }},
-        {"dbh_cm", "cm", "trunk diameter at breast height (0 below it)", ColumnType::float64,
-         [](const R& r, const N&) { return number_text(r.dbh_m * 100.0); }},
+        {"life_form", "", "tree, shrub or object (grasses are the ground layer, not listed)",
+         ColumnType::text,
+         [](const R& r, const N&) {
+             return std::string(life_form_name(static_cast<LifeForm>(r.life_form)));
+         }},
+        {"dbh_cm", "cm", "trunk diameter at breast height (0 below it, and for shrubs and objects)",
+         ColumnType::float64, [](const R& r, const N&) { return number_text(r.dbh_m * 100.0); }},
+        {"stem_diameter_cm", "cm",
+         "stem diameter: a tree's at breast height, a shrub's or an object's at the ground",
+         ColumnType::float64,
+         [](const R& r, const N&) { return number_text(r.stem_diameter_m * 100.0); }},
         {"height_m", "m", "plant height", ColumnType::float64,
          [](const R& r, const N&) { return number_text(r.height_m); }},
         {"crown_radius_m", "m", "crown radius", ColumnType::float64,

@@ -16,17 +16,28 @@ constexpr double kToleranceFloorM = 1e-6;
 constexpr double kFirstBracketM = 1e-4;
 } // namespace
 
+namespace {
+/// The height the curve starts from: breast height for trees (D is measured there), the ground
+/// for shrubs (D is the stem's at the ground).
+double base_height_m(const Species& s) {
+    return measured_at_breast_height(s) ? kBreastHeightM : 0;
+}
+} // namespace
+
 double height_m(const Species& s, double d) {
-    return kBreastHeightM + (s.max_height_m - kBreastHeightM) *
-                                (1.0 - std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM));
+    if (s.life_form == LifeForm::object) return s.max_height_m;
+    const double h0 = base_height_m(s);
+    return h0 + (s.max_height_m - h0) * (1.0 - std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM));
 }
 
 double crown_radius_m(const Species& s, double d) {
+    if (s.life_form == LifeForm::object) return 0.5 * s.height_to_diameter_ratio * s.max_height_m;
     const double r = s.crown_radius_coefficient_m * std::pow(d * kCmPerM, s.crown_radius_exponent);
     return std::clamp(r, kMinCrownRadiusM, s.max_crown_radius_m);
 }
 
 double leaf_area_m2(const Species& s, double r) {
+    if (s.life_form == LifeForm::object) return 0;
     return s.leaf_area_per_crown_area * std::numbers::pi * r * r;
 }
 
@@ -47,7 +58,8 @@ double dbh_from_stem_mass(const Species& s, double mass, double guess) {
             hi = d;
         else
             lo = d;
-        const double dh = s.height_dbh_slope_per_cm * kCmPerM * (s.max_height_m - kBreastHeightM) *
+        const double dh = s.height_dbh_slope_per_cm * kCmPerM *
+                          (s.max_height_m - base_height_m(s)) *
                           std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM);
         const double c = s.wood_density_kg_per_m3 * kStemFormFactor * 0.25 * std::numbers::pi;
         const double dm = c * (2 * d * height_m(s, d) + d * d * dh);
@@ -61,9 +73,14 @@ double dbh_from_stem_mass(const Species& s, double mass, double guess) {
 }
 
 void apply(const Species& s, Plant& p) {
+    if (s.life_form == LifeForm::object) p.dbh_m = object_diameter_m(s);
     p.height_m = height_m(s, p.dbh_m);
     p.crown_radius_m = crown_radius_m(s, p.dbh_m);
     p.leaf_area_m2 = leaf_area_m2(s, p.crown_radius_m);
+}
+
+double object_diameter_m(const Species& s) {
+    return s.height_to_diameter_ratio * s.max_height_m;
 }
 
 } // namespace ecoterra::eco::allometry

@@ -284,6 +284,8 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     sum.years_total = eco->years_done();
     sum.snapshots = snapshots;
     sum.stand = eco->stand();
+    sum.undergrowth = eco->undergrowth();
+    for (const auto& s : eco->scene().ecosystem.species) sum.species.push_back(s.name);
     sum.plant_years = plant_years;
     sum.water_residual_relative = std::abs(eco->hydrology().cumulative_residual_m3()) /
                                   std::max(eco->hydrology().cumulative_throughput_m3(), 1e-300);

@@ -41,7 +41,8 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     const auto& w = eco.last_weather();
     std::vector<PlantRecord> rows;
     rows.reserve(eco.plants().size());
-    for (const auto& p : eco.plants()) rows.push_back(plant_record(p));
+    const auto& species = eco.scene().ecosystem.species;
+    for (const auto& p : eco.plants()) rows.push_back(plant_record(p, species[p.species]));
     for (const auto& c : plant_columns()) {
         const std::string dataset = g + "/plants/" + c.name;
         auto write = [&]<class T>(T) {
@@ -61,6 +62,15 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     write_layers(h5, g, hydro::water_state_layers(), hy);
     h5.raster(g + "/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
+    h5.raster(g + "/ground_cover", eco.ground_cover(), "1",
+              "cover of the ground layer (grasses and herbs), fraction of the cell's ground");
+    const auto& layer = eco.ground_layer().species();
+    for (std::size_t k = 0; k < layer.size(); ++k) {
+        const std::string ds = g + "/ground_cover_by_species/" + std::to_string(layer[k]);
+        h5.raster(ds, eco.ground_cover(k), "1",
+                  "cover of species " + std::to_string(layer[k]) + " (" +
+                      eco.scene().ecosystem.species[layer[k]].name + "), fraction of the ground");
+    }
     h5.integer_attribute(g, "year", eco.years_done());
     h5.integer_attribute(g, "day", eco.days_done());
     h5.attribute(g, "date",
@@ -84,6 +94,10 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     std::vector<std::string> list;
     for (const auto& s : sc.ecosystem.species) list.push_back(s.name);
     h5.strings("/species/name", list, "species names; plants/species is the 0-based index");
+    std::vector<std::string> forms;
+    for (const auto& s : sc.ecosystem.species) forms.push_back(life_form_name(s.life_form));
+    h5.strings("/species/life_form", forms,
+               "tree, shrub, grass (the ground layer: snapshot ground_cover) or object");
     h5.attribute("/species", "ecosystem", sc.ecosystem.name);
     h5.attribute("/provenance", "json", provenance.dump());
     if (sc.seed <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))

@@ -3,6 +3,10 @@
 #include "run_layout.hpp"
 
 #include "ecoterra/terrain/io/raster_io.hpp"
+#include "ecoterra/units.hpp"
+
+#include <algorithm>
+#include <numbers>
 
 namespace ecoterra::eco {
 
@@ -73,6 +77,13 @@ RasterD read_run_terrain(const fs::path& run) {
     return terrain::io::read_hdf5(run, "/terrain/elevation");
 }
 
+bool snapshot_has_dataset(const fs::path& run, int index, const std::string& name) {
+    bool has = false;
+    open_snapshot(run, resolve_snapshot_index(run, index),
+                  [&](const H5::Group& g) { has = g.nameExists(name); });
+    return has;
+}
+
 RasterD read_snapshot_raster(const fs::path& run, int index, const std::string& name,
                              const GridSpec& grid) {
     const int k = resolve_snapshot_index(run, index);
@@ -105,7 +116,14 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     open_snapshot(run, k, [&](const H5::Group& g) {
         s.year = static_cast<int>(read_double_attr(g, "year"));
         H5::Group p = g.openGroup("plants");
+        bool has_stem_diameter = true;
         for (const auto& c : plant_columns()) {
+            if ((c.name == "life_form" || c.name == "stem_diameter_m") &&
+                !H5Lexists(p.getId(), c.name.c_str(), H5P_DEFAULT)) {
+                // Runs before life forms: every plant a tree, the stem diameter its DBH.
+                has_stem_diameter = has_stem_diameter && c.name != "stem_diameter_m";
+                continue;
+            }
             auto read = [&]<class T>(const H5::PredType& type, T) {
                 const auto v = read_vector<T>(p, c.name, type);
                 if (&c == &plant_columns().front()) s.plants.resize(v.size());
@@ -124,8 +142,50 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
             else
                 read(H5::PredType::NATIVE_DOUBLE, double{});
         }
+        if (!has_stem_diameter)
+            for (auto& r : s.plants) r.stem_diameter_m = r.dbh_m;
     });
     return s;
+}
+
+UndergrowthMetrics read_snapshot_undergrowth(const fs::path& run, int index) {
+    const RunInfo info = read_run_info(run);
+    const SnapshotPlants s = read_snapshot_plants(run, index);
+    UndergrowthMetrics u;
+    u.area_ha = info.area_m2 / kM2PerHa;
+    double shrubs = 0, crown = 0, height = 0, objects = 0;
+    for (const auto& p : s.plants) {
+        if (p.life_form == static_cast<std::int32_t>(LifeForm::shrub)) {
+            shrubs += 1;
+            crown += std::numbers::pi * p.crown_radius_m * p.crown_radius_m;
+            height += p.height_m;
+        } else if (p.life_form == static_cast<std::int32_t>(LifeForm::object)) {
+            objects += 1;
+        }
+    }
+    u.shrubs_per_ha = shrubs / u.area_ha;
+    u.shrub_crown_cover_fraction = crown / info.area_m2;
+    u.shrub_mean_height_m = shrubs > 0 ? height / shrubs : 0.0;
+    u.objects_per_ha = objects / u.area_ha;
+    open_snapshot(run, s.index, [&](const H5::Group& g) {
+        if (!g.nameExists("ground_cover_by_species")) return;
+        H5::Group layer = g.openGroup("ground_cover_by_species");
+        std::vector<int> species;
+        for (hsize_t k = 0; k < layer.getNumObjs(); ++k)
+            species.push_back(std::stoi(layer.getObjnameByIdx(k)));
+        std::sort(species.begin(), species.end());
+        for (const int sp : species) {
+            H5::DataSet ds = layer.openDataSet(std::to_string(sp));
+            std::vector<double> v(static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
+            ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+            double sum = 0;
+            for (const double x : v) sum += x;
+            const double mean = v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+            u.ground_cover_by_species.push_back({sp, mean});
+            u.ground_cover_fraction += mean;
+        }
+    });
+    return u;
 }
 
 } // namespace ecoterra::eco

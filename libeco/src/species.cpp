@@ -1,9 +1,12 @@
 #include "ecoterra/eco/species.hpp"
 
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -17,6 +20,67 @@ const std::vector<std::string> kMavsTopKeys = {"Texture Inputs",    "Surface Mes
                                                "Simulation Length", "Anvel Replay File",
                                                "PathToMeshes",      "Trail Properties"};
 constexpr double kTiny = 1e-9;
+/// MAVS's folders of meshes that are not plants (data/scenes/meshes).
+const std::vector<std::string> kMavsObjectFolders = {"buildings", "misc", "urban", "vehicles"};
+/// The MAVS mapping's height limits (m) and the ratio of a broad plant.
+constexpr double kGroundLayerMaxHeightM = 0.5;
+constexpr double kShrubMaxHeightM = 5.0;
+constexpr double kShrubMinRatio = 0.2;
+/// Default maximum stem diameter: Max Height over this (m per m).
+constexpr double kMaxHeightPerStemDiameter = 20.0;
+/// MAVS life stages, in order.
+const std::vector<std::string> kStageWords = {"young", "medium", "adult"};
+
+/// Physiology defaults that differ from a tree's, per life form (docs/ecosystem.md s1.1); each
+/// applies only where the file leaves the key out.
+const nlohmann::json& life_form_defaults(LifeForm f) {
+    static const json shrub = {
+        {"height_dbh_slope_per_cm", 0.3},
+        {"crown_radius_coefficient_m", 0.35},
+        {"leaf_area_per_crown_area", 3.0},
+        {"recruit_dbh_m", 0.005},
+        {"seeds_per_yr_at_30cm", 500.0},
+        {"dispersal",
+         {{"mean_distance_m", 5.0}, {"long_distance_m", 30.0}, {"long_fraction", 0.1}}},
+        {"germination", {{"min_light", 0.1}}},
+        {"suppression", {{"growth_efficiency_kg_per_m2_leaf_per_yr", 0.1}}}};
+    static const json grass = {{"leaf_area_per_crown_area", 2.88},
+                               {"transpiration_per_leaf_area", 0.35},
+                               {"shade", {{"desired", 0.0}, {"tolerance", 0.35}}},
+                               {"water", {{"desired", 1.0}, {"tolerance", 0.5}}},
+                               {"germination", {{"min_light", 0.2}}},
+                               {"background_mortality_per_yr", 0.0}};
+    static const json none = json::object();
+    return f == LifeForm::shrub ? shrub : f == LifeForm::grass ? grass : none;
+}
+
+/// Sets the life-form defaults of the keys `s.defaulted` lists.
+void apply_life_form_defaults(Species& s) {
+    const auto& d = s.defaulted;
+    auto defaulted = [&](const std::string& key) {
+        return std::find(d.begin(), d.end(), "physiology." + key) != d.end();
+    };
+    json keep = json::object();
+    const json& lf = life_form_defaults(s.life_form);
+    for (const auto& item : lf.items()) {
+        if (item.value().is_object()) {
+            for (const auto& sub : item.value().items())
+                if (defaulted(item.key() + "." + sub.key()))
+                    keep[item.key()][sub.key()] = sub.value();
+        } else if (defaulted(item.key())) {
+            keep[item.key()] = item.value();
+        }
+    }
+    s = physiology_catalog().read(keep, s);
+    if (defaulted("max_stem_diameter_m") && s.life_form != LifeForm::grass &&
+        s.life_form != LifeForm::object)
+        s.max_stem_diameter_m = s.max_height_m / kMaxHeightPerStemDiameter;
+    if (defaulted("maturity_age_yr"))
+        s.maturity_age_yr = s.life_form == LifeForm::shrub ? std::min(3.0, 0.2 * s.max_age_yr)
+                                                           : std::min(15.0, 0.2 * s.max_age_yr);
+    if (s.life_form == LifeForm::shrub && defaulted("max_crown_radius_m"))
+        s.max_crown_radius_m = std::clamp(0.6 * s.max_height_m, 0.3, 5.0);
+}
 
 /// A preference {desired, tolerance} as two dotted keys.
 template <Preference Species::*M>
@@ -42,6 +106,15 @@ void parse_physiology(const json& p, Species& s) {
     const auto& c = physiology_catalog();
     s = c.read(p, s);
     for (const auto& k : c.absent(p)) s.defaulted.push_back("physiology." + k);
+    if (!p.contains("life_form"))
+        s.life_form = mavs_life_form(s.mesh_file, s.max_height_m, s.height_to_diameter_ratio);
+    apply_life_form_defaults(s);
+    if (s.life_form != LifeForm::grass) // only the ground layer uses it: not worth a note
+        std::erase(s.defaulted, std::string("physiology.root_depth_m"));
+    if (s.life_form == LifeForm::tree && !(s.max_height_m > kBreastHeightM))
+        throw InputError("Max Height = " + format_number(s.max_height_m) +
+                         " m: a tree must outgrow breast height (" + format_number(kBreastHeightM) +
+                         " m); a shorter plant is a shrub or grass (physiology.life_form)");
     if (!(s.temperature_optimum_c > s.temperature_base_c))
         throw InputError("physiology.temperature_optimum_c must exceed temperature_base_c");
     if (!s.evergreen && s.leaf_off_doy <= s.leaf_on_doy)
@@ -68,19 +141,160 @@ Species parse_species(const json& e) {
     if (e.contains("physiology") && !e.at("physiology").is_object())
         throw InputError("'physiology' must be an object");
     parse_physiology(e.value("physiology", json::object()), s);
-    // Defaults derived from the MAVS keys where they carry the information.
-    const auto& d = s.defaulted;
-    if (std::find(d.begin(), d.end(), "physiology.maturity_age_yr") != d.end())
-        s.maturity_age_yr = std::min(15.0, 0.2 * s.max_age_yr);
     return s;
+}
+
+} // namespace
+
+namespace {
+
+/// "Pecan young" -> {"Pecan", 0}; no stage word -> {"", -1}.
+std::pair<std::string, int> stage_of_name(const std::string& name) {
+    const auto sp = name.find_last_of(' ');
+    if (sp == std::string::npos || sp == 0) return {"", -1};
+    std::string word = name.substr(sp + 1);
+    for (auto& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (std::size_t k = 0; k < kStageWords.size(); ++k)
+        if (word == kStageWords[k]) return {name.substr(0, sp), static_cast<int>(k)};
+    return {"", -1};
+}
+
+/// MAVS lists a species' young, medium and adult meshes as separate species: entries named
+/// "<name> young|medium|adult" without a physiology block become one species named <name> with
+/// the adult's keys, the largest Max Height and Max Age, the smallest Min Height and the sum of
+/// the arrival rates (docs/ecosystem.md s1.1).
+json group_life_stages(const json& species, std::vector<std::string>& notes) {
+    std::map<std::string, std::vector<std::pair<int, std::size_t>>> groups;
+    for (std::size_t k = 0; k < species.size(); ++k) {
+        const json& e = species[k];
+        if (!e.is_object() || e.contains("physiology") || !e.contains("Species Name") ||
+            !e.at("Species Name").is_string())
+            continue;
+        const auto [base, stage] = stage_of_name(e.at("Species Name").get<std::string>());
+        if (stage >= 0) groups[base].push_back({stage, k});
+    }
+    std::vector<char> merged_away(species.size(), 0);
+    std::map<std::size_t, json> replacement;
+    for (auto& [base, members] : groups) {
+        std::stable_sort(members.begin(), members.end());
+        json g = species[members.back().second]; // the oldest stage's keys
+        std::string list;
+        bool numbers_ok = true;
+        double arrivals = 0, hmax = 0, hmin = 1e300, age = 0;
+        for (const auto& [stage, k] : members) {
+            const json& e = species[k];
+            for (const char* key : {"Num New Per Area", "Max Height", "Max Age"})
+                numbers_ok = numbers_ok && e.contains(key) && e.at(key).is_number();
+            if (!numbers_ok) break;
+            arrivals += e.at("Num New Per Area").get<double>();
+            hmax = std::max(hmax, e.at("Max Height").get<double>());
+            age = std::max(age, e.at("Max Age").get<double>());
+            hmin = std::min(hmin, e.value("Min Height", 0.0));
+            if (!list.empty()) list += ", ";
+            list += kStageWords[static_cast<std::size_t>(stage)];
+            list += " (";
+            list += e.value("Mesh File", std::string("?"));
+            list += ')';
+        }
+        if (!numbers_ok) continue; // the species reader names the bad key
+        g["Species Name"] = base;
+        g["Num New Per Area"] = arrivals;
+        g["Max Height"] = hmax;
+        g["Min Height"] = std::min(hmin, hmax);
+        g["Max Age"] = age;
+        replacement[members.front().second] = g;
+        for (std::size_t q = 1; q < members.size(); ++q) merged_away[members[q].second] = 1;
+        std::string note = "life stages of '";
+        note += base;
+        note += "' grouped into one species: ";
+        note += list;
+        note += "; Max Height ";
+        note += format_number(hmax);
+        note += " m, arrivals ";
+        note += format_number(arrivals);
+        note += " per m2 and year (the sum), the mesh of the oldest stage";
+        notes.push_back(note);
+    }
+    json out = json::array();
+    for (std::size_t k = 0; k < species.size(); ++k) {
+        if (merged_away[k]) continue;
+        const auto r = replacement.find(k);
+        out.push_back(r == replacement.end() ? species[k] : r->second);
+    }
+    return out;
+}
+
+/// MAVS's random-scene inputs (its `random_scene_inputs.json`): the ecosystem is the file its
+/// "Ecosystem File" names, read as given or, when that path does not exist here (MAVS's example
+/// names a Windows path), by its file name beside the inputs file; "Plant Density" scales the
+/// arrival rates as MAVS's growth factor does. The terrain keys are noted, not used.
+EcosystemDef read_random_scene_inputs(const json& j, const std::string& source) {
+    const std::string eco = with_context(source, [&] {
+        if (!j.at("Ecosystem File").is_string())
+            throw InputError("'Ecosystem File' must be a file name");
+        return j.at("Ecosystem File").get<std::string>();
+    });
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path here = fs::path(source).parent_path();
+    fs::path path = fs::path(eco).is_absolute() ? fs::path(eco) : here / eco;
+    std::string how;
+    if (!fs::exists(path, ec)) {
+        // A Windows path on Linux has no directory separators std::filesystem knows.
+        std::string name = eco.substr(eco.find_last_of("/\\") + 1);
+        const fs::path beside = here / name;
+        if (!fs::exists(beside, ec))
+            throw InputError(source + ": 'Ecosystem File' = '" + eco +
+                             "' does not exist, nor does '" + beside.string() + "' beside it");
+        how = " (found by its file name beside the inputs file; the path given does not exist)";
+        path = beside;
+    }
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot open the ecosystem file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    json inner = parse_json(ss.str(), path.string());
+    if (inner.is_object() && inner.contains("Ecosystem File") && !inner.contains("Species"))
+        throw InputError(source + ": 'Ecosystem File' names another random-scene inputs file");
+    EcosystemDef def = parse_ecosystem(inner, path.string());
+    double density = 1.0;
+    with_context(source, [&] {
+        if (j.contains("Plant Density")) {
+            const json& d = j.at("Plant Density");
+            if (!d.is_number() || !(d.get<double>() >= 0) || d.get<double>() > 1e6)
+                throw InputError("'Plant Density' = " + d.dump() +
+                                 " must be a number in [0, 1e6] (MAVS's growth factor)");
+            density = d.get<double>();
+        }
+    });
+    for (auto& s : def.species) s.new_per_area_per_yr *= density;
+    std::vector<std::string> notes;
+    notes.push_back("MAVS random-scene inputs: ecosystem " + path.string() + how +
+                    ", arrival rates times Plant Density " + format_number(density));
+    std::string unused;
+    for (const auto& item : j.items())
+        if (item.key() != "Ecosystem File" && item.key() != "Plant Density") {
+            if (!unused.empty()) unused += ", ";
+            unused += "'" + item.key() + "'";
+        }
+    if (!unused.empty())
+        notes.push_back("MAVS random-scene keys not used by ecoterra (the scene's terrain and "
+                        "paths come from the ecoterra scene): " +
+                        unused);
+    notes.insert(notes.end(), def.notes.begin(), def.notes.end());
+    def.notes = std::move(notes);
+    def.source = source;
+    return def;
 }
 
 } // namespace
 
 EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     if (!j.is_object()) throw InputError(source + ": an ecosystem file must be a JSON object");
+    if (j.contains("Ecosystem File") && !j.contains("Species"))
+        return read_random_scene_inputs(j, source);
     auto top = kMavsTopKeys;
-    top.insert(top.end(), {"name", "description", "references", "Species"});
+    top.insert(top.end(), {"name", "description", "references", "Species", "life_stages"});
     with_context(source, [&] { require_known_keys(j, top, ""); });
     EcosystemDef def;
     def.source = source;
@@ -89,9 +303,19 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
         if (j.contains(k)) def.notes.push_back("MAVS key '" + k + "' is not used by ecoterra");
     if (!j.contains("Species") || !j.at("Species").is_array() || j.at("Species").empty())
         throw InputError(source + ": 'Species' must be a non-empty array");
-    std::set<std::string> seen;
+    bool group = true;
+    if (j.contains("life_stages")) {
+        const json& v = j.at("life_stages");
+        if (!v.is_string() || (v != "group" && v != "separate"))
+            throw InputError(source + ": 'life_stages' = " + v.dump() +
+                             " must be \"group\" (MAVS's young, medium and adult entries of a "
+                             "species become one species, the default) or \"separate\"");
+        group = v == "group";
+    }
+    const json entries = group ? group_life_stages(j.at("Species"), def.notes) : j.at("Species");
+    std::set<std::string> seen, names;
     int index = 0;
-    for (const auto& e : j.at("Species")) {
+    for (const auto& e : entries) {
         std::string label;
         if (e.is_object() && e.contains("Species Name") && e.at("Species Name").is_string()) {
             label = e.at("Species Name").get<std::string>();
@@ -106,10 +330,34 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
             if (!seen.insert(s.mesh_file).second)
                 throw InputError("'Mesh File' " + s.mesh_file +
                                  " appears twice (it is the species identity)");
-            if (!s.defaulted.empty()) {
+            if (!names.insert(s.name).second) {
+                // MAVS's files name two meshes "Bluegrass 1"; outputs need one name per species.
+                const std::string stem = std::filesystem::path(s.mesh_file).stem().string();
+                const std::string renamed = s.name + " (" + stem + ")";
+                def.notes.push_back("species " + label + " (Mesh File " + s.mesh_file +
+                                    ") shares its name with an earlier species: named '" + renamed +
+                                    "'");
+                s.name = renamed;
+                if (!names.insert(s.name).second)
+                    throw InputError("'Species Name' appears twice with the same mesh name");
+            }
+            if (!e.contains("physiology")) {
+                def.notes.push_back("species " + label +
+                                    ": no physiology block, every physiology key takes its "
+                                    "default for " +
+                                    (s.life_form == LifeForm::object ? "an " : "a ") +
+                                    life_form_name(s.life_form) + " (docs/ecosystem.md s1)");
+            } else if (!s.defaulted.empty()) {
                 std::string list;
                 for (const auto& d : s.defaulted) list += (list.empty() ? "" : ", ") + d;
                 def.notes.push_back("species " + label + ": defaults for " + list);
+            }
+            if (std::find(s.defaulted.begin(), s.defaulted.end(), "physiology.life_form") !=
+                s.defaulted.end()) {
+                std::string why;
+                mavs_life_form(s.mesh_file, s.max_height_m, s.height_to_diameter_ratio, &why);
+                def.notes.push_back("species " + label + ": life form " +
+                                    life_form_name(s.life_form) + " (" + why + ")");
             }
             def.species.push_back(std::move(s));
         });
@@ -117,6 +365,53 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     }
     if (def.species.size() > 65535) throw InputError(source + ": more than 65535 species");
     return def;
+}
+
+const char* life_form_name(LifeForm f) {
+    switch (f) {
+    case LifeForm::tree:
+        return "tree";
+    case LifeForm::shrub:
+        return "shrub";
+    case LifeForm::grass:
+        return "grass";
+    case LifeForm::object:
+        return "object";
+    }
+    return "?";
+}
+
+LifeForm mavs_life_form(const std::string& mesh_file, double h, double ratio, std::string* why) {
+    const auto first = std::filesystem::path(mesh_file).begin();
+    std::string folder = first == std::filesystem::path(mesh_file).end() ? "" : first->string();
+    for (auto& c : folder) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    auto say = [&](const std::string& w) {
+        if (why) *why = w;
+    };
+    if (std::find(kMavsObjectFolders.begin(), kMavsObjectFolders.end(), folder) !=
+        kMavsObjectFolders.end()) {
+        say("its mesh lies in MAVS's '" + folder + "' folder, not a plant's");
+        return LifeForm::object;
+    }
+    if (h < kGroundLayerMaxHeightM) {
+        say("Max Height " + format_number(h) + " m < " + format_number(kGroundLayerMaxHeightM) +
+            " m");
+        return LifeForm::grass;
+    }
+    if (h < kShrubMaxHeightM) {
+        if (ratio >= kShrubMinRatio) {
+            say("Max Height " + format_number(h) + " m < " + format_number(kShrubMaxHeightM) +
+                " m and Height To Diameter Ratio " + format_number(ratio) +
+                " >= " + format_number(kShrubMinRatio));
+            return LifeForm::shrub;
+        }
+        say("Max Height " + format_number(h) + " m < " + format_number(kShrubMaxHeightM) +
+            " m and Height To Diameter Ratio " + format_number(ratio) + " < " +
+            format_number(kShrubMinRatio) + " (slender)");
+        return LifeForm::grass;
+    }
+    say("Max Height " + format_number(h) + " m >= " + format_number(kShrubMaxHeightM) + " m");
+    return LifeForm::tree;
 }
 
 EcosystemDef load_ecosystem(const std::filesystem::path& path) {
@@ -145,7 +440,8 @@ const ParamCatalog<Species>& mavs_species_catalog() {
          number<S>("Growth Rate", &S::growth_rate_per_yr, "1/yr", kTiny, 100,
                    "r of H = Hmax (1 - exp(-r t)) (light-only growth)")
              .mandatory(),
-         number<S>("Max Height", &S::max_height_m, "m", 1.4, 150, "asymptotic height Hmax")
+         number<S>("Max Height", &S::max_height_m, "m", 0.01, 150,
+                   "asymptotic height Hmax (a tree's above breast height, 1.3 m)")
              .mandatory(),
          number<S>("Min Height", &S::min_height_m, "m", 0, 150,
                    "MAVS prunes plants below it; at most Max Height"),
@@ -172,6 +468,10 @@ const ParamCatalog<Species>& physiology_catalog() {
                       "c2 of the crown radius R = c1 D_cm^c2"),
             number<S>("max_crown_radius_m", &S::max_crown_radius_m, "m", 0.1, 50,
                       "upper bound of the crown radius"),
+            number<S>("max_stem_diameter_m", &S::max_stem_diameter_m, "m", 0, 10,
+                      "stem diameter at which wood growth ends (from 0.9 of it the surplus is "
+                      "turned over); 0 = none")
+                .with_note("Max Height / 20"),
             number<S>("wood_density_kg_per_m3", &S::wood_density_kg_per_m3, "kg/m3", 50, 1500,
                       "dry wood mass per fresh volume"),
             number<S>("leaf_area_per_crown_area", &S::leaf_area_per_crown_area, "m2/m2", 0.05, 20,
@@ -198,6 +498,16 @@ const ParamCatalog<Species>& physiology_catalog() {
                           {"umbrella", CrownShape::umbrella}},
                       "outline of the crown in scene exports (`ecoterra export scene`); growth "
                       "uses only the crown radius"),
+            choice<S>("life_form", &S::life_form,
+                      std::vector<std::pair<std::string, LifeForm>>{{"tree", LifeForm::tree},
+                                                                    {"shrub", LifeForm::shrub},
+                                                                    {"grass", LifeForm::grass},
+                                                                    {"object", LifeForm::object}},
+                      "tree (trunk at breast height), shrub (stem at the ground), grass (grass "
+                      "or herb: ground-layer cover) or object (inert obstacle)")
+                .with_note("from the MAVS keys (docs/ecosystem.md s1.1)"),
+            number<S>("root_depth_m", &S::root_depth_m, "m", 0.01, 10,
+                      "grass: depth its roots reach; it takes only the water above it"),
             integer<S>("leaf_on_doy", &S::leaf_on_doy, "day", 1, 366, "deciduous: leaves out"),
             integer<S>("leaf_off_doy", &S::leaf_off_doy, "day", 1, 366,
                        "deciduous: leaves fall; after leaf_on_doy"),

@@ -112,4 +112,19 @@ nlohmann::json to_json(const StandMetrics& m) {
             {"exponential_fit", fit}};
 }
 
+nlohmann::json to_json(const UndergrowthMetrics& m, const std::vector<std::string>& names) {
+    nlohmann::json cover = nlohmann::json::array();
+    for (const auto& c : m.ground_cover_by_species)
+        cover.push_back({{"species", c.species < static_cast<int>(names.size())
+                                         ? names[static_cast<std::size_t>(c.species)]
+                                         : std::to_string(c.species)},
+                         {"cover_fraction", c.fraction}});
+    return {{"shrubs_per_ha", m.shrubs_per_ha},
+            {"shrub_crown_cover_fraction", m.shrub_crown_cover_fraction},
+            {"shrub_mean_height_m", m.shrub_mean_height_m},
+            {"objects_per_ha", m.objects_per_ha},
+            {"ground_cover_fraction", m.ground_cover_fraction},
+            {"ground_cover_by_species", cover}};
+}
+
 } // namespace ecoterra::eco

@@ -24,6 +24,8 @@ public:
     /// The value in column `col` of the row as a finite number; InputError naming the file, the
     /// line, `name` and the text otherwise (and when negative with `non_negative`).
     double number(int col, const std::string& name, bool non_negative = false) const;
+    /// The text in column `col` of the row ("" past its end).
+    std::string text(int col) const;
     /// "FILE line N", for messages about the current row.
     std::string where() const;
 

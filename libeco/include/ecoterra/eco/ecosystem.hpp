@@ -8,6 +8,7 @@
 // vegetation density, the yearly series. The light-only mode replaces the plant processes by the
 // geometric rule of Deussen et al. 1998 / MAVS (see docs/ecosystem.md s7).
 #include "ecoterra/archive.hpp"
+#include "ecoterra/eco/ground_layer.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/plant.hpp"
@@ -41,7 +42,15 @@ public:
     const GridSpec& plant_grid() const { return m_pgrid; }
     /// Ground shade on the plant grid (see canopy.hpp).
     const RasterD& ground_shade() const { return m_ground_shade; }
+    /// Stand metrics of the trees (basal area is a tree measure).
     StandMetrics stand() const;
+    /// Shrubs, objects and the ground layer, reported apart from the trees.
+    UndergrowthMetrics undergrowth() const;
+    const GroundLayer& ground_layer() const { return m_ground; }
+    /// Total ground-layer cover per hydrology cell, 0..1.
+    RasterD ground_cover() const;
+    /// One grass species' cover per hydrology cell (g indexes ground_layer().species()).
+    RasterD ground_cover(std::size_t g) const;
     const Table& yearly() const { return m_yearly; }
     const Table& daily() const { return m_daily; }
     double carbon_residual_relative() const;
@@ -68,6 +77,12 @@ private:
     void refresh_canopy();
     void rebuild_crowns();
     void update_vegetation_density();
+    /// The crowns' shade of each hydrology cell (mean of the ground shade over its plant cells).
+    void crown_shade_per_cell();
+    /// The ground layer's state of each cell for a step (water_met from the day's supply).
+    void ground_environment(bool coupled);
+    /// Relative extractable soil water of a hydrology cell.
+    double relative_water(int hi, int hj) const;
     // The year end, coupled mode: year_end_coupled runs these in order, then removes the dead,
     // adds the recruits and refreshes the canopy.
     void year_end_coupled();
@@ -113,6 +128,11 @@ private:
     CrownSet m_crowns;
     RootCells m_roots; ///< the crowns' root cells per hydrology cell
     RasterD m_ground_shade;
+    GroundLayer m_ground;
+    std::vector<char> m_is_object;    ///< per species
+    std::vector<double> m_cell_shade; ///< crown shade per hydrology cell
+    std::vector<GroundCell> m_ground_env;
+    std::vector<double> m_ground_demand, m_ground_request; ///< per hydrology cell, m3 per day
     // Daily scratch (kept to avoid allocations in the daily loop).
     std::vector<double> m_request, m_ratio, m_fraction, m_demand;
     RasterD m_request_mm;
@@ -124,8 +144,9 @@ private:
         double births = 0, deaths_starvation = 0, deaths_age = 0, deaths_background = 0,
                deaths_suppression = 0, deaths_overlap = 0, seeds = 0, seeds_lost = 0;
         double production = 0, maintenance = 0, growth_resp = 0, recruit_carbon = 0,
-               dead_carbon = 0;
+               dead_carbon = 0, turnover = 0;
         double demand_m3 = 0, supplied_m3 = 0;
+        double ground_demand_m3 = 0, ground_supplied_m3 = 0;
     } m_sum;
     double m_stock_at_year_start = 0;
     double m_cum_carbon_residual = 0, m_cum_carbon_throughput = 0;

@@ -18,11 +18,15 @@
 //   with p_max = max_production_kg_per_m2_leaf_per_day, r_m =
 //   respiration_kg_per_m2_leaf_per_m_per_yr, T_b = temperature_base_c, T_o = temperature_optimum_c
 //   and T the day's mean air temperature (degC).
-//   A surplus P - R fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; the rest
-//   builds wood after growth respiration (the fraction kGrowthRespiration of it, Penning de Vries
-//   1975). A deficit drains the reserve; an empty reserve kills the plant (starvation).
+//   A surplus P - R fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; of the
+//   rest the share w(D) builds wood after growth respiration (the fraction kGrowthRespiration of
+//   it, Penning de Vries 1975) and 1 - w(D) is turned over (litter), with
+//   w(D) = clamp((D_max - D) / (0.1 D_max), 0, 1), D_max = max_stem_diameter_m (1 when 0): full
+//   allocation to wood below 0.9 D_max, none at D_max, as the diameter growth of the JABOWA and
+//   FORET gap models ends at D_max (Botkin et al. 1972). A deficit drains the reserve; an empty
+//   reserve kills the plant (starvation).
 // Growth suppression (yearly, after LPJ-GUESS's greff_min): the growth efficiency
-//   e = (wood + reserve - their value a year ago) / LA  (kg m-2 yr-1) enters a running mean
+//   e = (wood + reserve - their value a year ago + turnover) / LA  (kg m-2 yr-1) enters a running mean
 //   e_bar <- e_bar + (e - e_bar)/3; the death probability is mu_max clamp(1 - e_bar/e_min, 0, 1)
 //   with e_min = suppression_growth_efficiency_kg_per_m2_leaf_per_yr and
 //   mu_max = suppression_mortality_per_yr.
@@ -49,9 +53,14 @@ std::array<double, 3> texture_centroid(hydro::Texture t);
 double phenology(const Species& s, int doy);
 double temperature_factor(const Species& s, double tmean_c);
 
+/// The share of the surplus that wood growth gets from D = kWoodTaperStart D_max on falls to 0.
+inline constexpr double kWoodTaperStart = 0.9;
+/// w(D): the share of the surplus (after the reserve) built into wood.
+double wood_allocation(const Species& s, double dbh_m);
+
 struct CarbonDay {
     double production_kg = 0, maintenance_kg = 0, growth_respiration_kg = 0;
-    double to_reserve_kg = 0, to_wood_kg = 0;
+    double to_reserve_kg = 0, to_wood_kg = 0, turnover_kg = 0;
     bool starved = false;
 };
 

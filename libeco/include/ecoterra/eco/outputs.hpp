@@ -9,6 +9,7 @@
 //   stem CSV                   stem_csv_columns() (`ecoterra export vegetation`)
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/eco/plant.hpp"
+#include "ecoterra/eco/species.hpp"
 
 #include <cstdint>
 #include <string>
@@ -20,10 +21,13 @@ namespace ecoterra::eco {
 struct PlantRecord {
     std::int64_t id = 0;
     std::int32_t species = 0;
-    double x_m = 0, y_m = 0, z_m = 0, height_m = 0, dbh_m = 0, crown_radius_m = 0, age_yr = 0,
-           carbohydrate_kg = 0;
+    std::int32_t life_form = 0; ///< LifeForm's value: 0 tree, 1 shrub, 3 object
+    double x_m = 0, y_m = 0, z_m = 0, height_m = 0;
+    double dbh_m = 0;           ///< trees only (0 below breast height and for other life forms)
+    double stem_diameter_m = 0; ///< a tree's at breast height, a shrub's or object's at the ground
+    double crown_radius_m = 0, age_yr = 0, carbohydrate_kg = 0;
 };
-PlantRecord plant_record(const Plant& p);
+PlantRecord plant_record(const Plant& p, const Species& s);
 const std::vector<Column<PlantRecord>>& plant_columns();
 
 /// One year of the yearly series.
@@ -34,7 +38,9 @@ struct YearRow {
            deaths_overlap = 0, seeds_dispersed = 0, seeds_lost_outside = 0, production_kg = 0,
            maintenance_respiration_kg = 0, growth_respiration_kg = 0, recruit_carbon_kg = 0,
            dead_carbon_kg = 0, wood_stock_kg = 0, reserve_stock_kg = 0, carbon_residual_kg = 0,
-           transpiration_demand_mm = 0, transpiration_supplied_mm = 0;
+           transpiration_demand_mm = 0, transpiration_supplied_mm = 0, shrubs_per_ha = 0,
+           ground_cover_fraction = 0, ground_transpiration_demand_mm = 0,
+           ground_transpiration_supplied_mm = 0, turnover_kg = 0;
 };
 const std::vector<Column<YearRow>>& yearly_columns();
 

@@ -1,12 +1,15 @@
 #pragma once
 // Plants and their allometry (docs/ecosystem.md s2; reference forest.md s2).
 // clang-format off
-//   height     H(D) = 1.3 + (Hmax - 1.3) (1 - exp(-b D_cm))     m   SORTIE-ND, Chapman-Richards family
+//   height     H(D) = h0 + (Hmax - h0) (1 - exp(-b D_cm))       m   SORTIE-ND, Chapman-Richards family;
+//                                                                   h0 = 1.3 m for trees, 0 for shrubs
 //   crown      R(D) = clamp(c1 D_cm^c2, kMinCrownRadiusM, Rmax)  m   SORTIE-ND power law
 //   roots      root radius = crown radius                            paper 002 s3
 //   leaf area  LA = LAI_c pi R^2                                 m2
 //   stem mass  M(D) = rho F (pi/4) D^2 H(D)                      kg  F = kStemFormFactor
-// with D the trunk diameter at breast height (1.3 m) in m and D_cm = 100 D; the Species members
+// with D the trunk diameter at breast height (1.3 m) of a tree or the stem diameter at the ground of
+// a shrub, in m, and D_cm = 100 D. An object has H = Hmax, R = 0.5 ratio Hmax (MAVS's radius), no
+// leaves, and D = ratio Hmax (its footprint's diameter); the Species members
 // are Hmax = max_height_m, b = height_dbh_slope_per_cm, c1 = crown_radius_coefficient_m,
 // c2 = crown_radius_exponent, Rmax = max_crown_radius_m, LAI_c = leaf_area_per_crown_area,
 // rho = wood_density_kg_per_m3.
@@ -29,7 +32,9 @@ inline constexpr double kMinCrownRadiusM = 0.1;
 struct Plant {
     std::int64_t id = 0;
     double x_m = 0, y_m = 0, z_m = 0;
-    double dbh_m = 0, height_m = 0, crown_radius_m = 0;
+    double dbh_m = 0; ///< the allometry's diameter: a tree's at breast height, a shrub's at the
+                      ///< ground, an object's footprint (see measured_at_breast_height)
+    double height_m = 0, crown_radius_m = 0;
     double age_yr = 0;
     double reserve_kg = 0; ///< carbohydrate store
     double wood_kg = 0;    ///< stem dry mass (carbohydrate built into wood)
@@ -41,6 +46,7 @@ struct Plant {
     double growth_sum = 0; ///< sum of the daily growth percentage (0..1) over leaf-on days
     double growth_days = 0;
     double mass_at_year_start_kg = 0; ///< wood + reserve at the last year end
+    double turnover_kg = 0;           ///< carbon turned over this year (at the maximum diameter)
     /// Running mean of the yearly growth efficiency (net wood + reserve increment per m2 leaf),
     /// kg m-2 yr-1; NaN until the plant's first year end.
     double growth_efficiency = std::numeric_limits<double>::quiet_NaN();
@@ -58,7 +64,9 @@ double leaf_area_m2(const Species& s, double crown_radius_m);
 double stem_mass_kg(const Species& s, double dbh_m);
 /// Inverse of stem_mass_kg (Newton on a monotone function, bracketed).
 double dbh_from_stem_mass(const Species& s, double mass_kg, double guess_m);
-/// Sets height, crown radius and leaf area from dbh.
+/// An object's diameter: ratio x Max Height, m.
+double object_diameter_m(const Species& s);
+/// Sets height, crown radius and leaf area from dbh (an object's dbh to its diameter).
 void apply(const Species& s, Plant& p);
 } // namespace allometry
 

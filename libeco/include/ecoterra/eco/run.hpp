@@ -31,7 +31,9 @@ struct RunProgress {
 struct RunSummary {
     int years_run = 0, years_total = 0, snapshots = 0;
     bool reached_target = false;
-    StandMetrics stand;
+    StandMetrics stand;             ///< trees
+    UndergrowthMetrics undergrowth; ///< shrubs, objects, ground layer
+    std::vector<std::string> species;
     double seconds = 0, plant_years = 0;
     double water_residual_relative = 0, carbon_residual_relative = 0;
     std::filesystem::path picture_dir;

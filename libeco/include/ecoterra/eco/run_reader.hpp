@@ -2,6 +2,7 @@
 // Reading ecosystem runs: what `stand`, `export` and resume read from RUN.h5 and its snapshots.
 #include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/species.hpp"
+#include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/raster.hpp"
 
 #include <nlohmann/json.hpp>
@@ -30,6 +31,9 @@ struct SnapshotPlants {
 /// Reads the plants of snapshot `index` (negative: counted from the last, -1 = last).
 SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index);
 
+/// Shrubs, objects and the ground layer of snapshot `index` (runs before life forms: none).
+UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& run, int index);
+
 /// The species of a run, as resolved when it started (every parameter).
 std::vector<Species> read_run_species(const std::filesystem::path& run);
 /// The run's terrain (m), on the grid every other raster of the run shares.
@@ -40,6 +44,9 @@ RasterD read_run_terrain(const std::filesystem::path& run);
 /// differs from the grid.
 RasterD read_snapshot_raster(const std::filesystem::path& run, int index, const std::string& name,
                              const GridSpec& grid);
+/// Whether snapshot `index` holds the dataset `name` (e.g. ground_cover, absent in runs made
+/// before life forms).
+bool snapshot_has_dataset(const std::filesystem::path& run, int index, const std::string& name);
 /// The snapshot index `index` stands for (negative: from the last), checked against the run.
 int resolve_snapshot_index(const std::filesystem::path& run, int index);
 

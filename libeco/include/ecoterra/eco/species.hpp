@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -34,6 +35,13 @@ struct DispersalKernel {
     double long_distance_m = 100.0;
     double long_fraction = 0.1;
 };
+
+/// What a species is (docs/ecosystem.md s1.1). Trees and shrubs are individual plants (trees
+/// measured at breast height, shrubs at the ground); grasses and herbs form the ground layer, a
+/// cover fraction per hydrology cell, not individuals; objects (MAVS's cubes and roadblocks) are
+/// inert obstacles placed at their arrival rate.
+enum class LifeForm : std::uint8_t { tree, shrub, grass, object };
+const char* life_form_name(LifeForm f);
 
 /// The outline of a crown: a cone (conifers), an ellipsoid (most broadleaves) or an umbrella (a
 /// flat-topped spreading crown: acacia, mesquite).
@@ -57,10 +65,15 @@ struct Species {
     double crown_radius_coefficient_m = 0.25; ///< c1 of R = c1 D_cm^c2, m
     double crown_radius_exponent = 0.7;       ///< c2
     double max_crown_radius_m = 10.0;
+    /// Diameter at which wood growth ends (growth.hpp's w(D)); 0 = none. Default Max Height / 20.
+    double max_stem_diameter_m = 0.0;
     double wood_density_kg_per_m3 = 600.0; ///< dry wood mass per fresh volume
     double leaf_area_per_crown_area = 4.0; ///< leaf area index of the crown, m2/m2
     /// Outline of the crown in scene exports (geometry only; growth uses the crown radius).
     CrownShape crown_shape = CrownShape::ellipsoid;
+    LifeForm life_form = LifeForm::tree;
+    /// Depth the roots of a ground-layer species reach (grass: the water it can take), m.
+    double root_depth_m = 0.4;
 
     // --- carbon ---
     double max_production_kg_per_m2_leaf_per_day = 0.004;   ///< carbohydrate, full conditions
@@ -109,6 +122,23 @@ struct EcosystemDef {
     std::vector<Species> species;
     std::vector<std::string> notes; ///< defaults taken, MAVS keys ignored
 };
+
+/// The diameter the allometry uses: the trunk at breast height for trees, the stem at the ground
+/// for shrubs (docs/ecosystem.md s2).
+inline bool measured_at_breast_height(const Species& s) {
+    return s.life_form == LifeForm::tree;
+}
+/// Individual plants: trees and shrubs (grasses are a cover, objects are not alive).
+inline bool is_individual_plant(const Species& s) {
+    return s.life_form == LifeForm::tree || s.life_form == LifeForm::shrub;
+}
+
+/// The life form MAVS's keys imply (docs/ecosystem.md s1.1): a mesh under MAVS's non-plant folders
+/// (buildings, misc, urban, vehicles) is an object; a plant below 0.5 m is grass or herb; below
+/// 5 m a broad plant (Height To Diameter Ratio >= 0.2) is a shrub and a slender one grass; taller
+/// plants are trees. `why` receives the rule that decided.
+LifeForm mavs_life_form(const std::string& mesh_file, double max_height_m, double ratio,
+                        std::string* why = nullptr);
 
 /// Reads an ecosystem file. Throws InputError naming the file, the species and the key for
 /// missing, out-of-range or unknown values, and for files that are not JSON.

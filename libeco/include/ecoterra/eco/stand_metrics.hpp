@@ -41,4 +41,22 @@ std::vector<StandMetrics> stand_metrics_by_species(const std::vector<double>& db
                                                    double class_width_cm = 5.0);
 nlohmann::json to_json(const StandMetrics& m);
 
+/// What grows beside the trees: shrubs (individuals, measured at the ground), objects and the
+/// ground layer of grasses and herbs (cover fractions of the ground).
+struct UndergrowthMetrics {
+    double area_ha = 0;
+    double shrubs_per_ha = 0;
+    double shrub_crown_cover_fraction = 0; ///< sum of the shrubs' crown areas over the area
+    double shrub_mean_height_m = 0;
+    double objects_per_ha = 0;
+    double ground_cover_fraction = 0; ///< mean ground-layer cover over the area, 0..1
+    struct Cover {
+        int species = 0;     ///< index in the run's species
+        double fraction = 0; ///< mean cover over the area, 0..1
+    };
+    std::vector<Cover> ground_cover_by_species;
+};
+/// `names` are the run's species names (for the JSON).
+nlohmann::json to_json(const UndergrowthMetrics& m, const std::vector<std::string>& names);
+
 } // namespace ecoterra::eco

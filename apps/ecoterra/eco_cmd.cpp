@@ -19,6 +19,27 @@ namespace ecoterra::app {
 
 namespace {
 
+/// One line of shrubs and objects and one of the ground layer, when the run has them.
+void print_undergrowth(const eco::UndergrowthMetrics& u, const std::vector<std::string>& names) {
+    if (u.shrubs_per_ha > 0 || u.objects_per_ha > 0)
+        std::printf("undergrowth: %.1f shrubs/ha (crowns cover %.1f %%, mean height %.2f m), %.1f "
+                    "objects/ha\n",
+                    u.shrubs_per_ha, 100 * u.shrub_crown_cover_fraction, u.shrub_mean_height_m,
+                    u.objects_per_ha);
+    if (u.ground_cover_by_species.empty()) return;
+    std::string list;
+    for (const auto& c : u.ground_cover_by_species) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%s%s %.1f %%", list.empty() ? "" : ", ",
+                      c.species < static_cast<int>(names.size())
+                          ? names[static_cast<std::size_t>(c.species)].c_str()
+                          : "?",
+                      100 * c.fraction);
+        list += buf;
+    }
+    std::printf("ground layer: %.1f %% cover (%s)\n", 100 * u.ground_cover_fraction, list.c_str());
+}
+
 using nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -96,6 +117,7 @@ void run_run(const RunArgs& a) {
                 static_cast<long long>(st.stems), st.stems_per_ha, st.basal_area_m2_per_ha,
                 st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * kCmPerM,
                 st.sdi_per_ha);
+    print_undergrowth(sum.undergrowth, sum.species);
     std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
                 sum.water_residual_relative, sum.carbon_residual_relative);
     std::printf("wrote %s (%d snapshots)\n", opt.output.string().c_str(), sum.snapshots);
@@ -129,17 +151,23 @@ void run_stand(const StandArgs& a) {
                     m.basal_area_m2_per_ha, m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa,
                     m.quadratic_mean_dbh_m * kCmPerM, m.sdi_per_ha);
     };
-    print("all species", all);
+    print("trees, all species", all);
     json per = json::object();
     std::vector<int> species;
     for (const auto& p : s.plants) species.push_back(p.species);
     const auto by_species =
         eco::stand_metrics_by_species(dbh, species, info.species.size(), info.area_m2);
+    const auto run_species = eco::read_run_species(a.run);
     for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
+        if (sp < run_species.size() && run_species[sp].life_form != eco::LifeForm::tree) continue;
         print(info.species[sp], by_species[sp]);
         per[info.species[sp]] = eco::to_json(by_species[sp]);
     }
     out["species"] = per;
+    out["note"] = "trees only: shrubs, objects and the ground layer are under undergrowth";
+    const auto u = eco::read_snapshot_undergrowth(a.run, s.index);
+    out["undergrowth"] = eco::to_json(u, info.species);
+    print_undergrowth(u, info.species);
     std::printf("DBH classes (cm)   stems/ha\n");
     for (std::size_t i = 0; i < all.histogram.size(); ++i)
         std::printf("  %3g-%-3g        %9.1f\n", static_cast<double>(i) * all.class_width_cm,

@@ -5,6 +5,7 @@
 
 #include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/ensemble/member.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
@@ -67,7 +68,7 @@ void run_mobility(const MobilityArgs& a) {
     json source;
     if (!a.run.empty()) {
         const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-        for (const auto& p : s.plants) stems.push_back({p.x_m, p.y_m, p.dbh_m, p.height_m});
+        stems = ensemble::stand_stems(s.plants);
         dem = terrain::io::read_hdf5(a.run, "/terrain/elevation");
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
     } else {
@@ -81,10 +82,14 @@ void run_mobility(const MobilityArgs& a) {
     const auto m = with_context(a.run.empty() ? a.stems : a.run,
                                 [&] { return mobility::analyse_stand(v, stems, dem, opt); });
     const double seconds = sw.seconds();
-    std::printf("%s through %lld trees on %.4g ha: basal area %.2f m2/ha (%.1f ft2/acre); "
+    std::string others;
+    if (m.shrubs > 0) others += ", " + std::to_string(m.shrubs) + " shrubs";
+    if (m.objects > 0) others += ", " + std::to_string(m.objects) + " objects";
+    std::printf("%s through %lld trees%s on %.4g ha: basal area %.2f m2/ha (%.1f ft2/acre); "
                 "critical diameter %.2f cm\n",
-                v.name.c_str(), static_cast<long long>(m.trees), m.area_ha, m.basal_area_m2_per_ha,
-                m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, m.critical_diameter_m * kCmPerM);
+                v.name.c_str(), static_cast<long long>(m.trees), others.c_str(), m.area_ha,
+                m.basal_area_m2_per_ha, m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa,
+                m.critical_diameter_m * kCmPerM);
     std::printf("%d lines of %.4g m: SMG mean %.3f m/s, median %.3f, p10 %.3f, p90 %.3f; NOGO "
                 "%.1f %%; distance overriding %.1f %%, detouring %.1f %%\n",
                 opt.lines, opt.length_m, m.smg_mean_m_per_s, m.smg_median_m_per_s,
@@ -196,7 +201,8 @@ void add_mobility_command(CLI::App& app) {
     m->add_option("--snapshot", a->snapshot, "snapshot of the run (negative: from the last)")
         ->capture_default_str();
     m->add_option("--stems", a->stems,
-                  "stem list CSV (x_m, y_m, dbh_cm or dbh_m, optional height_m) instead of a run");
+                  "stem list CSV (x_m, y_m, dbh_cm or dbh_m, optional height_m, life_form with "
+                  "stem_diameter_cm) instead of a run");
     m->add_option("--dem", a->dem, "terrain raster under the stem list");
     m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json)")->required();
     m->add_option("--lines", a->lines, "number of straight lines")->capture_default_str();

@@ -108,6 +108,13 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
         {"surface_water_depth_m", "standing water depth, m"},
         {"water_table_depth_m", "depth of the water table below the surface, m"},
         {"catchment_id", "catchment the cell drains to (id)"}};
+    if (eco::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) {
+        RasterD r = eco::read_snapshot_raster(s.run, s.snapshot, "ground_cover", full);
+        if (s.region) r = r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny());
+        layers.push_back({"ground_cover.tif", "1",
+                          "cover of the ground layer (grasses and herbs), fraction of the ground",
+                          r});
+    }
     for (const auto& [name, what] : water) {
         RasterD r = eco::read_snapshot_raster(s.run, s.snapshot, name, full);
         if (s.region) r = r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny());

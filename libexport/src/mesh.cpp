@@ -144,7 +144,9 @@ Mesh unit_crown(eco::CrownShape shape, Stage stage) {
 }
 
 std::array<double, 3> trunk_scale(const Tree& t) {
-    const double d = std::max(trunk_base_diameter_m(t.dbh_m, t.height_m), kMinScale_m);
+    const double base =
+        t.base_diameter_m > 0 ? t.base_diameter_m : trunk_base_diameter_m(t.dbh_m, t.height_m);
+    const double d = std::max(base, kMinScale_m);
     return {d, d, std::max(t.height_m, kMinScale_m)};
 }
 
@@ -195,6 +197,7 @@ Mesh tree_mesh(const SpeciesLook& look, const SizeClass& c) {
 }
 
 double stem_diameter_m(const Tree& t) {
+    if (t.base_diameter_m > 0) return t.base_diameter_m;
     return t.dbh_m > 0 ? t.dbh_m : trunk_base_diameter_m(t.dbh_m, t.height_m);
 }
 

@@ -124,6 +124,9 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
         t.height_m = p.height_m;
         t.dbh_m = p.dbh_m;
         t.crown_radius_m = p.crown_radius_m;
+        t.life_form = static_cast<eco::LifeForm>(p.life_form);
+        if (t.life_form != eco::LifeForm::tree) t.base_diameter_m = p.stem_diameter_m;
+        if (t.life_form == eco::LifeForm::object) t.crown_radius_m = 0; // a column, no crown
         t.stage = stage_of(p.height_m, s.species[static_cast<std::size_t>(p.species)].max_height_m);
         t.yaw_rad = tree_yaw_rad(s.seed, p.id);
         s.trees.push_back(t);

@@ -39,6 +39,11 @@ double diameter_at_height_m(double dbh_m, double height_m, double h_m) {
     return dbh_m * (height_m - h_m) / (height_m - kBreastHeightM);
 }
 
+double diameter_at_height_from_base_m(double base_m, double height_m, double h_m) {
+    if (!(base_m > 0) || !(height_m > 0) || !(h_m < height_m)) return 0.0;
+    return base_m * (height_m - std::max(h_m, 0.0)) / height_m;
+}
+
 double grade_resistance_n(const Vehicle& v, double grade) {
     return v.weight_n() * std::sin(std::atan(grade));
 }

@@ -183,6 +183,7 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
     std::vector<std::int64_t> heavy;
     auto avoided = [&](std::int64_t k) {
         return stems[static_cast<std::size_t>(k)].diameter_m >= d_crit ||
+               stems[static_cast<std::size_t>(k)].rigid ||
                std::binary_search(heavy.begin(), heavy.end(), k);
     };
     const double reach = 0.5 * (index.max_diameter_m() + w); // the farthest a stem blocks

@@ -30,7 +30,11 @@ constexpr double kMaxObstacleDiameter_m = 10.0;
 std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
     CsvReader csv(path, "stem list");
     const int cx = csv.column("x_m"), cy = csv.column("y_m"), ccm = csv.column("dbh_cm"),
-              cm = csv.column("dbh_m"), ch = csv.column("height_m");
+              cm = csv.column("dbh_m"), ch = csv.column("height_m"), cl = csv.column("life_form"),
+              csd = csv.column("stem_diameter_cm");
+    if (cl >= 0 && csd < 0)
+        throw InputError(path.string() + ": a life_form column needs a stem_diameter_cm column "
+                                         "(a shrub's or object's diameter at the ground)");
     if (cx < 0 || cy < 0 || (ccm < 0 && cm < 0))
         throw InputError(path.string() +
                          ": the header must name x_m, y_m and dbh_cm (or dbh_m), "
@@ -45,6 +49,20 @@ std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
             ccm >= 0 ? csv.number(ccm, "dbh_cm", true) / kCmPerM : csv.number(cm, "dbh_m", true);
         s.height_m =
             ch >= 0 ? csv.number(ch, "height_m", true) : std::numeric_limits<double>::quiet_NaN();
+        if (cl >= 0) {
+            const std::string form = csv.text(cl);
+            if (form == "shrub")
+                s.kind = StemKind::shrub;
+            else if (form == "object")
+                s.kind = StemKind::object;
+            else if (form != "tree")
+                throw InputError(csv.where() + ": life_form = '" + form +
+                                 "' is not tree, shrub or object");
+            if (s.kind != StemKind::tree) {
+                s.base_diameter_m = csv.number(csd, "stem_diameter_cm", true) / kCmPerM;
+                s.dbh_m = 0;
+            }
+        }
         out.push_back(s);
     }
     return out;
@@ -68,17 +86,31 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
     std::int64_t inside = 0;
     for (const auto& s : stems) {
         if (g.contains_point(s.x_m, s.y_m)) ++inside;
-        if (s.dbh_m > 0) {
+        if (s.kind == StemKind::tree && s.dbh_m > 0) {
             ++m.trees;
             basal_m2 += std::numbers::pi * s.dbh_m * s.dbh_m / 4;
         }
-        if (s.dbh_m > kMaxObstacleDiameter_m)
-            throw InputError("a stem at (" + format_number(s.x_m) + ", " + format_number(s.y_m) +
-                             ") has a DBH of " + format_number(s.dbh_m) + " m (more than " +
-                             format_number(kMaxObstacleDiameter_m) + " m: cm given as m?)");
-        const double d = std::isnan(s.height_m)
-                             ? s.dbh_m
-                             : diameter_at_height_m(s.dbh_m, s.height_m, v.push_height_m);
+        if (std::max(s.dbh_m, s.base_diameter_m) > kMaxObstacleDiameter_m)
+            throw InputError(
+                "a stem at (" + format_number(s.x_m) + ", " + format_number(s.y_m) +
+                ") has a diameter of " + format_number(std::max(s.dbh_m, s.base_diameter_m)) +
+                " m (more than " + format_number(kMaxObstacleDiameter_m) + " m: cm given as m?)");
+        if (s.kind == StemKind::object) {
+            ++m.objects;
+            if (s.base_diameter_m > 0) pushable.push_back({s.x_m, s.y_m, s.base_diameter_m, true});
+            continue;
+        }
+        double d = 0;
+        if (s.kind == StemKind::shrub) {
+            ++m.shrubs;
+            // A shrub's stem tapers from its diameter at the ground to 0 at its top.
+            d = std::isnan(s.height_m) ? s.base_diameter_m
+                                       : diameter_at_height_from_base_m(
+                                             s.base_diameter_m, s.height_m, v.push_height_m);
+        } else {
+            d = std::isnan(s.height_m) ? s.dbh_m
+                                       : diameter_at_height_m(s.dbh_m, s.height_m, v.push_height_m);
+        }
         if (d > 0) pushable.push_back({s.x_m, s.y_m, d});
     }
     if (!stems.empty() && inside == 0)
@@ -204,6 +236,8 @@ json to_json(const StandMobility& m, const Vehicle& v) {
             {"basal_area_m2_per_ha", m.basal_area_m2_per_ha},
             {"basal_area_ft2_per_acre", m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa},
             {"trees", m.trees},
+            {"shrubs", m.shrubs},
+            {"objects", m.objects},
             {"area_ha", m.area_ha},
             {"critical_diameter_m", m.critical_diameter_m},
             {"vehicle", to_json(v)},

@@ -38,6 +38,10 @@ struct Tree {
     double x_m = 0, y_m = 0;
     double z_m = 0; ///< the terrain under the stem (bilinear on the DEM), m
     double height_m = 0, dbh_m = 0, crown_radius_m = 0;
+    /// A shrub's stem diameter at the ground, or an object's diameter (0 for trees: their trunk
+    /// base follows from the DBH), m.
+    double base_diameter_m = 0;
+    eco::LifeForm life_form = eco::LifeForm::tree;
     double yaw_rad = 0; ///< heading of the mesh, counter-clockwise from east, [0, 2 pi)
 };
 

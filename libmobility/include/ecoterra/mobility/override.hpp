@@ -21,6 +21,8 @@ double critical_diameter_m(double weight_n, double push_height_m);
 /// by a linear taper to zero at the top: d(h) = dbh (H - h) / (H - 1.3); 0 for stems that do not
 /// reach breast height or `h_m`.
 double diameter_at_height_m(double dbh_m, double height_m, double h_m);
+/// The same for a shrub from its diameter at the ground: d(h) = d0 (H - h) / H; 0 above its top.
+double diameter_at_height_from_base_m(double base_m, double height_m, double h_m);
 /// Resistance of a grade (rise over run along the path; negative downhill), N.
 double grade_resistance_n(const Vehicle& v, double grade);
 /// Rolling and soil resistance on a grade, N.

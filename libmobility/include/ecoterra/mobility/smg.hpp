@@ -22,6 +22,7 @@ namespace ecoterra::mobility {
 struct Stem {
     double x_m = 0, y_m = 0;
     double diameter_m = 0; ///< at the vehicle's push height
+    bool rigid = false;    ///< an object (a roadblock): never pushed over, always avoided
 };
 
 struct Point {

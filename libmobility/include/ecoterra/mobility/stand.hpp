@@ -16,16 +16,23 @@
 namespace ecoterra::mobility {
 
 /// One plant of a stand as mobility sees it.
+enum class StemKind { tree, shrub, object };
+
 struct StandStem {
     double x_m = 0, y_m = 0;
-    double dbh_m = 0;    ///< at breast height (1.3 m); 0 below it
+    double dbh_m = 0;    ///< a tree's at breast height (1.3 m); 0 below it
     double height_m = 0; ///< NaN when unknown: the DBH is then taken at the push height
+    StemKind kind = StemKind::tree;
+    /// A shrub's stem diameter at the ground (tapering to 0 at its height), or an object's
+    /// diameter (rigid, avoided), m.
+    double base_diameter_m = 0;
 };
 
 /// Reads a stem list: CSV with a header naming at least x_m, y_m and dbh_cm (or dbh_m), and
-/// optionally height_m (the CSV of `ecoterra export vegetation` is one); other columns are
-/// ignored. Non-numeric, non-finite or negative values are InputErrors naming the file, the line,
-/// the column and the value.
+/// optionally height_m, life_form (tree, shrub or object; trees without it) and stem_diameter_cm
+/// (a shrub's or object's diameter at the ground; needed with life_form) (the CSV of `ecoterra
+/// export vegetation` is one); other columns are ignored. Non-numeric, non-finite or negative
+/// values are InputErrors naming the file, the line, the column and the value.
 std::vector<StandStem> read_stem_csv(const std::filesystem::path& path);
 
 enum class LineLayout { random, transects };
@@ -52,7 +59,9 @@ struct StandMobility {
     double override_fraction = 0; ///< of the distance driven, spent pushing stems
     double detour_fraction = 0;   ///< of the distance driven, beyond the straight lines
     double basal_area_m2_per_ha = 0;
-    std::int64_t trees = 0; ///< stems that reach breast height
+    std::int64_t trees = 0;   ///< stems that reach breast height
+    std::int64_t shrubs = 0;  ///< shrubs (overridden or avoided by their stem at the push height)
+    std::int64_t objects = 0; ///< rigid obstacles (always avoided)
     double area_ha = 0;
     double critical_diameter_m = 0;
 };

@@ -267,7 +267,8 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
     std::ifstream csv(dir / "stems.csv");
     std::string header;
     std::getline(csv, header);
-    CHECK(header == "id,x_m,y_m,z_m,species,species_index,dbh_cm,height_m,crown_radius_m");
+    CHECK(header == "id,x_m,y_m,z_m,species,species_index,life_form,dbh_cm,stem_diameter_cm,"
+                    "height_m,crown_radius_m");
     // Every row joins back to its plant by id, with the plant's species index and position.
     std::map<std::int64_t, eco::PlantRecord> plants;
     for (const auto& p : eco::read_snapshot_plants(dir / "run.h5", -1).plants) plants[p.id] = p;
@@ -276,10 +277,12 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
         std::vector<std::string> f;
         std::istringstream row(line);
         for (std::string c; std::getline(row, c, ',');) f.push_back(c);
-        REQUIRE(f.size() == 9);
+        REQUIRE(f.size() == 11);
         const auto& p = plants.at(std::stoll(f[0]));
         CHECK(std::stod(f[1]) == Approx(p.x_m));
         CHECK(std::stoi(f[5]) == p.species);
+        CHECK(f[6] == "tree"); // the quickstart's four species are trees
+        CHECK(std::stod(f[8]) == Approx(std::stod(f[7])));
         ++rows;
     }
     CHECK(rows == plants.size());
@@ -385,4 +388,82 @@ TEST_CASE("raster commands read a snapshot's raster as RUN.h5:/snapshots/NNNN/NA
     CHECK(empty.code == 2);
     CHECK_THAT(empty.out, Catch::Contains("name a dataset after the colon"));
     CHECK_FALSE(fs::exists(d / "x.asc"));
+}
+
+TEST_CASE("MAVS's own ecosystem files grow trees and shrubs with objects and a ground layer",
+          "[eco][cli][lifeform][mavs]") {
+    // MAVS's twelve ecosystem files (tests/data/mavs_ecosystem_files) on a 32 m terrain for 30
+    // years: grasses are a cover, never plants; shrubs have no breast-height diameter; trees stop
+    // at their maximum diameter; objects keep their footprint; stand counts trees only.
+    const fs::path mavs = fs::path(ECOTERRA_TESTS_DIR) / "data/mavs_ecosystem_files";
+    const std::string q = (test::data_dir() / "scenes/quickstart.json").string();
+    int files = 0;
+    for (const auto& entry : fs::directory_iterator(mavs)) {
+        if (entry.path().extension() != ".json") continue;
+        ++files;
+        const std::string name = entry.path().stem().string();
+        CAPTURE(name);
+        test::TempDir dir;
+        auto r = test::run(dir, "run " + q +
+                                    " -o run.h5 --years 30 --no-pictures --set "
+                                    "terrain.generate.size=16 --set vegetation.ecosystem='" +
+                                    entry.path().string() + "'");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        const auto species = eco::read_run_species(dir / "run.h5");
+        const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
+        const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
+        std::map<eco::LifeForm, int> n;
+        for (const auto& p : snap.plants) {
+            const auto& s = species.at(static_cast<std::size_t>(p.species));
+            const auto form = static_cast<eco::LifeForm>(p.life_form);
+            CHECK(form == s.life_form);
+            ++n[form];
+            switch (form) {
+            case eco::LifeForm::tree:
+                CHECK(p.dbh_m == p.stem_diameter_m);
+                CHECK(p.dbh_m <= s.max_stem_diameter_m * 1.0001);
+                CHECK(p.height_m <= s.max_height_m);
+                break;
+            case eco::LifeForm::shrub:
+                CHECK(p.dbh_m == 0.0);
+                CHECK(p.stem_diameter_m > 0.0);
+                CHECK(p.height_m < s.max_height_m);
+                break;
+            case eco::LifeForm::object:
+                CHECK(p.stem_diameter_m == Approx(s.height_to_diameter_ratio * s.max_height_m));
+                CHECK(p.height_m == s.max_height_m);
+                CHECK(p.carbohydrate_kg == 0.0);
+                break;
+            case eco::LifeForm::grass:
+                FAIL("a grass plant in the snapshot: " << s.name);
+            }
+        }
+        int grasses = 0;
+        for (const auto& s : species) grasses += s.life_form == eco::LifeForm::grass;
+        CHECK(under.shrubs_per_ha == Approx(n[eco::LifeForm::shrub] / under.area_ha));
+        CHECK(under.objects_per_ha == Approx(n[eco::LifeForm::object] / under.area_ha));
+        CHECK(under.ground_cover_by_species.size() == static_cast<std::size_t>(grasses));
+        if (grasses > 0) {
+            CHECK(under.ground_cover_fraction > 0.0);
+            CHECK(under.ground_cover_fraction <= 1.0);
+        } else {
+            CHECK(under.ground_cover_fraction == 0.0);
+        }
+        r = test::run(dir, "stand run.h5 --json stand.json");
+        REQUIRE(r.code == 0);
+        const json st = json::parse(io::read_text(dir / "stand.json"));
+        CHECK(st["stems"] == n[eco::LifeForm::tree]);
+        CHECK(st["undergrowth"]["objects_per_ha"].get<double>() == Approx(under.objects_per_ha));
+        if (n[eco::LifeForm::object] > 0 || n[eco::LifeForm::shrub] > 0) {
+            r = test::run(dir, "mobility run.h5 --vehicle '" +
+                                   (test::data_dir() / "vehicles/mrzr4.json").string() +
+                                   "' --lines 20 --length 20 --json m.json --no-pictures");
+            REQUIRE(r.code == 0);
+            const json m = json::parse(io::read_text(dir / "m.json"));
+            CHECK(m["objects"] == n[eco::LifeForm::object]);
+            CHECK(m["shrubs"] == n[eco::LifeForm::shrub]);
+        }
+    }
+    CHECK(files == 12);
 }

@@ -499,3 +499,103 @@ TEST_CASE("export layers: the input DEM's coordinate system is carried through t
     }
     CHECK_THAT(io::read_text(dir / "layers/README.md"), Catch::Contains("carried from its DEM"));
 }
+
+TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes a layer",
+          "[export][cli][lifeform]") {
+    // A tree, a shrub, a grass and a MAVS cube on 40 m x 40 m for 10 years.
+    auto entry = [](const std::string& mesh, const std::string& name, double arrivals, double hmax,
+                    double ratio) {
+        return json{{"Mesh File", mesh},
+                    {"Species Name", name},
+                    {"Num New Per Area", arrivals},
+                    {"Growth Rate", 0.3},
+                    {"Max Height", hmax},
+                    {"Min Height", 0.0},
+                    {"Mesh Height", 1.0},
+                    {"Height To Diameter Ratio", ratio},
+                    {"Max Age", 60},
+                    {"Rotate Mesh", true}};
+    };
+    test::TempDir dir;
+    json shrub = entry("vegetation/yaupon.obj", "Yaupon", 0.004, 3.0, 0.5);
+    shrub["physiology"] = {{"seeds_per_yr_at_30cm", 0.0}}; // arrivals only: a few dozen shrubs
+    std::ofstream(dir / "eco.json") << json{
+        {"Species",
+         {entry("vegetation/oak.obj", "Oak", 0.004, 20.0, 0.05), shrub,
+          entry("vegetation/grass.obj", "Grass", 1.0, 0.3, 0.05),
+          entry("misc/cube.obj", "Cube", 0.003, 1.0,
+                0.5)}}}.dump(2);
+    json scene = test::small_scene(10);
+    scene["vegetation"]["ecosystem"] = (dir / "eco.json").string();
+    scene["vegetation"]["initial"] = "bare";
+    std::ofstream(dir / "scene.json") << scene.dump(2);
+    const std::string out = succeeds(dir, "run scene.json -o run.h5 --no-pictures");
+    CHECK_THAT(out, Catch::Contains("ground layer:"));
+    const Scene s = load_scene(dir / "run.h5", -1);
+    const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
+    std::map<eco::LifeForm, int> forms;
+    std::map<std::int64_t, eco::PlantRecord> plant;
+    for (const auto& p : snap.plants) {
+        ++forms[static_cast<eco::LifeForm>(p.life_form)];
+        plant[p.id] = p;
+    }
+    REQUIRE(forms[eco::LifeForm::tree] > 0);
+    REQUIRE(forms[eco::LifeForm::shrub] > 0);
+    REQUIRE(forms[eco::LifeForm::object] > 0);
+    REQUIRE(s.trees.size() == snap.plants.size());
+
+    // glTF: valid; each instance's trunk is the stem: a shrub's base is its stem at the ground,
+    // an object's its footprint (0.5 m), a tree's larger than its DBH (taper to breast height).
+    succeeds(dir, "export scene run.h5 --format gltf -o scene.glb");
+    check_gltf_validator(dir, "scene.glb");
+    const auto [j, bin] = read_glb(dir / "scene.glb");
+    std::size_t seen = 0;
+    for (const auto& node : j["nodes"]) {
+        if (!node.contains("extensions") || !node["name"].get<std::string>().ends_with("_trunks"))
+            continue;
+        const auto& at = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+        const auto ids = accessor_floats(j, bin, at["_PLANT_ID"]);
+        const auto scale = accessor_floats(j, bin, at["SCALE"]);
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            const auto& p = plant.at(static_cast<std::int64_t>(ids[k]));
+            CAPTURE(p.id, p.life_form);
+            const double base = scale[3 * k]; // glTF Y-up: (d, H, d)
+            CHECK(scale[3 * k + 1] == Approx(p.height_m).epsilon(1e-6));
+            switch (static_cast<eco::LifeForm>(p.life_form)) {
+            case eco::LifeForm::shrub:
+                CHECK(base == Approx(std::max(p.stem_diameter_m, 1e-3)).epsilon(1e-6));
+                break;
+            case eco::LifeForm::object:
+                CHECK(base == Approx(0.5).epsilon(1e-6));
+                break;
+            default:
+                CHECK(base >= p.dbh_m * (1 - 1e-6));
+            }
+            ++seen;
+        }
+    }
+    CHECK(seen == snap.plants.size());
+
+    // Gazebo: one model per plant, parsed by libsdformat.
+    succeeds(dir, "export scene run.h5 --format gazebo -o gz");
+    CHECK_THAT(check_sdformat(dir, "gz"),
+               Catch::Contains("models " + std::to_string(snap.plants.size() + 1)));
+
+    // Layers: the ground cover as the snapshot holds it; stems and basal area count trees only.
+    succeeds(dir, "export layers run.h5 -o layers");
+    const RasterD cover = terrain::io::read_raster(dir / "layers/ground_cover.tif");
+    const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
+    double mean = 0;
+    for (std::int64_t k = 0; k < cover.size(); ++k) mean += cover.data()[k];
+    mean /= static_cast<double>(cover.size());
+    CHECK(mean == Approx(under.ground_cover_fraction).epsilon(1e-5));
+    CHECK(under.ground_cover_fraction > 0.0);
+    const RasterD ba = terrain::io::read_raster(dir / "layers/basal_area_m2_per_ha.tif");
+    double ba_sum = 0, expect = 0;
+    for (std::int64_t k = 0; k < ba.size(); ++k)
+        if (std::isfinite(ba.data()[k])) ba_sum += ba.data()[k];
+    // The layer integrates to the stand's basal area (per ha, summed over cells of the area).
+    const double cell_ha = ba.cell_size() * ba.cell_size() / 1e4;
+    for (const auto& p : snap.plants) expect += std::numbers::pi * p.dbh_m * p.dbh_m / 4;
+    CHECK(ba_sum * cell_ha == Approx(expect).epsilon(0.05));
+}

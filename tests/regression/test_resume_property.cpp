@@ -120,6 +120,48 @@ TEST_CASE("resume: a groundwater scene split at every year ends bit for bit as o
     check_every_split(scene, 6, 1);
 }
 
+TEST_CASE("resume: undergrowth and MAVS objects split at every year end bit for bit as one run",
+          "[eco][resume][property][lifeform]") {
+    // Shrubs, a ground layer of two species (its cover is in the checkpoint) and, from MAVS's
+    // forest_with_cubes.json, objects and grouped life stages.
+    for (const std::string& eco :
+         {(test::data_dir() / "ecosystems/humid_subtropical_broadleaf_undergrowth.json").string(),
+          std::string(ECOTERRA_TESTS_DIR) + "/data/mavs_ecosystem_files/forest_with_cubes.json"}) {
+        CAPTURE(eco);
+        std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+        json j = json::parse(f);
+        j["terrain"]["generate"]["size"] = 24;
+        j["vegetation"]["ecosystem"] = eco;
+        j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.1}}}};
+        j["simulation"]["years"] = 8;
+        const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+        check_every_split(scene, 8, 1);
+    }
+}
+
+TEST_CASE("threads: the ground layer and shrubs give the same bytes on 1 and 3 threads",
+          "[eco][determinism][property][lifeform]") {
+    std::ifstream f(test::data_dir() / "scenes/quickstart_undergrowth.json");
+    json j = json::parse(f);
+    j["terrain"]["generate"]["size"] = 24;
+    j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 800}, {"max_dbh_m", 0.1}}}};
+    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    const int saved = omp_get_max_threads();
+    set_parallel_min_items(1);
+    std::vector<std::uint8_t> bytes[2];
+    int k = 0;
+    for (const int threads : {1, 3}) {
+        omp_set_num_threads(threads);
+        eco::Ecosystem e(scene);
+        for (int y = 0; y < 3; ++y) e.run_year();
+        REQUIRE(e.undergrowth().ground_cover_fraction > 0.0);
+        bytes[k++] = checkpoint(e);
+    }
+    CHECK(first_difference(bytes[0], bytes[1]) == -1);
+    omp_set_num_threads(saved);
+    set_parallel_min_items(kMinParallelItems);
+}
+
 TEST_CASE("threads: a run gives the same bytes on 1, 2, 3, 4 and 7 threads",
           "[eco][determinism][property]") {
     // Every loop goes parallel whatever its size (set_parallel_min_items(1)), so the threads

@@ -320,8 +320,11 @@ TEST_CASE("species files: MAVS entries load with reported defaults, bad values a
     CHECK(def.species[0].max_height_m == 20.0);
     CHECK(def.species[0].maturity_age_yr == 10.0); // 0.2 x Max Age
     bool noted = false;
-    for (const auto& n : def.notes) noted = noted || n.find("defaults for") != std::string::npos;
+    for (const auto& n : def.notes)
+        noted = noted ||
+                n.find("every physiology key takes its default for a tree") != std::string::npos;
     CHECK(noted);
+    CHECK(def.species[0].max_stem_diameter_m == Approx(1.0)); // Max Height / 20
     auto bad = [&](const std::string& key, const json& value, const std::string& expect) {
         json j = mavs;
         if (key.rfind("physiology.", 0) == 0) {

@@ -382,8 +382,8 @@ const char* life_form_name(LifeForm f) {
 }
 
 LifeForm mavs_life_form(const std::string& mesh_file, double h, double ratio, std::string* why) {
-    const auto first = std::filesystem::path(mesh_file).begin();
-    std::string folder = first == std::filesystem::path(mesh_file).end() ? "" : first->string();
+    const std::filesystem::path mesh(mesh_file); // the iterator below points into it
+    std::string folder = mesh.begin() == mesh.end() ? "" : mesh.begin()->string();
     for (auto& c : folder) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     auto say = [&](const std::string& w) {
         if (why) *why = w;

@@ -425,9 +425,13 @@ bool Ecosystem::step_day() {
                 if (!species[k].evergreen)
                     season_phen[k] *= static_cast<double>(year_length(w)) /
                                       std::max(1, species[k].leaf_off_doy - species[k].leaf_on_doy);
-            m_ground.step(species, m_ground_env, 1.0 / year_length(w), season_phen, ftemp);
+            m_ground.accumulate(species, m_ground_env, 1.0 / year_length(w), season_phen, ftemp);
         }
-        if (m_days_done % m_scene.canopy_interval_days == 0) refresh_canopy();
+        const bool refresh = m_days_done % m_scene.canopy_interval_days == 0;
+        // The ground layer steps once a canopy interval and on the year's last day (the year end
+        // and its checkpoint see no pending days).
+        if (refresh || w.doy >= year_length(w)) m_ground.apply(species);
+        if (refresh) refresh_canopy();
     } else {
         f = m_hydro->step(w, nullptr);
     }
@@ -857,6 +861,8 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
     a.put_vector(m_plants);
     a.put(m_next_id);
     a.put_raster(m_ground_shade);
+    if (m_ground.pending())
+        throw Error("internal: a checkpoint with ground-layer days not yet applied");
     a.put_vector(m_ground.raw());
     m_hydro->save_state(a);
     a.put_raster(m_hydro->vegetation_density());

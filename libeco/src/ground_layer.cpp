@@ -43,9 +43,9 @@ double GroundLayer::root_depth_m(const std::vector<Species>& sp, std::int64_t c)
     return a > 0 ? z / a : 0.0;
 }
 
-void GroundLayer::step(const std::vector<Species>& sp, const std::vector<GroundCell>& env,
-                       double dt, const std::vector<double>& phen,
-                       const std::vector<double>& ftemp) {
+void GroundLayer::accumulate(const std::vector<Species>& sp, const std::vector<GroundCell>& env,
+                             double dt, const std::vector<double>& phen,
+                             const std::vector<double>& ftemp) {
     if (m_species.empty()) return;
     const std::size_t ng = m_species.size();
     const auto n = static_cast<std::size_t>(m_cells);
@@ -53,27 +53,59 @@ void GroundLayer::step(const std::vector<Species>& sp, const std::vector<GroundC
     for (std::int64_t ci = 0; ci < m_cells; ++ci) {
         const auto c = static_cast<std::size_t>(ci);
         const GroundCell& e = env[c];
+        // The crowns' shade changes at canopy refreshes only: its factors are kept per cell.
+        if (!(m_shade_seen[c] == e.crown_shade)) {
+            m_shade_seen[c] = e.crown_shade;
+            for (std::size_t g = 0; g < ng; ++g)
+                m_shade_soil[g * n + c] =
+                    shade_factor(sp[m_species[g]].shade, e.crown_shade) * m_soil[g * n + c];
+        }
+        for (std::size_t g = 0; g < ng; ++g) {
+            const Species& s = sp[m_species[g]];
+            const std::size_t k = g * n + c;
+            m_growth_sum[k] += s.growth_rate_per_yr * m_shade_soil[k] *
+                               water_factor(s.water, e.water_met) * phen[m_species[g]] *
+                               ftemp[m_species[g]] * dt;
+            const bool est = !e.ponded && e.relative_water >= s.germination_min_soil_water &&
+                             1.0 - e.crown_shade >= s.germination_min_light;
+            if (est)
+                m_arrival_sum[k] += s.new_per_area_per_yr * kArrivalCoverM2 *
+                                    s.germination_probability * m_soil[k] * dt;
+        }
+    }
+    m_pending_yr += dt;
+}
+
+void GroundLayer::apply(const std::vector<Species>& sp) {
+    if (m_species.empty() || !(m_pending_yr > 0)) return;
+    const std::size_t ng = m_species.size();
+    const auto n = static_cast<std::size_t>(m_cells);
+    const double t = m_pending_yr;
+#pragma omp parallel for schedule(static) if (m_cells >= parallel_min_items())
+    for (std::int64_t ci = 0; ci < m_cells; ++ci) {
+        const auto c = static_cast<std::size_t>(ci);
         const double free = std::max(0.0, 1.0 - total(ci));
         double sum = 0;
         for (std::size_t g = 0; g < ng; ++g) {
             const Species& s = sp[m_species[g]];
-            double& a = m_cover[g * n + c];
-            const double soil = m_soil[g * n + c];
-            const double growth = s.growth_rate_per_yr * shade_factor(s.shade, e.crown_shade) *
-                                  water_factor(s.water, e.water_met) * soil * phen[m_species[g]] *
-                                  ftemp[m_species[g]];
+            const std::size_t k = g * n + c;
             const double turnover = 1.0 / s.max_age_yr + s.background_mortality_per_yr;
-            const bool est = !e.ponded && e.relative_water >= s.germination_min_soil_water &&
-                             1.0 - e.crown_shade >= s.germination_min_light;
-            const double arrivals = est ? s.new_per_area_per_yr * kArrivalCoverM2 *
-                                              s.germination_probability * soil * free
-                                        : 0.0;
-            a = a * std::exp((growth * free - turnover) * dt) + arrivals * dt;
+            double& a = m_cover[k];
+            a = a * std::exp(m_growth_sum[k] * free - turnover * t) + m_arrival_sum[k] * free;
+            m_growth_sum[k] = m_arrival_sum[k] = 0;
             sum += a;
         }
         if (sum > 1.0)
             for (std::size_t g = 0; g < ng; ++g) m_cover[g * n + c] /= sum;
     }
+    m_pending_yr = 0;
+}
+
+void GroundLayer::step(const std::vector<Species>& sp, const std::vector<GroundCell>& env,
+                       double dt, const std::vector<double>& phen,
+                       const std::vector<double>& ftemp) {
+    accumulate(sp, env, dt, phen, ftemp);
+    apply(sp);
 }
 
 void GroundLayer::set_raw(std::vector<double> v) {

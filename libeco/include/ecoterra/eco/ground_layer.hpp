@@ -20,6 +20,8 @@
 //                                                                   arrival, e = establishment
 //   a <- a exp((gamma (1 - A) - mu) dt) + F dt, and the covers scaled down where their sum
 //   exceeds 1 (logistic growth into the free ground, an exponential step that keeps a >= 0).
+//   The engine sums gamma dt and N a0 e dt over the days of a canopy interval (7) and steps
+//   once with them, A held at the interval's start (accumulate(), apply()).
 //   establishment e = p_germ f_t f_p when the light under the crowns (1 - s_c) is at least
 //   germination.min_light, the relative extractable water at least germination.min_soil_water,
 //   and no water stands on the cell; else 0.
@@ -32,6 +34,7 @@
 #include "ecoterra/eco/species.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace ecoterra::eco {
@@ -60,6 +63,11 @@ public:
         m_cells = cells;
         m_cover.assign(m_species.size() * static_cast<std::size_t>(cells), 0.0);
         m_soil.resize(m_cover.size());
+        m_shade_soil.assign(m_cover.size(), 0.0);
+        m_growth_sum.assign(m_cover.size(), 0.0);
+        m_arrival_sum.assign(m_cover.size(), 0.0);
+        m_shade_seen.assign(static_cast<std::size_t>(cells),
+                            std::numeric_limits<double>::quiet_NaN());
         for (std::size_t g = 0; g < m_species.size(); ++g)
             for (std::int64_t c = 0; c < cells; ++c)
                 m_soil[g * static_cast<std::size_t>(cells) + static_cast<std::size_t>(c)] =
@@ -82,10 +90,22 @@ public:
                      const std::vector<double>& phen, double et0_m, double cell_area_m2) const;
     /// Cover-weighted root depth of a cell's layer, m (0 without cover).
     double root_depth_m(const std::vector<Species>& sp, std::int64_t c) const;
-    /// One step of dt years (phen, already divided by the season's share of the year, and f_T per
-    /// ecosystem species).
+    /// Adds a day (dt years) of growth and arrivals to the pending sums (phen, already divided by
+    /// the season's share of the year, and f_T per ecosystem species). The cover changes at
+    /// apply().
+    void accumulate(const std::vector<Species>& sp, const std::vector<GroundCell>& env,
+                    double dt_yr, const std::vector<double>& phen,
+                    const std::vector<double>& ftemp);
+    /// One step over the pending time T with the summed rates: a <- a exp(S_g (1 - A) - mu T) +
+    /// S_F (1 - A), S_g = sum of gamma dt and S_F of the arrivals' F dt over the days, A the total
+    /// cover at the step's start (operator splitting: the free ground is held over the days the
+    /// engine collects, one canopy interval).
+    void apply(const std::vector<Species>& sp);
+    /// accumulate() then apply(): one step of dt years.
     void step(const std::vector<Species>& sp, const std::vector<GroundCell>& env, double dt_yr,
               const std::vector<double>& phen, const std::vector<double>& ftemp);
+    /// Whether accumulated days wait for apply() (a checkpoint must not be taken then).
+    bool pending() const { return m_pending_yr > 0; }
 
     const std::vector<double>& raw() const { return m_cover; }
     void set_raw(std::vector<double> v);
@@ -94,6 +114,13 @@ private:
     std::vector<std::uint16_t> m_species;
     std::int64_t m_cells = 0;
     std::vector<double> m_cover, m_soil;
+    /// Derived, not state: shade factor x soil factor per species and cell, for the crown shade
+    /// m_shade_seen of the cell (recomputed when it changes; NaN: never computed).
+    std::vector<double> m_shade_soil, m_shade_seen;
+    /// Pending sums since the last apply(): growth rate x dt and arrivals x dt per species and
+    /// cell, and the time, yr.
+    std::vector<double> m_growth_sum, m_arrival_sum;
+    double m_pending_yr = 0;
 };
 
 } // namespace ecoterra::eco

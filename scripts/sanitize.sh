@@ -2,7 +2,7 @@
 # The sanitizer pass (docs/testing.md): builds everything with clang under AddressSanitizer +
 # UndefinedBehaviorSanitizer (LeakSanitizer included) and libFuzzer coverage in ./build-sanitize,
 # runs the whole test suite there (every finding fails it), then fuzzes each reader for
-# ECOTERRA_FUZZ_SECONDS seconds (default 20) from its corpus in fuzz/corpus/. An input that makes
+# ECOTERRA_FUZZ_SECONDS seconds (default 15) from its corpus in fuzz/corpus/. An input that makes
 # a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the pass: keep it there, fixed, as a
 # regression test (the suite replays that folder).
 set -euo pipefail
@@ -26,7 +26,7 @@ export LSAN_OPTIONS="suppressions=$root/tests/sanitizer/lsan.supp:print_suppress
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 (cd "$build" && ctest --output-on-failure -j "$jobs")
 
-seconds="${ECOTERRA_FUZZ_SECONDS:-20}"
+seconds="${ECOTERRA_FUZZ_SECONDS:-15}"
 [ "$seconds" -gt 0 ] || exit 0
 # hdf5_dem is left out: libhdf5 1.10.8 itself crashes on some damaged files
 # (fuzz/library-defects/README.md); its corpus is still replayed by the suite above.

@@ -137,7 +137,8 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
                       {"snapshot", s.snapshot},
                       {"year", s.year},
                       {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},
-                      {"trees", s.trees.size()}}}};
+                      {"trees", s.trees.size()},
+                      {"grass_tufts", s.tufts.size()}}}};
     std::vector<int> roots;
     const int ground = b.material("ground", kGroundColour);
     const int bark = b.material("bark", kBarkColour);
@@ -150,6 +151,10 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
                                     static_cast<float>(std::cos(0.5 * yaw))};
     };
     auto position = [](const Tree& t) {
+        return to_gltf(
+            {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
+    };
+    auto tuft_position = [](const Tuft& t) {
         return to_gltf(
             {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
     };
@@ -257,6 +262,45 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
               {{trunk_mesh, [](const Tree& t) { return trunk_scale(t); }, "_trunks"},
                {crown_mesh, [](const Tree& t) { return crown_scale(t); }, "_crowns"}},
               proto.name, common);
+    }
+    // The ground layer: one tuft mesh per grass species, instanced (or a node per tuft).
+    for (std::size_t k = 0; k < s.species.size(); ++k) {
+        std::vector<const Tuft*> mine;
+        for (const auto& t : s.tufts)
+            if (t.species == static_cast<int>(k)) mine.push_back(&t);
+        if (mine.empty()) continue;
+        const SpeciesLook& sp = s.species[k];
+        const std::string name = file_safe(sp.name) + "_grass";
+        const json extras = {{"species", sp.name},
+                             {"role", "grass tufts: visual only (the ground layer's cover, "
+                                      "passable)"},
+                             {"tufts", mine.size()}};
+        const int mesh = b.mesh(unit_trunk(), name,
+                                b.material(name, crown_colour(sp, static_cast<int>(k))), extras);
+        if (opt.gltf_nodes) {
+            for (const Tuft* t : mine)
+                roots.push_back(b.node({{"mesh", mesh},
+                                        {"translation", tuft_position(*t)},
+                                        {"rotation", rotation(t->yaw_rad)},
+                                        {"scale", gscale(tuft_scale(*t))}}));
+            continue;
+        }
+        instancing = true;
+        std::vector<float> tr, ro, sc;
+        for (const Tuft* t : mine) {
+            for (float v : tuft_position(*t)) tr.push_back(v);
+            for (float v : rotation(t->yaw_rad)) ro.push_back(v);
+            for (float v : gscale(tuft_scale(*t))) sc.push_back(v);
+        }
+        const int n = static_cast<int>(mine.size());
+        const json attrs = {{"TRANSLATION", b.accessor(tr, n, "VEC3", 0)},
+                            {"ROTATION", b.accessor(ro, n, "VEC4", 0)},
+                            {"SCALE", b.accessor(sc, n, "VEC3", 0)}};
+        roots.push_back(
+            b.node({{"name", name},
+                    {"mesh", mesh},
+                    {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
+                    {"extras", extras}}));
     }
     if (instancing) {
         b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};

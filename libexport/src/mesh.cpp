@@ -155,6 +155,11 @@ std::array<double, 3> crown_scale(const Tree& t) {
     return {r, r, std::max(t.height_m, kMinScale_m)};
 }
 
+std::array<double, 3> tuft_scale(const Tuft& t) {
+    const double d = std::max(2 * t.radius_m, kMinScale_m);
+    return {d, d, std::max(t.height_m, kMinScale_m)};
+}
+
 std::vector<SizeClass> size_classes(const Scene& s, const std::function<bool(const Tree&)>& skip) {
     const double lq = std::log(kSizeClassRatio);
     auto k = [&](double v) { return static_cast<int>(std::lround(std::log(v) / lq)); };

@@ -1,5 +1,6 @@
 #include "ecoterra/export/scene.hpp"
 
+#include "ecoterra/eco/dispersal.hpp"
 #include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/random.hpp"
@@ -78,6 +79,52 @@ std::array<int, 4> region_window(const GridSpec& g, const Region& r, const std::
     return {i0, j0, i1 - i0 + 1, j1 - j0 + 1};
 }
 
+namespace {
+
+/// The tufts of the snapshot's ground layer inside the scene (see kTuftAreaM2).
+void add_tufts(Scene& s, const RasterD& full, const std::vector<eco::Species>& species) {
+    if (!eco::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) return;
+    const GridSpec& g = full.grid();
+    const double cell = g.cell_size_m * g.cell_size_m;
+    const double radius = std::sqrt(kTuftAreaM2 / std::numbers::pi);
+    const int i0 = s.cut_i0, j0 = s.cut_j0;
+    const int i1 = i0 + s.terrain.nx(), j1 = j0 + s.terrain.ny();
+    for (std::size_t k = 0; k < species.size(); ++k) {
+        if (species[k].life_form != eco::LifeForm::grass) continue;
+        const RasterD cover = eco::read_snapshot_raster(
+            s.run, s.snapshot, "ground_cover_by_species/" + std::to_string(k), g);
+        for (int j = j0; j < j1; ++j)
+            for (int i = i0; i < i1; ++i) {
+                const double a = cover(i, j);
+                if (!(a > 0)) continue;
+                const auto index =
+                    (static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(g.nx) +
+                     static_cast<std::uint64_t>(i)) *
+                        species.size() +
+                    k;
+                Rng rng(s.seed, "export.grass", index);
+                const std::int64_t n = eco::poisson(rng, a * cell / kTuftAreaM2);
+                for (std::int64_t q = 0; q < n; ++q) {
+                    Tuft t;
+                    t.species = static_cast<int>(k);
+                    t.x_m = g.x_of(i) + (rng.uniform() - 0.5) * g.cell_size_m;
+                    t.y_m = g.y_of(j) + (rng.uniform() - 0.5) * g.cell_size_m;
+                    t.yaw_rad = rng.uniform(0, 2 * std::numbers::pi);
+                    if (s.region && (t.x_m < s.region->x0_m || t.x_m >= s.region->x1_m ||
+                                     t.y_m < s.region->y0_m || t.y_m >= s.region->y1_m))
+                        continue;
+                    t.z_m = full.sample_bilinear(t.x_m, t.y_m);
+                    if (std::isnan(t.z_m)) t.z_m = full(i, j);
+                    t.height_m = species[k].max_height_m;
+                    t.radius_m = radius;
+                    s.tufts.push_back(t);
+                }
+            }
+    }
+}
+
+} // namespace
+
 Scene load_scene(const std::filesystem::path& run, int snapshot,
                  const std::optional<Region>& region) {
     Scene s;
@@ -89,7 +136,8 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
     s.year = plants.year;
     if (info.provenance.contains("seed") && info.provenance["seed"].is_number_unsigned())
         s.seed = info.provenance["seed"].get<std::uint64_t>();
-    for (const auto& sp : eco::read_run_species(run))
+    const auto species = eco::read_run_species(run);
+    for (const auto& sp : species)
         s.species.push_back(
             {sp.name, sp.crown_shape, sp.max_height_m, sp.evergreen, sp.leaf_area_per_crown_area});
     const RasterD full = eco::read_run_terrain(run);
@@ -133,6 +181,7 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
     }
     std::sort(s.trees.begin(), s.trees.end(),
               [](const Tree& a, const Tree& b) { return a.id < b.id; });
+    add_tufts(s, full, species);
     return s;
 }
 

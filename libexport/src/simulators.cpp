@@ -47,6 +47,30 @@ std::vector<std::pair<std::string, std::array<double, 3>>> tree_materials(const 
     return m;
 }
 
+/// The tufts of each grass species with any (species index, tuft indices), and the OBJ of a tuft
+/// of that species: the tapered column of its size in the species' colour.
+std::vector<std::pair<int, std::vector<std::size_t>>> tuft_groups(const Scene& s) {
+    std::vector<std::pair<int, std::vector<std::size_t>>> out;
+    for (std::size_t k = 0; k < s.species.size(); ++k) {
+        std::vector<std::size_t> mine;
+        for (std::size_t i = 0; i < s.tufts.size(); ++i)
+            if (s.tufts[i].species == static_cast<int>(k)) mine.push_back(i);
+        if (!mine.empty()) out.emplace_back(static_cast<int>(k), std::move(mine));
+    }
+    return out;
+}
+std::string tuft_name(const Scene& s, int k) {
+    return file_safe(s.species[static_cast<std::size_t>(k)].name) + "_grass";
+}
+std::string tuft_obj(const Scene& s, const Tuft& t, const std::string& mtllib) {
+    Mesh m;
+    m.append(unit_trunk(), tuft_scale(t));
+    return to_obj({{&m, file_safe(s.species[static_cast<std::size_t>(t.species)].name) + "_crown"}},
+                  "ecoterra grass tuft of " + s.species[static_cast<std::size_t>(t.species)].name +
+                      ": ENU (x east, y north, z up), metres, base at the origin",
+                  mtllib);
+}
+
 /// OBJ of a size class: trunk with bark, crown with the species' colour.
 std::string tree_obj(const Scene& s, const SizeClass& c, const std::string& mtllib) {
     const SpeciesLook& look = s.species[static_cast<std::size_t>(c.species)];
@@ -238,6 +262,23 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
         // MAVS: d = diameter * (instance height) / height, so d follows each tree's height.
         veg.push_back({{"mesh", mesh}, {"height", c.height_m}, {"diameter", ratio * c.height_m}});
     }
+    // The ground layer's tufts: one mesh per grass species; MAVS's own oat grass has a 1 cm
+    // stem in its override file (reference mobility.md s1.2), and so do these.
+    for (const auto& [k, tufts] : tuft_groups(s)) {
+        const std::string mesh = "meshes/" + tuft_name(s, k) + ".obj";
+        folder.write(mesh, tuft_obj(s, s.tufts[tufts[0]], "trees.mtl"));
+        json inst = json::array();
+        for (const auto i : tufts) {
+            const Tuft& t = s.tufts[i];
+            inst.push_back({{"YawPitchRoll", {t.yaw_rad, 0.0, 0.0}},
+                            {"Position", {t.x_m, t.y_m, t.z_m - offset}},
+                            {"Scale", {1.0, 1.0, 1.0}}});
+        }
+        objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
+        veg.push_back({{"mesh", mesh},
+                       {"height", s.tufts[tufts[0]].height_m},
+                       {"diameter", kTuftStemDiameterM}});
+    }
     const fs::path abs =
         fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal();
     json scene = {{"PathToMeshes", abs.string() + "/"},
@@ -273,8 +314,14 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
             "`diameter` (m), so that MAVS's stem diameter, diameter x instance height / height, "
             "is each tree's DBH to within its class |\n"
             "| truth.txt | one tree per line: x y height speciesNum meshPath (MAVS's truth "
-            "format) |\n\n"
-            "Load: `scene.json` as a MAVS scene (`PathToMeshes` is this folder's absolute path; "
+            "format) |\n" +
+            (s.tufts.empty()
+                 ? std::string()
+                 : "| meshes/*_grass.obj | the ground layer: " + std::to_string(s.tufts.size()) +
+                       " grass tufts in `Objects` (one mesh per grass species, scale 1), with a "
+                       "1 cm stem in veg_override.json (MAVS's own oat grass); not in truth.txt "
+                       "|\n") +
+            "\nLoad: `scene.json` as a MAVS scene (`PathToMeshes` is this folder's absolute path; "
             "edit it if you move the folder). Enable the override with `\"Using Veg Forces\": "
             "true` in the vehicle file.\n" +
             notes_text(folder));
@@ -290,6 +337,11 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     terrain::io::write_gazebo_png(s.terrain, png, wo);
     for (const auto& w : warnings)
         if (w.find("resampled") != std::string::npos) folder.note(w.substr(w.find(": ") + 2));
+    if (!s.tufts.empty())
+        folder.note("the ground layer's " + std::to_string(s.tufts.size()) +
+                    " grass tufts are left out: a Gazebo world includes a model per object, "
+                    "and thousands of includes make the world slow to load (glTF, MAVS and "
+                    "Unreal exports hold them)");
     const json side = read_json_file(terrain::io::png_sidecar_path(png));
     const auto& gz = side.at("gazebo");
     auto v3 = [&](const json& a) {
@@ -438,6 +490,20 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             row(s.trees[i], c.name, {1, 1, std::max(s.trees[i].height_m, 1e-3) / c.height_m});
     }
     folder.write("trees.csv", csv);
+    std::string grass = "Name,species,mesh,x_cm,y_cm,z_cm,yaw_deg,height_m,base_radius_m\n";
+    for (const auto& [k, tufts] : tuft_groups(s)) {
+        folder.write("meshes/" + tuft_name(s, k) + ".obj",
+                     tuft_obj(s, s.tufts[tufts[0]], "trees.mtl"));
+        for (const auto i : tufts) {
+            const Tuft& t = s.tufts[i];
+            grass += "tuft_" + std::to_string(i) + "," +
+                     s.species[static_cast<std::size_t>(k)].name + "," + tuft_name(s, k) + "," +
+                     num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
+                     num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + "," +
+                     num(t.height_m) + "," + num(t.radius_m) + "\n";
+        }
+    }
+    if (!s.tufts.empty()) folder.write("grass.csv", grass);
     folder.write(
         "README.md",
         "# Unreal Engine scene from ecoterra\n\n" + header_lines(s) +
@@ -454,7 +520,13 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             "stage, mesh, position (cm, Unreal axes), yaw_deg, scale (z scale = height / mesh "
             "height), DBH (cm), height (m), crown radius (m), collision radius (cm, the trunk) |\n"
             "| meshes/*.obj, trees.mtl | tree meshes per species, stage and 5 % size class, "
-            "metres, Z up: import with a uniform scale of 100 |\n\n"
+            "metres, Z up: import with a uniform scale of 100 |\n" +
+            (s.tufts.empty()
+                 ? std::string()
+                 : "| grass.csv, meshes/*_grass.obj | the ground layer as " +
+                       std::to_string(s.tufts.size()) +
+                       " grass tufts (visual only, passable), a table like trees.csv |\n") +
+            "\n"
             "Landscape import: Location X " +
             num(loc_x) + ", Y " + num(loc_y) + ", Z " + num(loc_z) + " cm; Scale X " +
             num(xy_scale) + ", Y " + num(xy_scale) + ", Z " + num(z_scale) +

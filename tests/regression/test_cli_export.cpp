@@ -500,7 +500,7 @@ TEST_CASE("export layers: the input DEM's coordinate system is carried through t
     CHECK_THAT(io::read_text(dir / "layers/README.md"), Catch::Contains("carried from its DEM"));
 }
 
-TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes a layer",
+TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes tufts and a layer",
           "[export][cli][lifeform]") {
     // A tree, a shrub, a grass and a MAVS cube on 40 m x 40 m for 10 years.
     auto entry = [](const std::string& mesh, const std::string& name, double arrivals, double hmax,
@@ -543,6 +543,7 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     REQUIRE(forms[eco::LifeForm::shrub] > 0);
     REQUIRE(forms[eco::LifeForm::object] > 0);
     REQUIRE(s.trees.size() == snap.plants.size());
+    const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
 
     // glTF: valid; each instance's trunk is the stem: a shrub's base is its stem at the ground,
     // an object's its footprint (0.5 m), a tree's larger than its DBH (taper to breast height).
@@ -576,15 +577,63 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     }
     CHECK(seen == snap.plants.size());
 
+    // The ground layer as tufts: their count follows the cover (Poisson, mean cover x area / a
+    // tuft's area), every one on the terrain, the same ones in a region cut, and each format
+    // holds them all (Gazebo none, with a note).
+    REQUIRE(!s.tufts.empty());
+    const double expected_tufts = under.ground_cover_fraction * s.terrain.grid().width_m() *
+                                  s.terrain.grid().height_m() / kTuftAreaM2;
+    CHECK(std::abs(static_cast<double>(s.tufts.size()) - expected_tufts) <
+          4 * std::sqrt(expected_tufts));
+    for (const auto& t : s.tufts) {
+        REQUIRE(s.species[static_cast<std::size_t>(t.species)].name == "Grass");
+        CHECK(t.z_m == Approx(s.terrain.sample_bilinear(t.x_m, t.y_m)).margin(1e-9));
+    }
+    const Scene cut = load_scene(dir / "run.h5", -1, Region{4, 4, 20, 20});
+    REQUIRE(!cut.tufts.empty());
+    for (const auto& t : cut.tufts) {
+        CHECK(t.x_m >= 4);
+        CHECK(t.x_m < 20);
+        bool found = false;
+        for (const auto& u : s.tufts) found = found || (u.x_m == t.x_m && u.y_m == t.y_m);
+        CHECK(found);
+    }
+    std::size_t grass_instances = 0;
+    for (const auto& node : j["nodes"])
+        if (node["name"] == "grass_grass")
+            grass_instances =
+                accessor_floats(
+                    j, bin,
+                    node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"])
+                    .size() /
+                3;
+    CHECK(grass_instances == s.tufts.size());
+    succeeds(dir, "export scene run.h5 --format mavs -o mavs");
+    const json mavs = read_json(dir / "mavs/scene.json");
+    std::size_t mavs_tufts = 0;
+    for (const auto& o : mavs["Objects"])
+        if (o["Mesh"] == "meshes/grass_grass.obj") mavs_tufts = o["Instances"].size();
+    CHECK(mavs_tufts == s.tufts.size());
+    const json veg = read_json(dir / "mavs/veg_override.json");
+    bool listed = false;
+    for (const auto& v : veg["veg_models"])
+        listed = listed || (v["mesh"] == "meshes/grass_grass.obj" && v["diameter"] == 0.01);
+    CHECK(listed);
+    succeeds(dir, "export scene run.h5 --format unreal -o unreal");
+    std::ifstream grass_csv(dir / "unreal/grass.csv");
+    std::size_t rows = 0;
+    for (std::string line; std::getline(grass_csv, line);) ++rows;
+    CHECK(rows == s.tufts.size() + 1);
+
     // Gazebo: one model per plant, parsed by libsdformat.
-    succeeds(dir, "export scene run.h5 --format gazebo -o gz");
+    CHECK_THAT(succeeds(dir, "export scene run.h5 --format gazebo -o gz"),
+               Catch::Contains("grass tufts are left out"));
     CHECK_THAT(check_sdformat(dir, "gz"),
                Catch::Contains("models " + std::to_string(snap.plants.size() + 1)));
 
     // Layers: the ground cover as the snapshot holds it; stems and basal area count trees only.
     succeeds(dir, "export layers run.h5 -o layers");
     const RasterD cover = terrain::io::read_raster(dir / "layers/ground_cover.tif");
-    const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
     double mean = 0;
     for (std::int64_t k = 0; k < cover.size(); ++k) mean += cover.data()[k];
     mean /= static_cast<double>(cover.size());

@@ -58,6 +58,8 @@ Mesh unit_crown(eco::CrownShape shape, Stage stage);
 /// 1 mm so that no instance is degenerate.
 std::array<double, 3> trunk_scale(const Tree& t);
 std::array<double, 3> crown_scale(const Tree& t);
+/// A grass tuft as unit_trunk() scaled: base diameter 2 r, height H.
+std::array<double, 3> tuft_scale(const Tuft& t);
 
 /// A size class: trees of one species and stage whose height, trunk base diameter and crown
 /// radius round to the same power of kSizeClassRatio (within +-2.5 %). Formats that cannot scale

@@ -45,6 +45,21 @@ struct Tree {
     double yaw_rad = 0; ///< heading of the mesh, counter-clockwise from east, [0, 2 pi)
 };
 
+/// The ground layer (grasses and herbs, a cover per cell in the run) drawn as tufts: per cell and
+/// grass species Poisson(cover x cell area / kTuftAreaM2) tufts at uniform positions in the cell,
+/// each a tapered column with a base of kTuftAreaM2 and the species' Max Height tall. The draws
+/// come from the run's seed in stream "export.grass" indexed by cell and species, so a region cut
+/// holds the same tufts as the whole scene there.
+inline constexpr double kTuftAreaM2 = 0.25;
+/// A tuft's stem diameter for MAVS's vegetation override, m: MAVS's own oat grass entry.
+inline constexpr double kTuftStemDiameterM = 0.01;
+struct Tuft {
+    int species = 0;
+    double x_m = 0, y_m = 0, z_m = 0;
+    double height_m = 0, radius_m = 0; ///< the tuft's base radius, m
+    double yaw_rad = 0;
+};
+
 struct SpeciesLook {
     std::string name;
     eco::CrownShape crown_shape = eco::CrownShape::ellipsoid;
@@ -63,6 +78,7 @@ struct Scene {
     int cut_i0 = 0, cut_j0 = 0;   ///< the terrain's first column and row in the run's grid
     std::vector<SpeciesLook> species;
     std::vector<Tree> trees; ///< sorted by plant id
+    std::vector<Tuft> tufts; ///< the ground layer, by species, then cell, then draw
 };
 
 /// The trees' yaw: uniform in [0, 2 pi), drawn from the run's seed in stream "export.yaw" indexed

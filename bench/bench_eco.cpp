@@ -1,5 +1,6 @@
 // Ecosystem benchmarks: plant-years/s and simulated years per wall second, coupled and light-only,
-// for the 1 ha quickstart scene (100 years) and a 1 km x 1 km scene (1 m plant grid, 8 m
+// for the 1 ha quickstart scene and its undergrowth variant (shrubs and a ground layer; 100
+// years each, and the ratio of their times) and a 1 km x 1 km scene (1 m plant grid, 8 m
 // hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year time it implies).
 // Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
 #include "ecoterra/eco/ecosystem.hpp"
@@ -57,11 +58,18 @@ int main(int argc, char** argv) {
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
     std::printf("ecoterra ecosystem benchmark (humid subtropical broadleaf, daily steps)\n\n");
     json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
+    json u = json::parse(io::read_text(data / "scenes/quickstart_undergrowth.json"));
     for (const char* mode : {"coupled", "light_only"}) {
         if (!only.empty() && only != mode) continue;
         q["vegetation"]["competition"] = mode;
-        const auto sc = eco::load_eco_scene(q, data / "scenes");
-        report("1 ha quickstart (50^2 x 2 m terrain)", mode, 100, grow(sc, 100));
+        u["vegetation"]["competition"] = mode;
+        const Result trees = grow(eco::load_eco_scene(q, data / "scenes"), 100);
+        report("1 ha quickstart (50^2 x 2 m terrain)", mode, 100, trees);
+        // The same trees over a shrub layer and a ground layer of two grass species.
+        const Result under = grow(eco::load_eco_scene(u, data / "scenes"), 100);
+        report("1 ha quickstart with undergrowth", mode, 100, under);
+        std::printf("%-34s %-10s undergrowth / trees alone: %.2f x the time\n", "", mode,
+                    under.seconds / trees.seconds);
     }
     if (skip_1km) return 0;
     json k = q;

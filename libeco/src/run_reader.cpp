@@ -171,8 +171,15 @@ UndergrowthMetrics read_snapshot_undergrowth(const fs::path& run, int index) {
         if (!g.nameExists("ground_cover_by_species")) return;
         H5::Group layer = g.openGroup("ground_cover_by_species");
         std::vector<int> species;
-        for (hsize_t k = 0; k < layer.getNumObjs(); ++k)
-            species.push_back(std::stoi(layer.getObjnameByIdx(k)));
+        for (hsize_t k = 0; k < layer.getNumObjs(); ++k) {
+            const std::string name = layer.getObjnameByIdx(k);
+            if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos ||
+                name.size() > 5)
+                throw InputError(run.string() + ": snapshot " + std::to_string(s.index) +
+                                 ": ground_cover_by_species/" + name +
+                                 " is not named by a species index");
+            species.push_back(std::stoi(name));
+        }
         std::sort(species.begin(), species.end());
         for (const int sp : species) {
             H5::DataSet ds = layer.openDataSet(std::to_string(sp));

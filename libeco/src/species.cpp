@@ -185,11 +185,14 @@ json group_life_stages(const json& species, std::vector<std::string>& notes) {
             const json& e = species[k];
             for (const char* key : {"Num New Per Area", "Max Height", "Max Age"})
                 numbers_ok = numbers_ok && e.contains(key) && e.at(key).is_number();
+            numbers_ok =
+                numbers_ok && (!e.contains("Min Height") || e.at("Min Height").is_number());
             if (!numbers_ok) break;
             arrivals += e.at("Num New Per Area").get<double>();
             hmax = std::max(hmax, e.at("Max Height").get<double>());
             age = std::max(age, e.at("Max Age").get<double>());
-            hmin = std::min(hmin, e.value("Min Height", 0.0));
+            hmin =
+                std::min(hmin, e.contains("Min Height") ? e.at("Min Height").get<double>() : 0.0);
             if (!list.empty()) list += ", ";
             list += kStageWords[static_cast<std::size_t>(stage)];
             list += " (";

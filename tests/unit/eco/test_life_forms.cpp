@@ -152,6 +152,13 @@ TEST_CASE("life stages: grouped by default, kept apart on request, bad values na
     j["life_stages"] = "merge";
     CHECK_THROWS_WITH(parse_ecosystem(j, "se.json"),
                       Catch::Contains("se.json") && Catch::Contains("'life_stages' = \"merge\""));
+    // A stage with a bad value is not grouped: the species reader names it.
+    json bad = j;
+    bad["life_stages"] = "group";
+    bad["Species"][1]["Min Height"] = "two";
+    CHECK_THROWS_WITH(parse_ecosystem(bad, "se.json"),
+                      Catch::Contains("se.json") && Catch::Contains("'Southern Magnolia medium'") &&
+                          Catch::Contains("Min Height"));
     // An entry with its own physiology block is left alone.
     j["life_stages"] = "group";
     j["Species"][0]["physiology"] = {{"life_form", "tree"}};

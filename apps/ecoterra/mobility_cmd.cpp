@@ -5,7 +5,6 @@
 
 #include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/eco/run_reader.hpp"
-#include "ecoterra/ensemble/member.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
@@ -68,7 +67,7 @@ void run_mobility(const MobilityArgs& a) {
     json source;
     if (!a.run.empty()) {
         const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-        stems = ensemble::stand_stems(s.plants);
+        stems = eco::stand_stems(s.plants);
         dem = terrain::io::read_hdf5(a.run, "/terrain/elevation");
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
     } else {

@@ -790,23 +790,9 @@ StandMetrics Ecosystem::stand() const {
 
 UndergrowthMetrics Ecosystem::undergrowth() const {
     const auto& sp = m_scene.ecosystem.species;
-    UndergrowthMetrics u;
-    const double area = m_pgrid.width_m() * m_pgrid.height_m();
-    u.area_ha = area / kM2PerHa;
-    double shrubs = 0, crown = 0, height = 0, objects = 0;
-    for (const auto& p : m_plants) {
-        if (sp[p.species].life_form == LifeForm::shrub) {
-            shrubs += 1;
-            crown += std::numbers::pi * p.crown_radius_m * p.crown_radius_m;
-            height += p.height_m;
-        } else if (sp[p.species].life_form == LifeForm::object) {
-            objects += 1;
-        }
-    }
-    u.shrubs_per_ha = shrubs / u.area_ha;
-    u.shrub_crown_cover_fraction = crown / area;
-    u.shrub_mean_height_m = shrubs > 0 ? height / shrubs : 0.0;
-    u.objects_per_ha = objects / u.area_ha;
+    UndergrowthCounter count;
+    for (const auto& p : m_plants) count.add(sp[p.species].life_form, p.crown_radius_m, p.height_m);
+    UndergrowthMetrics u = count.metrics(m_pgrid.width_m() * m_pgrid.height_m());
     const auto cells = static_cast<double>(std::max<std::int64_t>(m_ground.cells(), 1));
     for (std::size_t g = 0; g < m_ground.species().size(); ++g) {
         double a = 0;

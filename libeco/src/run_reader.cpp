@@ -151,22 +151,10 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
 UndergrowthMetrics read_snapshot_undergrowth(const fs::path& run, int index) {
     const RunInfo info = read_run_info(run);
     const SnapshotPlants s = read_snapshot_plants(run, index);
-    UndergrowthMetrics u;
-    u.area_ha = info.area_m2 / kM2PerHa;
-    double shrubs = 0, crown = 0, height = 0, objects = 0;
-    for (const auto& p : s.plants) {
-        if (p.life_form == static_cast<std::int32_t>(LifeForm::shrub)) {
-            shrubs += 1;
-            crown += std::numbers::pi * p.crown_radius_m * p.crown_radius_m;
-            height += p.height_m;
-        } else if (p.life_form == static_cast<std::int32_t>(LifeForm::object)) {
-            objects += 1;
-        }
-    }
-    u.shrubs_per_ha = shrubs / u.area_ha;
-    u.shrub_crown_cover_fraction = crown / info.area_m2;
-    u.shrub_mean_height_m = shrubs > 0 ? height / shrubs : 0.0;
-    u.objects_per_ha = objects / u.area_ha;
+    UndergrowthCounter count;
+    for (const auto& p : s.plants)
+        count.add(static_cast<LifeForm>(p.life_form), p.crown_radius_m, p.height_m);
+    UndergrowthMetrics u = count.metrics(info.area_m2);
     open_snapshot(run, s.index, [&](const H5::Group& g) {
         if (!g.nameExists("ground_cover_by_species")) return;
         H5::Group layer = g.openGroup("ground_cover_by_species");
@@ -193,6 +181,23 @@ UndergrowthMetrics read_snapshot_undergrowth(const fs::path& run, int index) {
         }
     });
     return u;
+}
+
+std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& plants) {
+    std::vector<mobility::StandStem> stems;
+    stems.reserve(plants.size());
+    for (const auto& p : plants) {
+        mobility::StandStem s{p.x_m, p.y_m, p.dbh_m, p.height_m};
+        if (p.life_form == static_cast<std::int32_t>(LifeForm::shrub)) {
+            s.kind = mobility::StemKind::shrub;
+            s.base_diameter_m = p.stem_diameter_m;
+        } else if (p.life_form == static_cast<std::int32_t>(LifeForm::object)) {
+            s.kind = mobility::StemKind::object;
+            s.base_diameter_m = p.stem_diameter_m;
+        }
+        stems.push_back(s);
+    }
+    return stems;
 }
 
 } // namespace ecoterra::eco

@@ -148,6 +148,15 @@ Species parse_species(const json& e) {
 
 namespace {
 
+/// The JSON of an ecosystem file; InputError naming it if it cannot be read or parsed.
+json read_ecosystem_json(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path.string() + ": cannot open the ecosystem file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_json(ss.str(), path.string());
+}
+
 /// "Pecan young" -> {"Pecan", 0}; no stage word -> {"", -1}.
 std::pair<std::string, int> stage_of_name(const std::string& name) {
     const auto sp = name.find_last_of(' ');
@@ -252,11 +261,7 @@ EcosystemDef read_random_scene_inputs(const json& j, const std::string& source) 
         how = " (found by its file name beside the inputs file; the path given does not exist)";
         path = beside;
     }
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot open the ecosystem file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    json inner = parse_json(ss.str(), path.string());
+    json inner = read_ecosystem_json(path);
     if (inner.is_object() && inner.contains("Ecosystem File") && !inner.contains("Species"))
         throw InputError(source + ": 'Ecosystem File' names another random-scene inputs file");
     EcosystemDef def = parse_ecosystem(inner, path.string());
@@ -371,16 +376,8 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
 }
 
 const char* life_form_name(LifeForm f) {
-    switch (f) {
-    case LifeForm::tree:
-        return "tree";
-    case LifeForm::shrub:
-        return "shrub";
-    case LifeForm::grass:
-        return "grass";
-    case LifeForm::object:
-        return "object";
-    }
+    for (const auto& [name, form] : kLifeForms)
+        if (form == f) return name;
     return "?";
 }
 
@@ -418,11 +415,7 @@ LifeForm mavs_life_form(const std::string& mesh_file, double h, double ratio, st
 }
 
 EcosystemDef load_ecosystem(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path.string() + ": cannot open the ecosystem file");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_ecosystem(parse_json(ss.str(), path.string()), path.string());
+    return parse_ecosystem(read_ecosystem_json(path), path.string());
 }
 
 json species_to_json(const Species& s) {
@@ -501,13 +494,11 @@ const ParamCatalog<Species>& physiology_catalog() {
                           {"umbrella", CrownShape::umbrella}},
                       "outline of the crown in scene exports (`ecoterra export scene`); growth "
                       "uses only the crown radius"),
-            choice<S>("life_form", &S::life_form,
-                      std::vector<std::pair<std::string, LifeForm>>{{"tree", LifeForm::tree},
-                                                                    {"shrub", LifeForm::shrub},
-                                                                    {"grass", LifeForm::grass},
-                                                                    {"object", LifeForm::object}},
-                      "tree (trunk at breast height), shrub (stem at the ground), grass (grass "
-                      "or herb: ground-layer cover) or object (inert obstacle)")
+            choice<S>(
+                "life_form", &S::life_form,
+                std::vector<std::pair<std::string, LifeForm>>(kLifeForms.begin(), kLifeForms.end()),
+                "tree (trunk at breast height), shrub (stem at the ground), grass (grass "
+                "or herb: ground-layer cover) or object (inert obstacle)")
                 .with_note("from the MAVS keys (docs/ecosystem.md s1.1)"),
             number<S>("root_depth_m", &S::root_depth_m, "m", 0.01, 10,
                       "grass: depth its roots reach; it takes only the water above it"),

@@ -127,4 +127,24 @@ nlohmann::json to_json(const UndergrowthMetrics& m, const std::vector<std::strin
             {"ground_cover_by_species", cover}};
 }
 
+void UndergrowthCounter::add(LifeForm form, double crown_radius_m, double height_m) {
+    if (form == LifeForm::shrub) {
+        m_shrubs += 1;
+        m_crown_m2 += std::numbers::pi * crown_radius_m * crown_radius_m;
+        m_height_m += height_m;
+    } else if (form == LifeForm::object) {
+        m_objects += 1;
+    }
+}
+
+UndergrowthMetrics UndergrowthCounter::metrics(double area_m2) const {
+    UndergrowthMetrics u;
+    u.area_ha = area_m2 / kM2PerHa;
+    u.shrubs_per_ha = m_shrubs / u.area_ha;
+    u.shrub_crown_cover_fraction = m_crown_m2 / area_m2;
+    u.shrub_mean_height_m = m_shrubs > 0 ? m_height_m / m_shrubs : 0.0;
+    u.objects_per_ha = m_objects / u.area_ha;
+    return u;
+}
+
 } // namespace ecoterra::eco

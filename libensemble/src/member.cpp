@@ -227,7 +227,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
             dem = terrain::io::read_hdf5(opt.output, "/terrain/elevation");
         if (an.contains("mobility")) {
             const auto s = eco::read_snapshot_plants(opt.output, -1);
-            analyse_mobility(m, an["mobility"], stand_stems(s.plants), dem, stage, metrics);
+            analyse_mobility(m, an["mobility"], eco::stand_stems(s.plants), dem, stage, metrics);
         }
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
@@ -491,23 +491,6 @@ Manifest manifest_of_output(const fs::path& out) {
     const json base = j["base"];
     return manifest_from_document(j["manifest"], j.value("manifest_file", e.string()),
                                   j.value("manifest_dir", out.string()), &base);
-}
-
-std::vector<mobility::StandStem> stand_stems(const std::vector<eco::PlantRecord>& plants) {
-    std::vector<mobility::StandStem> stems;
-    stems.reserve(plants.size());
-    for (const auto& p : plants) {
-        mobility::StandStem s{p.x_m, p.y_m, p.dbh_m, p.height_m};
-        if (p.life_form == static_cast<std::int32_t>(eco::LifeForm::shrub)) {
-            s.kind = mobility::StemKind::shrub;
-            s.base_diameter_m = p.stem_diameter_m;
-        } else if (p.life_form == static_cast<std::int32_t>(eco::LifeForm::object)) {
-            s.kind = mobility::StemKind::object;
-            s.base_diameter_m = p.stem_diameter_m;
-        }
-        stems.push_back(s);
-    }
-    return stems;
 }
 
 } // namespace ecoterra::ensemble

@@ -150,11 +150,7 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
         return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
                                     static_cast<float>(std::cos(0.5 * yaw))};
     };
-    auto position = [](const Tree& t) {
-        return to_gltf(
-            {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
-    };
-    auto tuft_position = [](const Tuft& t) {
+    auto position = [](const auto& t) { // a Tree or a Tuft
         return to_gltf(
             {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
     };
@@ -264,35 +260,31 @@ std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
               proto.name, common);
     }
     // The ground layer: one tuft mesh per grass species, instanced (or a node per tuft).
-    for (std::size_t k = 0; k < s.species.size(); ++k) {
-        std::vector<const Tuft*> mine;
-        for (const auto& t : s.tufts)
-            if (t.species == static_cast<int>(k)) mine.push_back(&t);
-        if (mine.empty()) continue;
-        const SpeciesLook& sp = s.species[k];
-        const std::string name = file_safe(sp.name) + "_grass";
+    for (const auto& [k, tufts] : tuft_groups(s)) {
+        const SpeciesLook& sp = s.species[static_cast<std::size_t>(k)];
+        const std::string name = tuft_mesh_name(s, k);
         const json extras = {{"species", sp.name},
                              {"role", "grass tufts: visual only (the ground layer's cover, "
                                       "passable)"},
-                             {"tufts", mine.size()}};
-        const int mesh = b.mesh(unit_trunk(), name,
-                                b.material(name, crown_colour(sp, static_cast<int>(k))), extras);
+                             {"tufts", tufts.size()}};
+        const int mesh = b.mesh(unit_trunk(), name, b.material(name, crown_colour(sp, k)), extras);
         if (opt.gltf_nodes) {
-            for (const Tuft* t : mine)
+            for (const auto i : tufts)
                 roots.push_back(b.node({{"mesh", mesh},
-                                        {"translation", tuft_position(*t)},
-                                        {"rotation", rotation(t->yaw_rad)},
-                                        {"scale", gscale(tuft_scale(*t))}}));
+                                        {"translation", position(s.tufts[i])},
+                                        {"rotation", rotation(s.tufts[i].yaw_rad)},
+                                        {"scale", gscale(tuft_scale(s.tufts[i]))}}));
             continue;
         }
         instancing = true;
         std::vector<float> tr, ro, sc;
-        for (const Tuft* t : mine) {
-            for (float v : tuft_position(*t)) tr.push_back(v);
-            for (float v : rotation(t->yaw_rad)) ro.push_back(v);
-            for (float v : gscale(tuft_scale(*t))) sc.push_back(v);
+        for (const auto i : tufts) {
+            const Tuft& t = s.tufts[i];
+            for (float v : position(t)) tr.push_back(v);
+            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
+            for (float v : gscale(tuft_scale(t))) sc.push_back(v);
         }
-        const int n = static_cast<int>(mine.size());
+        const int n = static_cast<int>(tufts.size());
         const json attrs = {{"TRANSLATION", b.accessor(tr, n, "VEC3", 0)},
                             {"ROTATION", b.accessor(ro, n, "VEC4", 0)},
                             {"SCALE", b.accessor(sc, n, "VEC3", 0)}};

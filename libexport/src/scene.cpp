@@ -1,4 +1,5 @@
 #include "ecoterra/export/scene.hpp"
+#include "ecoterra/export/mesh.hpp"
 
 #include "ecoterra/eco/dispersal.hpp"
 #include "ecoterra/eco/run_reader.hpp"
@@ -124,6 +125,20 @@ void add_tufts(Scene& s, const RasterD& full, const std::vector<eco::Species>& s
 }
 
 } // namespace
+
+std::string tuft_mesh_name(const Scene& s, int k) {
+    return file_safe(s.species[static_cast<std::size_t>(k)].name) + "_grass";
+}
+
+std::vector<std::pair<int, std::vector<std::size_t>>> tuft_groups(const Scene& s) {
+    std::vector<std::pair<int, std::vector<std::size_t>>> out;
+    for (std::size_t i = 0; i < s.tufts.size(); ++i) { // ordered by species
+        if (out.empty() || out.back().first != s.tufts[i].species)
+            out.emplace_back(s.tufts[i].species, std::vector<std::size_t>{});
+        out.back().second.push_back(i);
+    }
+    return out;
+}
 
 Scene load_scene(const std::filesystem::path& run, int snapshot,
                  const std::optional<Region>& region) {

@@ -47,21 +47,7 @@ std::vector<std::pair<std::string, std::array<double, 3>>> tree_materials(const 
     return m;
 }
 
-/// The tufts of each grass species with any (species index, tuft indices), and the OBJ of a tuft
-/// of that species: the tapered column of its size in the species' colour.
-std::vector<std::pair<int, std::vector<std::size_t>>> tuft_groups(const Scene& s) {
-    std::vector<std::pair<int, std::vector<std::size_t>>> out;
-    for (std::size_t k = 0; k < s.species.size(); ++k) {
-        std::vector<std::size_t> mine;
-        for (std::size_t i = 0; i < s.tufts.size(); ++i)
-            if (s.tufts[i].species == static_cast<int>(k)) mine.push_back(i);
-        if (!mine.empty()) out.emplace_back(static_cast<int>(k), std::move(mine));
-    }
-    return out;
-}
-std::string tuft_name(const Scene& s, int k) {
-    return file_safe(s.species[static_cast<std::size_t>(k)].name) + "_grass";
-}
+/// The OBJ of a tuft of one grass species: the tapered column of its size in the species' colour.
 std::string tuft_obj(const Scene& s, const Tuft& t, const std::string& mtllib) {
     Mesh m;
     m.append(unit_trunk(), tuft_scale(t));
@@ -265,7 +251,7 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
     // The ground layer's tufts: one mesh per grass species; MAVS's own oat grass has a 1 cm
     // stem in its override file (reference mobility.md s1.2), and so do these.
     for (const auto& [k, tufts] : tuft_groups(s)) {
-        const std::string mesh = "meshes/" + tuft_name(s, k) + ".obj";
+        const std::string mesh = "meshes/" + tuft_mesh_name(s, k) + ".obj";
         folder.write(mesh, tuft_obj(s, s.tufts[tufts[0]], "trees.mtl"));
         json inst = json::array();
         for (const auto i : tufts) {
@@ -492,13 +478,13 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     folder.write("trees.csv", csv);
     std::string grass = "Name,species,mesh,x_cm,y_cm,z_cm,yaw_deg,height_m,base_radius_m\n";
     for (const auto& [k, tufts] : tuft_groups(s)) {
-        folder.write("meshes/" + tuft_name(s, k) + ".obj",
+        folder.write("meshes/" + tuft_mesh_name(s, k) + ".obj",
                      tuft_obj(s, s.tufts[tufts[0]], "trees.mtl"));
         for (const auto i : tufts) {
             const Tuft& t = s.tufts[i];
             grass += "tuft_" + std::to_string(i) + "," +
-                     s.species[static_cast<std::size_t>(k)].name + "," + tuft_name(s, k) + "," +
-                     num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
+                     s.species[static_cast<std::size_t>(k)].name + "," + tuft_mesh_name(s, k) +
+                     "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
                      num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + "," +
                      num(t.height_m) + "," + num(t.radius_m) + "\n";
         }

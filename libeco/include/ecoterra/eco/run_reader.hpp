@@ -3,6 +3,7 @@
 #include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/raster.hpp"
 
 #include <nlohmann/json.hpp>
@@ -33,6 +34,10 @@ SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index)
 
 /// Shrubs, objects and the ground layer of snapshot `index` (runs before life forms: none).
 UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& run, int index);
+
+/// A snapshot's plants as mobility sees them: trees by their DBH, shrubs by their stem at the
+/// ground, objects as rigid obstacles (the ground layer has no stems).
+std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& plants);
 
 /// The species of a run, as resolved when it started (every parameter).
 std::vector<Species> read_run_species(const std::filesystem::path& run);

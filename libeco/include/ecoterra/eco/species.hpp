@@ -14,9 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ecoterra::eco {
@@ -41,6 +43,12 @@ struct DispersalKernel {
 /// cover fraction per hydrology cell, not individuals; objects (MAVS's cubes and roadblocks) are
 /// inert obstacles placed at their arrival rate.
 enum class LifeForm : std::uint8_t { tree, shrub, grass, object };
+/// The life forms by their names in species files and outputs.
+inline constexpr std::array<std::pair<const char*, LifeForm>, 4> kLifeForms{
+    {{"tree", LifeForm::tree},
+     {"shrub", LifeForm::shrub},
+     {"grass", LifeForm::grass},
+     {"object", LifeForm::object}}};
 const char* life_form_name(LifeForm f);
 
 /// The outline of a crown: a cone (conifers), an ellipsoid (most broadleaves) or an umbrella (a

@@ -6,6 +6,7 @@
 //   reverse-J fit     ln N_i = ln k0 - k1 d_i over 5 cm classes with N_i > 0 (least squares);
 //                     q = exp(5 k1) per 5 cm class (de Liocourt; Meyer 1952), R2 of the log fit.
 // Only stems that reached breast height (D > 0) count.
+#include "ecoterra/eco/species.hpp"
 #include "ecoterra/units.hpp"
 
 #include <nlohmann/json.hpp>
@@ -58,5 +59,16 @@ struct UndergrowthMetrics {
 };
 /// `names` are the run's species names (for the JSON).
 nlohmann::json to_json(const UndergrowthMetrics& m, const std::vector<std::string>& names);
+
+/// The shrub and object figures of UndergrowthMetrics over the plants of a stand: add() each
+/// plant, then metrics(area) (the caller adds the ground layer's cover).
+class UndergrowthCounter {
+public:
+    void add(LifeForm form, double crown_radius_m, double height_m);
+    UndergrowthMetrics metrics(double area_m2) const;
+
+private:
+    double m_shrubs = 0, m_crown_m2 = 0, m_height_m = 0, m_objects = 0;
+};
 
 } // namespace ecoterra::eco

@@ -8,9 +8,7 @@
 //   OUT/members/.NNNNNN.partial-HOST-PID  a member being written (never counted)
 //   OUT/logs/NNNNNN.log            what the member's process printed
 //   OUT/summary/                   members.csv, aggregate.csv, histograms.csv, summary.h5, *.png
-#include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/ensemble/manifest.hpp"
-#include "ecoterra/mobility/stand.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -62,9 +60,5 @@ void prepare_output(const std::filesystem::path& out, const Manifest& m);
 /// Reads OUT/ensemble.json back into a manifest (for --summary): the copy of the manifest it
 /// holds, resolved against the manifest's original folder.
 Manifest manifest_of_output(const std::filesystem::path& out);
-
-/// A snapshot's plants as mobility sees them: trees by their DBH, shrubs by their stem at the
-/// ground, objects as rigid obstacles (the ground layer has no stems).
-std::vector<mobility::StandStem> stand_stems(const std::vector<eco::PlantRecord>& plants);
 
 } // namespace ecoterra::ensemble

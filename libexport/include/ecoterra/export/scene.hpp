@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ecoterra::exporter {
@@ -80,6 +81,11 @@ struct Scene {
     std::vector<Tree> trees; ///< sorted by plant id
     std::vector<Tuft> tufts; ///< the ground layer, by species, then cell, then draw
 };
+
+/// The tufts of each grass species that has any: (species index, indices into Scene::tufts).
+std::vector<std::pair<int, std::vector<std::size_t>>> tuft_groups(const Scene& s);
+/// The name of species k's tuft mesh in every format: "<file-safe species name>_grass".
+std::string tuft_mesh_name(const Scene& s, int k);
 
 /// The trees' yaw: uniform in [0, 2 pi), drawn from the run's seed in stream "export.yaw" indexed
 /// by the plant id, so a tree keeps its heading from snapshot to snapshot and across formats.

@@ -66,8 +66,10 @@ RasterD separable_normalised(const RasterD& r, const std::vector<double>& kx,
     return out;
 }
 
+/// Dilation (max) or erosion (min) over a disk; cells holding `nodata` (if 0..255) neither take
+/// part as neighbours nor change: they stay `nodata`, as cells outside the grid would.
 template <bool Dilate>
-RasterU8 morph(const RasterU8& r, double radius_px) {
+RasterU8 morph(const RasterU8& r, double radius_px, int nodata) {
     const auto offsets = disk_offsets(radius_px);
     RasterU8 out(r.grid(), 0);
     const int nx = r.nx(), ny = r.ny();
@@ -75,9 +77,13 @@ RasterU8 morph(const RasterU8& r, double radius_px) {
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             std::uint8_t v = r(i, j);
+            if (v == nodata) {
+                out(i, j) = v;
+                continue;
+            }
             for (const auto& o : offsets) {
                 const int a = i + o[0], b = j + o[1];
-                if (a < 0 || b < 0 || a >= nx || b >= ny) continue;
+                if (a < 0 || b < 0 || a >= nx || b >= ny || r(a, b) == nodata) continue;
                 v = Dilate ? std::max(v, r(a, b)) : std::min(v, r(a, b));
             }
             out(i, j) = v;
@@ -118,14 +124,14 @@ std::vector<std::array<int, 2>> disk_offsets(double radius_px) {
     return o;
 }
 
-RasterU8 dilate_disk(const RasterU8& r, double radius_px) {
-    return morph<true>(r, radius_px);
+RasterU8 dilate_disk(const RasterU8& r, double radius_px, int nodata) {
+    return morph<true>(r, radius_px, nodata);
 }
-RasterU8 erode_disk(const RasterU8& r, double radius_px) {
-    return morph<false>(r, radius_px);
+RasterU8 erode_disk(const RasterU8& r, double radius_px, int nodata) {
+    return morph<false>(r, radius_px, nodata);
 }
-RasterU8 close_disk(const RasterU8& r, double radius_px) {
-    return erode_disk(dilate_disk(r, radius_px), radius_px);
+RasterU8 close_disk(const RasterU8& r, double radius_px, int nodata) {
+    return erode_disk(dilate_disk(r, radius_px, nodata), radius_px, nodata);
 }
 
 } // namespace ecoterra::terrain

@@ -80,11 +80,13 @@ PsdResult radial_psd(const RasterD& z, const PsdOptions& opt) {
     std::vector<double> hx(nx), hy(ny);
     for (int i = 0; i < nx; ++i) hx[i] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * i / (nx - 1));
     for (int j = 0; j < ny; ++j) hy[j] = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * j / (ny - 1));
+    // No-data cells enter the transform as zeros (detrend_plane): the window's power is summed
+    // over the valid cells only, so that holes and a DEM's outer no-data do not lower the level.
     double u = 0;
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             w(i, j) *= hx[i] * hy[j];
-            u += hx[i] * hx[i] * hy[j] * hy[j];
+            if (!std::isnan(z(i, j))) u += hx[i] * hx[i] * hy[j] * hy[j];
         }
     u /= double(nx) * ny;
     const HalfSpectrum F = forward_real_fft(w);

@@ -87,13 +87,18 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
         const int steps = std::max(
             1, static_cast<int>(std::ceil(opt.length_m / (kPathStepCells * g.cell_size_m))));
         std::array<int, 3> n{0, 0, 0};
-        for (int k = 0; k <= steps; ++k) {
+        bool through_nodata = false; // a DEM's hole or outer no-data: not a place to drive
+        for (int k = 0; k <= steps && !through_nodata; ++k) {
             const double t = static_cast<double>(k) / steps;
             const auto c = classes.cell_at(sx + t * (gx - sx), sy + t * (gy - sy));
             if (c[0] < 0) continue;
             const std::uint8_t v = classes(c[0], c[1]);
-            if (v < 3) ++n[v];
+            if (v < 3)
+                ++n[v];
+            else
+                through_nodata = true;
         }
+        if (through_nodata) continue;
         const int tot = n[0] + n[1] + n[2];
         for (int q = 0; q < 3; ++q) {
             m.class_fraction[q] = tot ? static_cast<double>(n[q]) / tot : 0.0;

@@ -152,10 +152,13 @@ ClassAreas class_areas(const RasterU8& classes, double border_m) {
 
 RasterU8 close_classes(const RasterU8& classes, double radius_m) {
     if (!(radius_m >= 0.0)) throw InputError("closing: disk radius must be >= 0 m");
+    // No-data cells (outside a DEM's valid area, holes) take no part: they neither spread a class
+    // nor are filled, and stay no-data, so they count in no class after the closing either.
+    constexpr auto nodata = static_cast<std::uint8_t>(RoughnessClass::nodata);
     RasterU8 c = classes;
     for (std::int64_t k = 0; k < c.size(); ++k)
-        if (c.data()[k] > 2) c.data()[k] = static_cast<std::uint8_t>(RoughnessClass::high);
-    return close_disk(c, radius_m / classes.cell_size());
+        if (c.data()[k] > 2) c.data()[k] = nodata;
+    return close_disk(c, radius_m / classes.cell_size(), nodata);
 }
 
 SlopeAspect slope_aspect(const RasterD& z) {

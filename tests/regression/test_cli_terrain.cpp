@@ -152,3 +152,22 @@ TEST_CASE("A JSON specification gives the same terrain as the flags", "[cli]") {
     CHECK(help.code == 0);
     CHECK_THAT(help.out, Catch::Contains("m per pixel") && Catch::Contains("--relief"));
 }
+
+TEST_CASE("terrain analyze of a DEM with no-data outside its footprint counts only its cells",
+          "[cli][nodata]") {
+    // Luxembourg's DEM: 4316 valid cells of 8658 after reprojection. The closing used to count
+    // the outside as high roughness (52 % low, 48 % high, 8284 cells counted).
+    TempDir d;
+    const Run r =
+        run(d, "terrain analyze " + (test::data_dir() / "dem/luxembourg_elev.tif").string() +
+                   " --json a.json --border 0");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const auto j = nlohmann::json::parse(slurp(d / "a.json"));
+    const auto valid = j["elevation_m"]["valid_cells"].get<std::int64_t>();
+    CHECK(valid == 4316);
+    CHECK(j["classes_pct"]["cells_counted"].get<std::int64_t>() == valid);
+    CHECK(j["closed_classes_pct"]["cells_counted"].get<std::int64_t>() == valid);
+    CHECK(j["closed_classes_pct"]["low"].get<double>() == Approx(100));
+    CHECK_THAT(r.out, Catch::Contains("closed classes   low 100.00 %"));
+}

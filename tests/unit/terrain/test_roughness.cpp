@@ -1,6 +1,11 @@
+#include "ecoterra/random.hpp"
+#include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/filters.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
 #include "ecoterra/terrain/roughness.hpp"
+#include "ecoterra/terrain/spectral.hpp"
+#include "support/temp_dir.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -170,4 +175,114 @@ TEST_CASE("Missions start low, end low or semi, and keep their length and border
     CHECK_THROWS_WITH(plan_missions(raw, raw, opt),
                       Catch::Contains("a 80 m mission does not fit in this 50 x 50 m terrain less "
                                       "its 5 m border"));
+}
+
+namespace {
+/// Valid cells of a class map inside a border of b cells.
+std::int64_t valid_inside(const RasterU8& c, int b) {
+    std::int64_t n = 0;
+    for (int j = b; j < c.ny() - b; ++j)
+        for (int i = b; i < c.nx() - b; ++i) n += c(i, j) < 3;
+    return n;
+}
+/// Checks the no-data invariants of the classes and their closing.
+void check_nodata_stays_out(const RasterD& z, const AnalysisOptions& opt) {
+    const TerrainAnalysis a = analyze_terrain(z, opt);
+    const int b = static_cast<int>(std::ceil(opt.border_m / z.cell_size() - 1e-9));
+    std::int64_t nan_cells = 0;
+    for (int j = 0; j < z.ny(); ++j)
+        for (int i = 0; i < z.nx(); ++i) {
+            const bool hole = std::isnan(z(i, j));
+            nan_cells += hole;
+            // No-data is no class before the closing and after it.
+            CHECK((a.class_map(i, j) == 255) == hole);
+            CHECK((a.closed_class_map(i, j) == 255) == hole);
+            // The closing is extensive on the valid cells.
+            if (!hole) CHECK(a.closed_class_map(i, j) >= a.class_map(i, j));
+        }
+    CHECK(a.classes.cells == valid_inside(a.class_map, b));
+    CHECK(a.closed_classes.cells == a.classes.cells);
+    CHECK(a.elevation.valid == z.size() - nan_cells);
+    CHECK(a.classes.low_pct + a.classes.semi_pct + a.classes.high_pct == Approx(100));
+    CHECK(a.closed_classes.low_pct + a.closed_classes.semi_pct + a.closed_classes.high_pct ==
+          Approx(100));
+    CHECK(std::isfinite(a.psd.slope));
+    CHECK(std::isfinite(a.fd.dimension));
+}
+} // namespace
+
+TEST_CASE("No-data stays out of every class and of the closing: shipped DEMs",
+          "[roughness][nodata][data]") {
+    for (const char* f : {"dem/luxembourg_elev.tif", "dem/olinda_dem_utm25s.tif"}) {
+        INFO(f);
+        std::vector<std::string> warnings;
+        const RasterD z = io::read_raster(test::data_dir() / f, &warnings);
+        AnalysisOptions opt;
+        opt.border_m = 0;
+        // Thresholds and a disk that give every class and a closing that changes the map at
+        // these ~90-800 m cells.
+        opt.thresholds.low = 0.01;
+        opt.thresholds.high = 0.05;
+        opt.closing_radius_m = 2.5 * z.cell_size();
+        check_nodata_stays_out(z, opt);
+        opt.closing_radius_m = 0;
+        const TerrainAnalysis a = analyze_terrain(z, opt);
+        CHECK(a.closed_classes.low_pct == Approx(a.classes.low_pct)); // radius 0: no change
+    }
+}
+
+TEST_CASE("No-data stays out of every class and of the closing: fractal and white-noise DEMs "
+          "with holes",
+          "[roughness][nodata]") {
+    const GridSpec g{96, 80, 0.05, 0, 0};
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+        INFO("seed " << seed);
+        RasterD z = fbm_surface(g, FbmParams{0.2 + 0.1 * static_cast<double>(seed), 0.05}, seed);
+        Rng rng(seed, "test.holes");
+        if (seed % 2 == 0) // white noise instead of a fractal
+            for (Eigen::Index k = 0; k < z.size(); ++k) z.data()[k] = rng.uniform(0, 0.05);
+        // Holes: random disks, and on odd seeds an outer band of no-data (a DEM's footprint).
+        for (int h = 0; h < 5; ++h) {
+            const double cx = rng.uniform(0, g.width_m()), cy = rng.uniform(0, g.height_m());
+            const double r = rng.uniform(0.05, 0.5);
+            for (int j = 0; j < g.ny; ++j)
+                for (int i = 0; i < g.nx; ++i)
+                    if (std::hypot(g.x_of(i) - cx, g.y_of(j) - cy) < r) z(i, j) = std::nan("");
+        }
+        if (seed % 2 == 1)
+            for (int j = 0; j < g.ny; ++j)
+                for (int i = 0; i < g.nx; ++i)
+                    if (i < 6 || j > g.ny - 8) z(i, j) = std::nan("");
+        AnalysisOptions opt;
+        opt.border_m = seed % 3 == 0 ? 0.0 : 0.25;
+        opt.closing_radius_m = 0.1 * static_cast<double>(seed % 4);
+        check_nodata_stays_out(z, opt);
+    }
+}
+
+TEST_CASE("A smooth DEM with a hole stays smooth after the closing", "[roughness][nodata]") {
+    // Before the fix the hole counted as high roughness and the closing spread it.
+    RasterD z = plane(GridSpec{60, 60, 0.1, 0, 0}, 0.01, 0.0);
+    for (int j = 20; j < 40; ++j)
+        for (int i = 20; i < 40; ++i) z(i, j) = std::nan("");
+    AnalysisOptions opt;
+    opt.border_m = 0;
+    opt.closing_radius_m = 0.5;
+    const TerrainAnalysis a = analyze_terrain(z, opt);
+    CHECK(a.classes.low_pct == Approx(100));
+    CHECK(a.closed_classes.low_pct == Approx(100));
+    CHECK(a.closed_classes.cells == 60 * 60 - 400);
+    // Missions never cross the hole.
+    MissionOptions m;
+    m.count = 40;
+    m.length_m = 3;
+    m.border_m = 0.5;
+    for (const auto& ms : plan_missions(z, opt, m))
+        for (int k = 0; k <= 100; ++k) {
+            const double t = k / 100.0;
+            const auto c = z.cell_at(ms.start_x_m + t * (ms.goal_x_m - ms.start_x_m),
+                                     ms.start_y_m + t * (ms.goal_y_m - ms.start_y_m));
+            REQUIRE(c[0] >= 0);
+            CHECK(!std::isnan(z(c[0], c[1])));
+        }
 }

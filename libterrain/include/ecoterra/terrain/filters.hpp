@@ -26,10 +26,11 @@ double gaussian_sigma_for_cutoff(double cutoff_m);
 /// Offsets (di, dj) of a disk of radius radius_px cells (di^2 + dj^2 <= r^2).
 std::vector<std::array<int, 2>> disk_offsets(double radius_px);
 
-/// Grey-scale dilation (max) and erosion (min) with a disk, ignoring cells outside the grid.
-RasterU8 dilate_disk(const RasterU8& r, double radius_px);
-RasterU8 erode_disk(const RasterU8& r, double radius_px);
+/// Grey-scale dilation (max) and erosion (min) with a disk, ignoring cells outside the grid and
+/// cells holding `nodata` (0..255; -1: none), which keep their value.
+RasterU8 dilate_disk(const RasterU8& r, double radius_px, int nodata = -1);
+RasterU8 erode_disk(const RasterU8& r, double radius_px, int nodata = -1);
 /// Morphological closing (dilation then erosion) with a disk of radius radius_px cells.
-RasterU8 close_disk(const RasterU8& r, double radius_px);
+RasterU8 close_disk(const RasterU8& r, double radius_px, int nodata = -1);
 
 } // namespace ecoterra::terrain

@@ -65,7 +65,7 @@ struct ClassAreas {
 ClassAreas class_areas(const RasterU8& classes, double border_m);
 
 /// Morphological closing of the class map with a disk of radius radius_m (m): rough areas grow
-/// over narrow smooth gaps (Majhor & Bos Fig. 4b). NODATA is treated as high roughness.
+/// over narrow smooth gaps (Majhor & Bos Fig. 4b). NODATA cells take no part and stay NODATA.
 RasterU8 close_classes(const RasterU8& classes, double radius_m);
 
 struct SlopeAspect {

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 namespace ex = ecoterra::exporter;
 
 struct SceneArgs {
-    std::string run, format, output, region, species_meshes;
+    std::string run, format, output, region, species_meshes, origin;
     int snapshot = -1, decimate = 1;
     double window_m = 10;
     bool force = false, gltf_nodes = false, no_pictures = false;
@@ -50,7 +50,9 @@ void run_scene(const SceneArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     refuse_output_over_input("-o", a.output, {a.run});
     const auto format = ex::scene_format_from_name(a.format);
-    const ex::Scene s = load(a);
+    std::optional<std::array<double, 2>> origin;
+    if (!a.origin.empty()) origin = ex::parse_origin(a.origin, "--origin");
+    const ex::Scene s = ex::in_local_frame(load(a), origin);
     ex::ExportOptions opt;
     opt.terrain_step = a.decimate;
     opt.gltf_nodes = a.gltf_nodes;
@@ -81,7 +83,8 @@ void run_scene(const SceneArgs& a) {
             {"year", s.year},
             {"trees", s.trees.size()},
             {"axes", "glTF: right-handed, +Y up, metres; (x, y, z) glTF = (east, up, -north) "
-                     "of the run"},
+                     "of the local frame"},
+            {"frame", s.frame.to_json()},
             {"instancing", a.gltf_nodes ? "one node per tree (extras: plant_id, species, stage, "
                                           "dbh_m, height_m, crown_radius_m)"
                                         : "EXT_mesh_gpu_instancing: per (species, stage) a "
@@ -143,6 +146,9 @@ void add_export_scene_commands(CLI::App& exp) {
     sc->add_option("--format", a->format, "mavs, gazebo, unreal or gltf")->required();
     sc->add_option("--decimate", a->decimate, "keep every k-th terrain vertex in meshes")
         ->capture_default_str();
+    sc->add_option("--origin", a->origin,
+                   "X,Y: the local origin of the scene's coordinates, m in the run's frame "
+                   "(default: the run terrain's south-west corner); frame.json records it");
     sc->add_flag("--gltf-nodes", a->gltf_nodes,
                  "glTF: one node per tree (extras per tree) instead of GPU instancing");
     sc->add_option("--species-meshes", a->species_meshes,

@@ -77,6 +77,22 @@ RasterD read_run_terrain(const fs::path& run) {
     return terrain::io::read_hdf5(run, "/terrain/elevation");
 }
 
+RasterD read_run_soil(const fs::path& run, const std::string& name, const GridSpec& grid) {
+    const std::string what = run.string() + ": /soil/" + name;
+    bool has = false;
+    {
+        H5::H5File f = open_run(run);
+        has = f.nameExists("soil") && f.openGroup("soil").nameExists(name);
+    }
+    if (!has) throw InputError(what + " is missing");
+    RasterD r = terrain::io::read_hdf5(run, "/soil/" + name);
+    if (r.nx() != grid.nx || r.ny() != grid.ny)
+        throw InputError(what + " is " + std::to_string(r.ny()) + " x " + std::to_string(r.nx()) +
+                         ", not " + std::to_string(grid.ny) + " x " + std::to_string(grid.nx) +
+                         " (the terrain's grid)");
+    return RasterD(grid, r.array());
+}
+
 bool snapshot_has_dataset(const fs::path& run, int index, const std::string& name) {
     bool has = false;
     open_snapshot(run, resolve_snapshot_index(run, index),

@@ -193,7 +193,7 @@ void export_scenes(const json& a, const fs::path& run, const fs::path& stage,
             const std::string name = "scene_" + f.get<std::string>();
             ex::OutputFolder folder(stage / name, false);
             opt.final_dir = final_dir / name;
-            ex::write_scene(s, format, folder, opt);
+            ex::write_scene(ex::in_local_frame(s), format, folder, opt);
             folder.commit();
         }
     }

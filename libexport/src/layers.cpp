@@ -103,25 +103,38 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
          veg.leaf_area_m2},
     };
     const std::vector<std::pair<std::string, std::string>> water = {
-        {"soil_moisture", "relative soil moisture of the root zone (0 wilting point .. 1 field "
-                          "capacity and above)"},
         {"surface_water_depth_m", "standing water depth, m"},
         {"water_table_depth_m", "depth of the water table below the surface, m"},
         {"catchment_id", "catchment the cell drains to (id)"}};
+    auto cut = [&](RasterD r) {
+        return s.region ? r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny()) : r;
+    };
     if (eco::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) {
-        RasterD r = eco::read_snapshot_raster(s.run, s.snapshot, "ground_cover", full);
-        if (s.region) r = r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny());
         layers.push_back({"ground_cover.tif", "1",
                           "cover of the ground layer (grasses and herbs), fraction of the ground",
-                          r});
+                          cut(eco::read_snapshot_raster(s.run, s.snapshot, "ground_cover", full))});
     }
-    for (const auto& [name, what] : water) {
-        RasterD r = eco::read_snapshot_raster(s.run, s.snapshot, name, full);
-        if (s.region) r = r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny());
-        layers.push_back({name + ".tif",
-                          name == "soil_moisture" ? "1" : (name == "catchment_id" ? "id" : "m"),
-                          what, r});
+    // The snapshot holds the root zone's volumetric water content; the relative moisture follows
+    // from the run's soil: (theta - theta_wp) / (theta_fc - theta_wp).
+    const RasterD theta = cut(eco::read_snapshot_raster(s.run, s.snapshot, "soil_moisture", full));
+    const RasterD fc = cut(eco::read_run_soil(s.run, "field_capacity", full));
+    const RasterD wp = cut(eco::read_run_soil(s.run, "wilting_point", full));
+    RasterD relative(theta.grid(), std::numeric_limits<double>::quiet_NaN());
+    for (Eigen::Index k = 0; k < theta.size(); ++k) {
+        const double span = fc.data()[k] - wp.data()[k];
+        if (span > 0) relative.data()[k] = (theta.data()[k] - wp.data()[k]) / span;
     }
+    layers.push_back({"soil_water_content_m3_per_m3.tif", "m3/m3",
+                      "volumetric water content of the root zone (the snapshot's soil_moisture)",
+                      theta});
+    layers.push_back({"relative_soil_moisture.tif", "1",
+                      "relative soil moisture of the root zone: (theta - wilting point) / (field "
+                      "capacity - wilting point), 0 at the wilting point, 1 at field capacity, "
+                      "above 1 wetter (nodata: a soil with field capacity at the wilting point)",
+                      relative});
+    for (const auto& [name, what] : water)
+        layers.push_back({name + ".tif", name == "catchment_id" ? "id" : "m", what,
+                          cut(eco::read_snapshot_raster(s.run, s.snapshot, name, full))});
     std::string table = "| file | unit | what |\n|---|---|---|\n";
     for (auto& l : layers) {
         l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain

@@ -31,7 +31,9 @@ Stage stage_of(double height_m, double max_height_m) {
     return Stage::adult;
 }
 
-Region parse_region(const std::string& text, const std::string& option) {
+namespace {
+/// Comma-separated finite numbers; InputError naming `option` and the text otherwise.
+std::vector<double> parse_numbers(const std::string& text, const std::string& option) {
     std::vector<double> v;
     std::stringstream in(text);
     std::string part;
@@ -47,6 +49,52 @@ Region parse_region(const std::string& text, const std::string& option) {
             throw InputError(option + " " + text + ": '" + part + "' is not a number");
         v.push_back(d);
     }
+    return v;
+}
+} // namespace
+
+std::array<double, 2> parse_origin(const std::string& text, const std::string& option) {
+    const auto v = parse_numbers(text, option);
+    if (v.size() != 2) throw InputError(option + " " + text + ": give two numbers X,Y (m)");
+    return {v[0], v[1]};
+}
+
+nlohmann::json LocalFrame::to_json() const {
+    return {{"origin_x_m", origin_x_m},
+            {"origin_y_m", origin_y_m},
+            {"crs_wkt", crs_wkt},
+            {"meaning", "positions in this export are local, metres: x_run = x + origin_x_m, "
+                        "y_run = y + origin_y_m (east, north; z unchanged) in the run's frame" +
+                            std::string(crs_wkt.empty() ? " (local metres: the run's terrain had "
+                                                          "no coordinate system)"
+                                                        : ", whose coordinate system is crs_wkt")}};
+}
+
+Scene in_local_frame(const Scene& s, const std::optional<std::array<double, 2>>& origin) {
+    Scene out = s;
+    const double ox = origin ? (*origin)[0] : s.run_corner_x_m;
+    const double oy = origin ? (*origin)[1] : s.run_corner_y_m;
+    // Shift from the scene's present frame to the new one.
+    const double dx = ox - s.frame.origin_x_m, dy = oy - s.frame.origin_y_m;
+    GridSpec g = s.terrain.grid();
+    g.origin_x_m -= dx;
+    g.origin_y_m -= dy;
+    out.terrain = RasterD(g, s.terrain.array());
+    out.terrain.set_crs_wkt(s.terrain.crs_wkt());
+    for (auto& t : out.trees) t.x_m -= dx, t.y_m -= dy;
+    for (auto& t : out.tufts) t.x_m -= dx, t.y_m -= dy;
+    if (out.region) {
+        out.region->x0_m -= dx, out.region->x1_m -= dx;
+        out.region->y0_m -= dy, out.region->y1_m -= dy;
+    }
+    out.frame.origin_x_m = ox;
+    out.frame.origin_y_m = oy;
+    out.frame.crs_wkt = s.terrain.crs_wkt();
+    return out;
+}
+
+Region parse_region(const std::string& text, const std::string& option) {
+    const auto v = parse_numbers(text, option);
     if (v.size() != 4)
         throw InputError(option + " " + text + ": give four numbers X0,Y0,X1,Y1 (m)");
     if (!(v[2] > v[0] && v[3] > v[1]))
@@ -156,6 +204,9 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
         s.species.push_back(
             {sp.name, sp.crown_shape, sp.max_height_m, sp.evergreen, sp.leaf_area_per_crown_area});
     const RasterD full = eco::read_run_terrain(run);
+    s.run_corner_x_m = full.grid().origin_x_m;
+    s.run_corner_y_m = full.grid().origin_y_m;
+    s.frame.crs_wkt = full.crs_wkt();
     s.region = region;
     if (region) {
         const auto w = region_window(full.grid(), *region, run.string() + ": --region");

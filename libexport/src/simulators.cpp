@@ -77,7 +77,11 @@ std::string header_lines(const Scene& s) {
            std::to_string(s.year) + "), " + std::to_string(s.trees.size()) + " trees, terrain " +
            std::to_string(s.terrain.nx()) + " x " + std::to_string(s.terrain.ny()) + " cells of " +
            num(s.terrain.cell_size()) + " m from (" + num(s.terrain.grid().origin_x_m) + ", " +
-           num(s.terrain.grid().origin_y_m) + ") m.\n";
+           num(s.terrain.grid().origin_y_m) + ") m.\n\nFrame: positions are local, about (" +
+           num(s.frame.origin_x_m) + ", " + num(s.frame.origin_y_m) +
+           ") m of the run's frame (add it back for the run's or the map's coordinates; "
+           "frame.json holds it with the coordinate system" +
+           (s.frame.crs_wkt.empty() ? ": none, a generated terrain" : "") + ").\n";
 }
 
 std::string notes_text(const OutputFolder& folder) {
@@ -265,9 +269,11 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                        {"height", s.tufts[tufts[0]].height_m},
                        {"diameter", kTuftStemDiameterM}});
     }
+    // One separator between the folder and the names MAVS appends ("out/" given as -o must not
+    // become "out//").
     const fs::path abs =
-        fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal();
-    json scene = {{"PathToMeshes", abs.string() + "/"},
+        fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal() / "";
+    json scene = {{"PathToMeshes", abs.string()},
                   {"UseFullPaths", false},
                   {"Surface Mesh",
                    {{{"Mesh", "terrain.obj"},
@@ -278,7 +284,7 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                      {"Material", "dry"},
                      {"Cone Index", 250.0}}}},
                   {"Objects", objects},
-                  {"VegOverrideFile", abs.string() + "/veg_override.json"}};
+                  {"VegOverrideFile", (abs / "veg_override.json").string()}};
     folder.write("scene.json", scene.dump(1) + "\n");
     folder.write("veg_override.json", json({{"veg_models", veg}}).dump(1) + "\n");
     folder.write("truth.txt", truth);
@@ -522,6 +528,7 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
 
 void write_scene(const Scene& s, SceneFormat format, OutputFolder& folder,
                  const ExportOptions& opt) {
+    folder.write("frame.json", s.frame.to_json().dump(2) + "\n");
     switch (format) {
     case SceneFormat::mavs:
         write_mavs(s, folder, opt);
@@ -534,8 +541,9 @@ void write_scene(const Scene& s, SceneFormat format, OutputFolder& folder,
         break;
     case SceneFormat::gltf:
         folder.write("scene.glb", glb_bytes(s, opt));
-        folder.write("README.md", "# glTF scene from ecoterra\n\nscene.glb: glTF 2.0 binary, +Y "
-                                  "up, metres; see docs/exports.md.\n");
+        folder.write("README.md", "# glTF scene from ecoterra\n\n" + header_lines(s) +
+                                      "\nscene.glb: glTF 2.0 binary, +Y up, metres; see "
+                                      "docs/exports.md.\n");
         break;
     }
 }

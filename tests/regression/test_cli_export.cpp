@@ -334,10 +334,10 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
 
     SECTION("layers: GDAL reads every layer on the terrain's grid") {
         succeeds(dir, "export layers run.h5 -o layers");
-        for (const char* f :
-             {"elevation_m", "canopy_height_m", "stems_per_ha", "basal_area_m2_per_ha",
-              "dominant_species", "leaf_area_m2", "soil_moisture", "surface_water_depth_m",
-              "water_table_depth_m", "catchment_id"}) {
+        for (const char* f : {"elevation_m", "canopy_height_m", "stems_per_ha",
+                              "basal_area_m2_per_ha", "dominant_species", "leaf_area_m2",
+                              "soil_water_content_m3_per_m3", "relative_soil_moisture",
+                              "surface_water_depth_m", "water_table_depth_m", "catchment_id"}) {
             const RasterD l = terrain::io::read_gdal(dir / "layers" / (std::string(f) + ".tif"));
             CHECK(l.nx() == dem.nx());
             CHECK(l.ny() == dem.ny());
@@ -347,6 +347,32 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         }
         const RasterD z = terrain::io::read_gdal(dir / "layers/elevation_m.tif");
         CHECK((z.array() - dem.array()).abs().maxCoeff() < 1e-4);
+        // The moisture layers hold what their labels say, from the run's own soil and water:
+        // the volumetric content is the snapshot's, the relative moisture is 0 at the wilting
+        // point and 1 at field capacity (it once held the volumetric content labelled relative).
+        const RasterD theta =
+            eco::read_snapshot_raster(dir / "run.h5", -1, "soil_moisture", dem.grid());
+        const RasterD fc = terrain::io::read_hdf5(dir / "run.h5", "/soil/field_capacity");
+        const RasterD wp = terrain::io::read_hdf5(dir / "run.h5", "/soil/wilting_point");
+        const RasterD vol = terrain::io::read_gdal(dir / "layers/soil_water_content_m3_per_m3.tif");
+        const RasterD rel = terrain::io::read_gdal(dir / "layers/relative_soil_moisture.tif");
+        double mean_theta = 0, mean_rel = 0;
+        for (Eigen::Index k = 0; k < theta.size(); ++k) {
+            const double t = theta.data()[k], f = fc.data()[k], w = wp.data()[k];
+            REQUIRE(f > w);
+            CHECK(vol.data()[k] == Approx(t).epsilon(1e-6)); // Float32 in the file
+            CHECK(rel.data()[k] == Approx((t - w) / (f - w)).margin(1e-5));
+            mean_theta += t;
+            mean_rel += rel.data()[k];
+        }
+        mean_theta /= static_cast<double>(theta.size());
+        mean_rel /= static_cast<double>(theta.size());
+        CHECK(mean_theta < 0.6);            // a volumetric content, m3/m3
+        CHECK(mean_rel > mean_theta + 0.1); // a silt loam near field capacity: near 1
+        const auto info = shell(dir, "gdalinfo layers/soil_water_content_m3_per_m3.tif");
+        CHECK_THAT(info.out, Catch::Contains("UNITS=m3/m3"));
+        CHECK_THAT(io::read_text(dir / "layers/README.md"),
+                   Catch::Contains("| relative_soil_moisture.tif | 1 |"));
     }
 
     SECTION("region: only the stems inside, the terrain cut to whole cells") {
@@ -488,7 +514,8 @@ TEST_CASE("export layers: the input DEM's coordinate system is carried through t
     CHECK_THAT(eco::read_run_terrain(dir / "utm.h5").crs_wkt(), Catch::Contains("UTM zone 16N"));
     REQUIRE(test::run(dir, "export layers utm.h5 -o layers --region 500010,4000010,500030,4000030")
                 .code == 0);
-    for (const char* f : {"elevation_m", "stems_per_ha", "soil_moisture", "catchment_id"}) {
+    for (const char* f :
+         {"elevation_m", "stems_per_ha", "relative_soil_moisture", "catchment_id"}) {
         r = shell(dir, std::string("gdalinfo layers/") + f + ".tif");
         INFO(r.out);
         CHECK(r.code == 0);
@@ -647,4 +674,106 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     const double cell_ha = ba.cell_size() * ba.cell_size() / 1e4;
     for (const auto& p : snap.plants) expect += std::numbers::pi * p.dbh_m * p.dbh_m / 4;
     CHECK(ba_sum * cell_ha == Approx(expect).epsilon(0.05));
+}
+
+TEST_CASE("export scene: a DEM at a large northing exports about a local origin, to a millimetre",
+          "[export][cli][frame]") {
+    // float32 at northings of 4.5e6 m rounds to 0.5 m steps; every format must be local.
+    test::TempDir dir;
+    std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o plain.h5 --no-pictures").code == 0);
+    REQUIRE(test::run(dir, "export layers plain.h5 -o plain").code == 0);
+    const double ox = 612340, oy = 4512300;
+    auto r = shell(dir, "gdal_translate -q -a_srs EPSG:32616 -a_ullr 612340 4512340 612380 "
+                        "4512300 plain/elevation_m.tif utm.tif");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    json scene = test::small_scene(2);
+    scene["terrain"] = {{"file", "utm.tif"}};
+    std::ofstream(dir / "utm.json") << scene.dump(2);
+    succeeds(dir, "run utm.json -o utm.h5 --no-pictures");
+    const Scene s = load_scene(dir / "utm.h5", -1);
+    REQUIRE(s.trees.size() > 10);
+    const auto by_id = trees_by_id(s);
+    auto frame_is = [&](const json& f, double x, double y) {
+        CHECK(f["origin_x_m"].get<double>() == x);
+        CHECK(f["origin_y_m"].get<double>() == y);
+        CHECK_THAT(f["crs_wkt"].get<std::string>(), Catch::Contains("UTM zone 16N"));
+    };
+
+    // glTF: the instances' float32 translations, plus the sidecar's origin, give every stem.
+    succeeds(dir, "export scene utm.h5 --format gltf -o s.glb --no-pictures");
+    check_gltf_validator(dir, "s.glb");
+    frame_is(read_json(dir / "s.glb.json")["frame"], ox, oy);
+    const auto [j, bin] = read_glb(dir / "s.glb");
+    std::size_t seen = 0;
+    for (const auto& node : j["nodes"]) {
+        if (!node.contains("extensions") || !node["name"].get<std::string>().ends_with("_trunks"))
+            continue;
+        const auto& at = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+        const auto pos = accessor_floats(j, bin, at["TRANSLATION"]);
+        const auto ids = accessor_floats(j, bin, at["_PLANT_ID"]);
+        for (std::size_t k = 0; k < ids.size(); ++k, ++seen) {
+            const Tree& t = by_id.at(static_cast<std::int64_t>(ids[k]));
+            CHECK(pos[3 * k] + ox == Approx(t.x_m).margin(1e-3));
+            CHECK(-pos[3 * k + 2] + oy == Approx(t.y_m).margin(1e-3));
+        }
+    }
+    CHECK(seen == s.trees.size());
+
+    // Unreal: the table and the landscape share the local frame.
+    succeeds(dir, "export scene utm.h5 --format unreal -o ue --no-pictures");
+    frame_is(read_json(dir / "ue/frame.json"), ox, oy);
+    std::istringstream csv(io::read_text(dir / "ue/trees.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::size_t rows = 0;
+    while (std::getline(csv, line)) {
+        std::vector<std::string> f;
+        std::istringstream row(line);
+        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+        const Tree& t = by_id.at(std::stoll(f[0].substr(6)));
+        CHECK(std::abs(std::stod(f[4])) < 5000); // within the 40 m terrain, cm
+        CHECK(std::stod(f[4]) / 100 + ox == Approx(t.x_m).margin(1e-3));
+        CHECK(-std::stod(f[5]) / 100 + oy == Approx(t.y_m).margin(1e-3));
+        ++rows;
+    }
+    CHECK(rows == s.trees.size());
+    CHECK_THAT(io::read_text(dir / "ue/README.md"), Catch::Contains("Location X 100, Y -3900"));
+
+    // MAVS with an -o ending in '/': one separator in PathToMeshes, positions local.
+    succeeds(dir, "export scene utm.h5 --format mavs -o mavs/ --no-pictures");
+    const json ms = read_json(dir / "mavs/scene.json");
+    const std::string root = ms["PathToMeshes"];
+    CHECK(root.find("//") == std::string::npos);
+    CHECK(root.ends_with("/"));
+    CHECK(fs::exists(root + "terrain.obj"));
+    CHECK(fs::exists(ms["VegOverrideFile"].get<std::string>()));
+    frame_is(read_json(dir / "mavs/frame.json"), ox, oy);
+    for (const auto& obj : ms["Objects"])
+        for (const auto& inst : obj["Instances"]) {
+            const double x = inst["Position"][0].get<double>() + ox;
+            const double y = inst["Position"][1].get<double>() + oy;
+            std::size_t near = 0;
+            for (const auto& t : s.trees) near += std::hypot(t.x_m - x, t.y_m - y) < 1e-6;
+            CHECK(near == 1);
+        }
+
+    // Gazebo and a user's origin: poses are stems less that origin.
+    succeeds(dir,
+             "export scene utm.h5 --format gazebo -o gz --no-pictures --origin 612350,4512310");
+    frame_is(read_json(dir / "gz/frame.json"), 612350, 4512310);
+    const std::string world = io::read_text(dir / "gz/world.sdf");
+    for (const auto& t : s.trees) {
+        const auto p = world.find("<name>plant_" + std::to_string(t.id) + "</name><pose>");
+        REQUIRE(p != std::string::npos);
+        std::istringstream pose(world.substr(world.find("<pose>", p) + 6));
+        double x = 0, y = 0;
+        pose >> x >> y;
+        CHECK(x + 612350 == Approx(t.x_m).margin(1e-6));
+        CHECK(y + 4512310 == Approx(t.y_m).margin(1e-6));
+    }
+    r = test::run(dir, "export scene utm.h5 --format gazebo -o gz2 --origin 1,x");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--origin 1,x: 'x' is not a number"));
 }

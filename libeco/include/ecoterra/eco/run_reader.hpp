@@ -43,6 +43,11 @@ std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& pla
 std::vector<Species> read_run_species(const std::filesystem::path& run);
 /// The run's terrain (m), on the grid every other raster of the run shares.
 RasterD read_run_terrain(const std::filesystem::path& run);
+/// A soil raster of the run (`/soil/NAME`: field_capacity, wilting_point, porosity, ...; m3/m3 or
+/// as docs/formats.md lists) on `grid`; InputError naming the run and dataset if it is missing or
+/// of another size.
+RasterD read_run_soil(const std::filesystem::path& run, const std::string& name,
+                      const GridSpec& grid);
 /// A raster of snapshot `index` (e.g. soil_moisture, surface_water_depth_m, catchment_id,
 /// water_table_depth_m, on the terrain's grid; shade_fraction on the light grid) with the grid
 /// given; InputError naming the run, the snapshot and the dataset if it is missing or its size

@@ -8,6 +8,8 @@
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/raster.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -69,6 +71,16 @@ struct SpeciesLook {
     double leaf_area_per_crown_area = 4; ///< m2 of leaf per m2 of crown projection
 };
 
+/// Where a scene export's coordinates start: scene exports are written about a local origin so
+/// that float32 formats (glTF) and engines keep millimetres at a DEM's map coordinates; x_run =
+/// x_local + origin_x_m, y_run = y_local + origin_y_m, z unchanged.
+struct LocalFrame {
+    double origin_x_m = 0, origin_y_m = 0;
+    std::string crs_wkt; ///< the run's coordinate system (empty: local metres)
+    /// The frame as JSON for a sidecar (frame.json, the .glb's .json): origin, CRS and meaning.
+    nlohmann::json to_json() const;
+};
+
 struct Scene {
     std::filesystem::path run;
     std::string source; ///< how the files name the run (default: the run's path)
@@ -80,7 +92,19 @@ struct Scene {
     std::vector<SpeciesLook> species;
     std::vector<Tree> trees; ///< sorted by plant id
     std::vector<Tuft> tufts; ///< the ground layer, by species, then cell, then draw
+    /// The frame of the coordinates above: load_scene gives the run's own (origin 0, 0);
+    /// in_local_frame() moves a scene to a local one.
+    LocalFrame frame;
+    /// The run terrain's south-west corner (the whole terrain's, not a region's), run frame, m.
+    double run_corner_x_m = 0, run_corner_y_m = 0;
 };
+
+/// A copy of `s` about a local origin given in the run's frame (default: the run terrain's
+/// south-west corner, so that region cuts of one run share a frame): the terrain's grid origin,
+/// the trees and the tufts are shifted; the frame records the origin and the CRS.
+Scene in_local_frame(const Scene& s, const std::optional<std::array<double, 2>>& origin = {});
+/// "X,Y" (m, the run's frame); InputError naming `option` and the text otherwise.
+std::array<double, 2> parse_origin(const std::string& text, const std::string& option);
 
 /// The tufts of each grass species that has any: (species index, indices into Scene::tufts).
 std::vector<std::pair<int, std::vector<std::size_t>>> tuft_groups(const Scene& s);

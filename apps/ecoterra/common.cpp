@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include "ecoterra/error.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 
 #include <algorithm>
 #include <cstdarg>
@@ -45,7 +46,8 @@ void refuse_output_over_input(const std::string& option, const std::string& outp
                               const std::vector<std::string>& inputs) {
     namespace fs = std::filesystem;
     if (output.empty()) return;
-    for (const auto& in : inputs) {
+    for (const auto& reference : inputs) {
+        const std::string in = raster_file_part(reference);
         if (in.empty()) continue;
         std::error_code ec;
         const bool same = fs::exists(output, ec) && fs::exists(in, ec)
@@ -55,6 +57,48 @@ void refuse_output_over_input(const std::string& option, const std::string& outp
             throw InputError(option + " " + output + ": the output is the input " + in +
                              "; writing it would destroy the input (choose another path)");
     }
+}
+
+void claim_output(const std::string& option, const std::string& path, bool force) {
+    namespace fs = std::filesystem;
+    if (path.empty()) return;
+    std::error_code ec;
+    const auto st = fs::status(path, ec);
+    if (!fs::exists(st)) return;
+    const bool folder = fs::is_directory(st);
+    if (folder && fs::is_empty(path, ec)) return;
+    const std::string what = folder ? "the folder exists with files in it" : "the file exists";
+    if (!force)
+        throw InputError(option + " " + path + ": " + what +
+                         "; give --force to replace it (nothing was written)");
+    end_progress_line();
+    std::fprintf(stderr, "note: %s %s: %s and is replaced (--force)\n", option.c_str(),
+                 path.c_str(), what.c_str());
+}
+
+void add_force_flag(CLI::App* command, bool& force) {
+    command->add_flag("--force", force,
+                      "replace existing outputs (without it an existing output file, or an output "
+                      "folder with files in it, is refused)");
+}
+
+std::string raster_file_part(const std::string& reference) {
+    // "run.h5:/terrain/elevation": the part before ":/" when that part names an HDF5 file.
+    const auto at = reference.find(":/");
+    if (at == std::string::npos) return reference;
+    return reference.substr(0, at);
+}
+
+void refuse_over_run_file(const std::string& option, const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (path.empty() || !fs::is_regular_file(path, ec)) return;
+    // HDF5's signature at offset 0 (files ecoterra writes have no user block).
+    const std::string what = io::hdf5_run_kind(path);
+    if (!what.empty())
+        throw InputError(option + " " + path + ": is " + what +
+                         "; a raster written there would destroy it, with or without --force "
+                         "(choose another path)");
 }
 
 void print_warnings(const std::vector<std::string>& warnings) {

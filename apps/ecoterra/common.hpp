@@ -1,5 +1,6 @@
 #pragma once
 // Shared helpers of the ecoterra subcommands: provenance, timing, messages.
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -23,6 +24,18 @@ nlohmann::json provenance(const nlohmann::json& extra = nlohmann::json::object()
 /// the option, the output and the input. Empty paths are ignored.
 void refuse_output_over_input(const std::string& option, const std::string& output,
                               const std::vector<std::string>& inputs);
+/// The one rule for what a command writes (docs/user-guide.md, "Outputs"): an existing file, or
+/// an existing folder with anything in it, is refused unless `force` (InputError naming the option
+/// and the path, before any work and with nothing written); with `force` it is replaced when the
+/// command completes, and a note on stderr says so. Empty paths are ignored.
+void claim_output(const std::string& option, const std::string& path, bool force);
+/// Adds `--force` (see claim_output) to a subcommand.
+void add_force_flag(CLI::App* command, bool& force);
+/// Refuses to write a raster over an ecoterra run or snapshot file (a file with /checkpoint,
+/// /snapshots or /NNNN/plants), whatever --force says: a raster would destroy the run's contents.
+void refuse_over_run_file(const std::string& option, const std::string& path);
+/// The file part of a raster reference "FILE" or "FILE:/DATASET" (HDF5), for comparing paths.
+std::string raster_file_part(const std::string& reference);
 /// Prints each warning to stderr as "warning: ...".
 void print_warnings(const std::vector<std::string>& warnings);
 /// Prints each note to stderr as "note: ...".

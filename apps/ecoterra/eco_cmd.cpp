@@ -48,7 +48,7 @@ struct RunArgs {
     std::optional<int> years;
     std::optional<std::uint64_t> seed;
     std::vector<std::string> sets;
-    bool no_pictures = false;
+    bool no_pictures = false, force = false;
     bool output_given = false; ///< -o was on the command line (even with its default value)
 };
 
@@ -79,6 +79,18 @@ void run_run(const RunArgs& a) {
     eco::RunOptions opt;
     opt.resume = !a.resume.empty();
     opt.output = opt.resume ? fs::path(a.resume) : fs::path(a.output);
+    if (!opt.resume) {
+        // A new run replaces an earlier one only with --force (then atomically: a failed or
+        // killed run leaves the earlier one as it was); its picture folder likewise.
+        claim_output("-o", a.output, a.force);
+        if (!a.no_pictures)
+            claim_output("--pictures",
+                         a.pictures_dir.empty() ? (opt.output.parent_path() /
+                                                   (opt.output.stem().string() + ".pictures"))
+                                                      .string()
+                                                : a.pictures_dir,
+                         a.force);
+    }
     opt.pictures = !a.no_pictures;
     opt.picture_dir = a.pictures_dir;
     opt.provenance = provenance({{"scene_file", a.scene}, {"overrides", sets}});
@@ -130,10 +142,12 @@ void run_run(const RunArgs& a) {
 struct StandArgs {
     std::string run, json_out;
     int snapshot = -1;
+    bool force = false;
 };
 
 void run_stand(const StandArgs& a) {
     refuse_output_over_input("--json", a.json_out, {a.run});
+    claim_output("--json", a.json_out, a.force);
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
     const std::vector<double> dbh = s.values("dbh_m"); // 0 below breast height
@@ -189,10 +203,12 @@ void run_stand(const StandArgs& a) {
 struct ExportArgs {
     std::string run, output;
     int snapshot = -1;
+    bool force = false;
 };
 
 void run_export_vegetation(const ExportArgs& a) {
     refuse_output_over_input("-o", a.output, {a.run});
+    claim_output("-o", a.output, a.force);
     const auto info = eco::read_run_info(a.run);
     const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
     io::write_text_atomic(a.output, eco::stem_csv(s.plants, info.species));
@@ -217,6 +233,7 @@ void add_eco_commands(CLI::App& app) {
     run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
     run->add_flag("--no-pictures", r->no_pictures, "skip the pictures");
     run->add_option("--pictures", r->pictures_dir, "picture folder (default NAME.pictures/)");
+    add_force_flag(run, r->force);
     run->callback([r, output] {
         r->output_given = output->count() > 0;
         run_run(*r);
@@ -228,6 +245,7 @@ void add_eco_commands(CLI::App& app) {
     stand->add_option("--snapshot", s->snapshot, "snapshot index (negative: from the last)")
         ->capture_default_str();
     stand->add_option("--json", s->json_out, "also write the metrics as JSON");
+    add_force_flag(stand, s->force);
     stand->callback([s] { run_stand(*s); });
 
     auto d = std::make_shared<std::pair<std::string, bool>>("all", false);
@@ -248,6 +266,7 @@ void add_eco_commands(CLI::App& app) {
     veg->add_option("--snapshot", e->snapshot, "snapshot index (negative: from the last)")
         ->capture_default_str();
     veg->add_option("-o,--output", e->output, "CSV file")->required();
+    add_force_flag(veg, e->force);
     veg->callback([e] { run_export_vegetation(*e); });
     add_export_scene_commands(*exp);
 }

@@ -69,11 +69,9 @@ void run_scene(const SceneArgs& a) {
         const fs::path glb = a.output, side = a.output + ".json";
         fs::path picture = glb;
         picture.replace_extension(".picture.png");
-        std::error_code ec;
-        for (const auto& p : {glb, side, picture})
-            if (!a.force && fs::exists(p, ec))
-                throw InputError("-o " + a.output + ": " + p.string() +
-                                 " exists; give --force to replace it");
+        claim_output("-o", glb.string(), a.force);
+        claim_output("-o", side.string(), a.force);
+        if (!a.no_pictures) claim_output("-o", picture.string(), a.force);
         const std::string bytes = ex::glb_bytes(s, opt);
         nlohmann::json meta = {
             {"file", glb.filename().string()},
@@ -105,6 +103,7 @@ void run_scene(const SceneArgs& a) {
         report(s, "glTF", glb, bytes.size(), seconds(), {});
         return;
     }
+    claim_output("-o", a.output, a.force);
     ex::OutputFolder folder(a.output, a.force);
     ex::write_scene(s, format, folder, opt);
     const auto bytes = folder.bytes(); // the scene, without its picture
@@ -118,6 +117,7 @@ void run_layers(const SceneArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     refuse_output_over_input("-o", a.output, {a.run});
     const ex::Scene s = load(a);
+    claim_output("-o", a.output, a.force);
     ex::OutputFolder folder(a.output, a.force);
     ex::write_layers(s, folder, {a.window_m});
     const auto bytes = folder.bytes();

@@ -109,11 +109,14 @@ void run_et(EtArgs& a) {
 struct PondArgs {
     std::string dem, output, routing = "d8";
     double depth_m = 0.0;
+    bool force = false;
 };
 
 void run_pond(const PondArgs& a) {
     refuse_output_over_input("-o", a.output, {a.dem});
     const hydro::Routing routing = hydro::parse_routing(a.routing);
+    refuse_over_run_file("-o", a.output);
+    claim_output("-o", a.output, a.force);
     { io::AtomicOutput probe(a.output); }
     std::vector<std::string> warnings;
     const RasterD dem = terrain::io::read_raster(a.dem, &warnings);
@@ -143,6 +146,7 @@ struct RunArgs {
     std::string scene, output = "hydro.h5", png_dir;
     std::vector<std::string> sets;
     std::optional<long long> years, seed;
+    bool force = false;
 };
 
 void run_hydro_run(const RunArgs& a) {
@@ -156,6 +160,8 @@ void run_hydro_run(const RunArgs& a) {
     const hydro::HydroScene sc = with_context(a.scene, [&] {
         return hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);
     });
+    claim_output("-o", a.output, a.force);
+    claim_output("--png", a.png_dir, a.force);
     json prov = provenance({{"scene_file", a.scene}, {"overrides", sets}});
     if (sc.observed) {
         print_notes(hydro::fill_report(*sc.observed));
@@ -245,6 +251,7 @@ void add_hydro_command(CLI::App& app) {
             "mfd (multiple directions)")
         ->capture_default_str();
     pond->add_option("-o,--output", p->output, "HDF5 output file")->required();
+    add_force_flag(pond, p->force);
     pond->callback([p] { run_pond(*p); });
 
     auto r = std::make_shared<RunArgs>();
@@ -255,6 +262,7 @@ void add_hydro_command(CLI::App& app) {
     run->add_option("--seed", r->seed, "random seed (overrides simulation.seed)");
     run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
     run->add_option("--png", r->png_dir, "write pictures of the final state into this folder");
+    add_force_flag(run, r->force);
     run->callback([r] { run_hydro_run(*r); });
 }
 

@@ -25,7 +25,7 @@ using nlohmann::json;
 
 struct MobilityArgs {
     std::string run, stems, dem, vehicle, json_out, layout = "random", pictures;
-    bool no_pictures = false;
+    bool no_pictures = false, force = false;
     int snapshot = -1, lines = 200;
     long long seed = 1;
     double length_m = 50;
@@ -51,8 +51,11 @@ void run_mobility(const MobilityArgs& a) {
         for (const auto& p : {a.run, a.stems, a.dem})
             if (!p.empty()) inputs.push_back(p);
         refuse_output_over_input("--json", a.json_out, inputs);
+        claim_output("--json", a.json_out, a.force);
         io::AtomicOutput probe(a.json_out); // the folder exists: fail now, not after the lines
     }
+    claim_output("--pictures", picture_dir(a.pictures, a.no_pictures, a.json_out).string(),
+                 a.force);
     const mobility::Vehicle v = mobility::load_vehicle(a.vehicle);
     mobility::StandLinesOptions opt;
     opt.lines = a.lines;
@@ -114,7 +117,7 @@ void run_mobility(const MobilityArgs& a) {
 
 struct TraverseArgs {
     std::string dem, vehicle, missions, json_out, pictures;
-    bool no_pictures = false;
+    bool no_pictures = false, force = false;
     double speed = 0;
     int count = 20;
     long long seed = 1;
@@ -123,8 +126,11 @@ struct TraverseArgs {
 void run_traverse(const TraverseArgs& a) {
     if (!a.json_out.empty()) {
         refuse_output_over_input("--json", a.json_out, {a.dem, a.vehicle, a.missions});
+        claim_output("--json", a.json_out, a.force);
         io::AtomicOutput probe(a.json_out);
     }
+    claim_output("--pictures", picture_dir(a.pictures, a.no_pictures, a.json_out).string(),
+                 a.force);
     const mobility::Vehicle v = mobility::load_vehicle(a.vehicle);
     std::vector<std::string> warnings;
     const RasterD dem = terrain::io::read_raster(a.dem, &warnings);
@@ -190,6 +196,7 @@ void add_mobility_command(CLI::App& app) {
     tr->add_option("--pictures", t->pictures,
                    "picture folder (default: NAME.pictures beside --json NAME.json)");
     tr->add_flag("--no-pictures", t->no_pictures, "write no picture");
+    add_force_flag(tr, t->force);
     tr->callback([t] { run_traverse(*t); });
 
     auto a = std::make_shared<MobilityArgs>();
@@ -214,6 +221,7 @@ void add_mobility_command(CLI::App& app) {
     m->add_option("--pictures", a->pictures,
                   "picture folder (default: NAME.pictures beside --json NAME.json)");
     m->add_flag("--no-pictures", a->no_pictures, "write no pictures");
+    add_force_flag(m, a->force);
     m->callback([a] { run_mobility(*a); });
 }
 

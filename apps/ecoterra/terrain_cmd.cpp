@@ -34,7 +34,7 @@ struct GenerateArgs {
     std::string preset, method, config, output, format;
     std::optional<long long> size, nx, ny, seed;
     std::optional<double> cell, origin_x, origin_y;
-    bool mavs_compat = false;
+    bool mavs_compat = false, force = false;
     std::vector<ParamFlag> params = {
         {"--D", "D", "fractal dimension D in (2, 3) (wm, fbm)", {}},
         {"--M", "M", "number of W-M ridges (wm)", {}},
@@ -127,7 +127,9 @@ void run_generate(const GenerateArgs& a) {
     const json spec = build_spec(a);
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
                                          : terrain::io::format_from_name(a.format);
-    // Check the output folder before the (possibly long) generation.
+    // Check the output before the (possibly long) generation.
+    refuse_over_run_file("-o", a.output);
+    claim_output("-o", a.output, a.force);
     { ecoterra::io::AtomicOutput probe(a.output); }
     GeneratedTerrain t = [&] {
         // Progress (with an ETA) for large grids: a 2017 x 2017 multifractal takes seconds.
@@ -155,6 +157,7 @@ void run_generate(const GenerateArgs& a) {
 
 struct AnalyzeArgs {
     std::string input, json_out, png_dir, estimator = "variogram";
+    bool force = false;
     AnalysisOptions opt;
 };
 
@@ -179,6 +182,8 @@ void run_analyze(AnalyzeArgs& a) {
     else
         throw InputError("--fd-estimator must be variogram or madogram, got '" + a.estimator + "'");
     a.opt.validate();
+    claim_output("--json", a.json_out, a.force);
+    claim_output("--png", a.png_dir, a.force);
     if (!a.json_out.empty()) {
         ecoterra::io::AtomicOutput probe(a.json_out);
     }
@@ -210,6 +215,7 @@ void run_analyze(AnalyzeArgs& a) {
 
 struct MissionArgs {
     std::string input, output, json_out;
+    bool force = false;
     AnalysisOptions opt;
     MissionOptions m;
 };
@@ -220,6 +226,8 @@ void run_missions(MissionArgs& a) {
     a.opt.validate();
     a.m.border_m = a.opt.border_m;
     a.m.validate();
+    claim_output("-o", a.output, a.force);
+    claim_output("--json", a.json_out, a.force);
     std::vector<std::string> warnings;
     const RasterD z = terrain::io::read_raster(a.input, &warnings);
     print_warnings(warnings);
@@ -257,12 +265,17 @@ void run_missions(MissionArgs& a) {
 
 struct ConvertArgs {
     std::string input, output, format;
+    bool force = false;
 };
 
 void run_convert(const ConvertArgs& a) {
-    refuse_output_over_input("-o", a.output, {a.input});
+    // "run.h5:/terrain/elevation" names the file run.h5: converting it onto itself would leave
+    // only the raster.
+    refuse_output_over_input("output", a.output, {raster_file_part(a.input)});
     const auto format = a.format.empty() ? terrain::io::format_from_path(a.output)
                                          : terrain::io::format_from_name(a.format);
+    refuse_over_run_file("output", a.output);
+    claim_output("output", a.output, a.force);
     std::vector<std::string> warnings;
     const RasterD z = terrain::io::read_raster(a.input, &warnings);
     terrain::io::WriteOptions wo;
@@ -306,6 +319,7 @@ void add_terrain_command(CLI::App& app) {
                     ".gazebo.png .obj)")
         ->required();
     gen->add_option("--format", g->format, "force a format: hdf5 asc geotiff png gazebo-png obj");
+    add_force_flag(gen, g->force);
     gen->callback([g] { run_generate(*g); });
 
     // analyze
@@ -340,6 +354,7 @@ void add_terrain_command(CLI::App& app) {
     an->add_option("--fd-tolerance", a->opt.fd.tolerance,
                    "largest log10 residual inside the linear range")
         ->capture_default_str();
+    add_force_flag(an, a->force);
     an->callback([a] { run_analyze(*a); });
 
     // missions
@@ -352,6 +367,7 @@ void add_terrain_command(CLI::App& app) {
     add_analysis_options(mi, m->opt);
     mi->add_option("-o,--output", m->output, "CSV file (or .json)");
     mi->add_option("--json", m->json_out, "also write JSON here");
+    add_force_flag(mi, m->force);
     mi->callback([m] { run_missions(*m); });
 
     // convert
@@ -361,6 +377,7 @@ void add_terrain_command(CLI::App& app) {
     cv->add_option("output", c->output, "output raster; the extension picks the format")
         ->required();
     cv->add_option("--format", c->format, "force a format: hdf5 asc geotiff png gazebo-png obj");
+    add_force_flag(cv, c->force);
     cv->callback([c] { run_convert(*c); });
 }
 

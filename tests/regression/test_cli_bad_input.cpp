@@ -128,11 +128,12 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
     for (const char* moment : {"0.05", "0.2", "0.4", "0.8", "1.2"}) {
         CAPTURE(moment);
         // The new run in the background, killed with SIGKILL after `moment` seconds.
-        const std::string cmd = "cd '" + dir.path().string() +
-                                "' && ('" ECOTERRA_BIN
-                                "' run b.json -o run.h5 --no-pictures > /dev/null 2>&1 & p=$!; "
-                                "sleep " +
-                                std::string(moment) + "; kill -9 $p; wait $p) 2>/dev/null; true";
+        const std::string cmd =
+            "cd '" + dir.path().string() +
+            "' && ('" ECOTERRA_BIN
+            "' run b.json -o run.h5 --force --no-pictures > /dev/null 2>&1 & p=$!; "
+            "sleep " +
+            std::string(moment) + "; kill -9 $p; wait $p) 2>/dev/null; true";
         REQUIRE(std::system(cmd.c_str()) == 0);
         const auto after = eco::read_snapshot_plants(dir / "run.h5", -1);
         CHECK(after.year == before.year);
@@ -149,7 +150,8 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
     CHECK(test::run(dir, "run --resume run.h5 --years 1 --no-pictures").code == 0);
     // A new run that completes replaces it, with snapshots of its own.
     write(dir / "c.json", tiny_scene(2, 3).dump());
-    REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures").code == 0);
+    REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures").code == 2); // not without --force
+    REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures --force").code == 0);
     const auto replaced = eco::read_snapshot_plants(dir / "run.h5", -1);
     CHECK(replaced.year == 2);
     CHECK(eco::read_run_info(dir / "run.h5").snapshots == 2);
@@ -201,10 +203,12 @@ TEST_CASE("a write that fails for want of space is reported, at any size, and lo
             CAPTURE(what);
             const std::string target = what == "dem" ? "d.h5" : what == "pond" ? "p.h5" : "run.h5";
             const auto r =
-                what == "dem" ? run_limited(dir, gen + "2 -o d.h5", blocks)
+                what == "dem" ? run_limited(dir, gen + "2 -o d.h5 --force", blocks)
                 : what == "pond"
-                    ? run_limited(dir, "hydro pond d.h5 --depth-m 0.07 -o p.h5", blocks)
-                    : run_limited(dir, "run s.json -o run.h5 --no-pictures --set simulation.seed=2",
+                    ? run_limited(dir, "hydro pond d.h5 --depth-m 0.07 -o p.h5 --force", blocks)
+                    : run_limited(dir,
+                                  "run s.json -o run.h5 --no-pictures --force "
+                                  "--set simulation.seed=2",
                                   blocks);
             CHECK(work_files(dir.path()).empty());
             if (r.code == 0) {
@@ -321,7 +325,8 @@ TEST_CASE("a picture folder that cannot be made is refused before the run, and l
     CHECK_FALSE(fs::exists(dir / "fresh.h5"));
     REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
     const std::string before = read(dir / "run.h5");
-    r = test::run(dir, "run s.json -o run.h5 --pictures blocker/pics --set simulation.seed=3");
+    r = test::run(dir,
+                  "run s.json -o run.h5 --force --pictures blocker/pics --set simulation.seed=3");
     CHECK(r.code == 1);
     CHECK(read(dir / "run.h5") == before);
     CHECK(work_files(dir.path()).empty());
@@ -398,4 +403,107 @@ TEST_CASE("a missing or malformed input file is bad input: exit 2 naming the fil
         CHECK_THAT(r.out, Catch::Contains(input));
         CHECK_FALSE(fs::exists(dir / "out.tif"));
     }
+}
+
+TEST_CASE("one rule for existing outputs: refused without --force, replaced with it and said so",
+          "[cli][bad-input][outputs]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(2, 1).dump());
+    json hs = tiny_scene(1, 1);
+    hs.erase("vegetation");
+    hs["simulation"].erase("snapshot_interval_years");
+    write(dir / "h.json", hs.dump());
+    const std::string vehicle = (test::data_dir() / "vehicles/mrzr4.json").string();
+    REQUIRE(
+        test::run(dir, "terrain generate --method fbm --size 48 --cell 1 --seed 1 -o d.asc").code ==
+        0);
+    REQUIRE(test::run(dir, "run s.json -o r.h5 --no-pictures").code == 0);
+    // Every command that writes, with the output it is pointed at (each created by the first
+    // pass, refused by the second, replaced by the third).
+    struct Case {
+        std::string args, output;
+    };
+    const std::vector<Case> cases = {
+        {"terrain generate --method fbm --size 48 --cell 1 --seed 2 -o g.tif", "g.tif"},
+        {"terrain analyze d.asc --json a.json", "a.json"},
+        {"terrain analyze d.asc --png pics", "pics"},
+        {"terrain missions d.asc --count 3 --length 10 -o m.csv", "m.csv"},
+        {"terrain convert d.asc c.png", "c.png"},
+        {"hydro pond d.asc --depth-m 0.05 -o p.h5", "p.h5"},
+        {"hydro run h.json -o hr.h5", "hr.h5"},
+        {"run s.json -o r2.h5 --no-pictures", "r2.h5"},
+        {"run s.json -o r3.h5 --years 1", "r3.h5"},
+        {"stand r.h5 --json st.json", "st.json"},
+        {"export vegetation r.h5 -o v.csv", "v.csv"},
+        {"export scene r.h5 --format gltf -o sc.glb --no-pictures", "sc.glb"},
+        {"export scene r.h5 --format mavs -o mavs --no-pictures", "mavs"},
+        {"export layers r.h5 -o layers", "layers"},
+        {"mobility r.h5 --vehicle " + vehicle +
+             " --lines 5 --length 20 --json mob.json --no-pictures",
+         "mob.json"},
+        {"terrain traverse d.asc --vehicle " + vehicle + " --count 2 --json tr.json", "tr.json"},
+        {"terrain traverse d.asc --vehicle " + vehicle + " --count 2 --pictures trp", "trp"},
+    };
+    auto snapshot_of = [&](const std::string& out) {
+        const fs::path p = dir / out;
+        if (!fs::is_directory(p)) return read(p);
+        std::string all;
+        for (const auto& e : fs::recursive_directory_iterator(p))
+            if (e.is_regular_file()) all += e.path().string() + "\n" + read(e.path());
+        return all;
+    };
+    for (const auto& c : cases) {
+        CAPTURE(c.args);
+        auto r = test::run(dir, c.args);
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        const std::string before = snapshot_of(c.output);
+        r = test::run(dir, c.args);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains(c.output) && Catch::Contains("give --force"));
+        CHECK(snapshot_of(c.output) == before);
+        r = test::run(dir, c.args + " --force");
+        CHECK(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("is replaced (--force)"));
+    }
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        CHECK(e.path().filename().string().find(".partial-") == std::string::npos);
+    // A run's picture folder is an output of its own.
+    fs::remove(dir / "r3.h5");
+    auto r = test::run(dir, "run s.json -o r3.h5 --years 1");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--pictures r3.pictures: the folder exists with files"));
+    CHECK_FALSE(fs::exists(dir / "r3.h5"));
+}
+
+TEST_CASE("terrain convert never destroys its input or a run", "[cli][bad-input][outputs]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(2, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o base.h5 --no-pictures").code == 0);
+    fs::copy_file(dir / "base.h5", dir / "cv.h5");
+    const std::string run_bytes = read(dir / "cv.h5");
+    const std::string snap_bytes = read(dir / "base.snapshots/0001.h5");
+    // Output = input through a dataset reference: refused, even with --force.
+    for (const std::string force : {"", " --force"}) {
+        auto r = test::run(dir, "terrain convert cv.h5:/terrain/elevation cv.h5" + force);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("the output is the input cv.h5"));
+        // Another run file and a snapshot file: refused, even with --force.
+        r = test::run(dir, "terrain convert base.h5:/terrain/elevation cv.h5" + force);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("cv.h5: is an ecoterra run file"));
+        r = test::run(dir, "terrain convert cv.h5 base.snapshots/0001.h5" + force);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("is an ecoterra snapshot file"));
+        r = test::run(dir, "terrain generate --method fbm --size 32 -o cv.h5" + force);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains("cv.h5: is an ecoterra run file"));
+    }
+    CHECK(read(dir / "cv.h5") == run_bytes);
+    CHECK(read(dir / "base.snapshots/0001.h5") == snap_bytes);
+    CHECK(eco::read_run_info(dir / "cv.h5").snapshots == 2);
+    // A plain raster file is another matter: refused without --force, replaced with it.
+    REQUIRE(test::run(dir, "terrain convert cv.h5 t.tif").code == 0);
+    CHECK(test::run(dir, "terrain convert cv.h5 t.tif").code == 2);
+    CHECK(test::run(dir, "terrain convert cv.h5 t.tif --force").code == 0);
 }

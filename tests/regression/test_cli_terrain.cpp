@@ -85,7 +85,8 @@ TEST_CASE("Generation is deterministic across runs and thread counts", "[cli][de
     for (const char* m :
          {"multifractal --size 129 --cell 0.05", "gaussian --size 100", "variable --size 100",
           "fbm --size 64", "perlin --size 100", "wm --size 100 --cell 0.05"}) {
-        const std::string base = std::string("terrain generate --method ") + m + " --seed 5 -o ";
+        const std::string base =
+            std::string("terrain generate --force --method ") + m + " --seed 5 -o ";
         REQUIRE(run(d, base + "a.asc", "OMP_NUM_THREADS=1").code == 0);
         REQUIRE(run(d, base + "b.asc", "OMP_NUM_THREADS=2").code == 0);
         INFO(m);
@@ -102,18 +103,18 @@ TEST_CASE("Bad input: clear errors, non-zero exit, earlier output kept", "[cli][
         const char* expect;
     };
     const Case cases[] = {
-        {"terrain generate --method wm --D 3.5 --size 32 -o keep.asc", "3.5"},
-        {"terrain generate --method wm --gamma 1 --size 32 -o keep.asc", "gamma"},
-        {"terrain generate --method wm --size 0 -o keep.asc", "size"},
-        {"terrain generate --method fbm --cell -1 -o keep.asc", "cell_size_m"},
-        {"terrain generate --method perlinn -o keep.asc", "did you mean 'perlin'"},
-        {"terrain generate --method perlin --D 2.5 -o keep.asc", "--D does not apply"},
+        {"terrain generate --method wm --D 3.5 --size 32 -o keep.asc --force", "3.5"},
+        {"terrain generate --method wm --gamma 1 --size 32 -o keep.asc --force", "gamma"},
+        {"terrain generate --method wm --size 0 -o keep.asc --force", "size"},
+        {"terrain generate --method fbm --cell -1 -o keep.asc --force", "cell_size_m"},
+        {"terrain generate --method perlinn -o keep.asc --force", "did you mean 'perlin'"},
+        {"terrain generate --method perlin --D 2.5 -o keep.asc --force", "--D does not apply"},
         {"terrain generate --method fbm --size 64 -o keep.xyz", "unknown raster format"},
         {"terrain generate --method fbm --size 64 -o nodir/out.asc", "does not exist"},
-        {"terrain generate --method fbm --size 1048576 -o keep.asc", "GiB"},
-        {"terrain generate --method fbm --bogus 1 -o keep.asc", "bogus"},
+        {"terrain generate --method fbm --size 1048576 -o keep.asc --force", "GiB"},
+        {"terrain generate --method fbm --bogus 1 -o keep.asc --force", "bogus"},
         {"terrain analyze missing.h5", "missing.h5"},
-        {"terrain generate --config missing.json -o keep.asc", "missing.json"},
+        {"terrain generate --config missing.json -o keep.asc --force", "missing.json"},
     };
     for (const auto& c : cases) {
         const Run r = run(d, c.args);
@@ -122,6 +123,11 @@ TEST_CASE("Bad input: clear errors, non-zero exit, earlier output kept", "[cli][
         CHECK_THAT(r.out, Catch::Contains(c.expect));
         CHECK(r.out.find("terminate") == std::string::npos);
     }
+    // Even with --force, bad input replaces nothing; without it an existing output is refused.
+    CHECK(slurp(d / "keep.asc") == before);
+    const Run exists = run(d, "terrain generate --method fbm --size 64 --seed 2 -o keep.asc");
+    CHECK(exists.code == 2);
+    CHECK_THAT(exists.out, Catch::Contains("-o keep.asc: the file exists; give --force"));
     CHECK(slurp(d / "keep.asc") == before);
     {
         std::ofstream(d / "nodata.asc") << "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\n"

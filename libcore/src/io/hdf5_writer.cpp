@@ -386,4 +386,37 @@ void Hdf5Writer::commit() {
     m_out.commit();
 }
 
+std::string hdf5_run_kind(const std::filesystem::path& file) {
+    // Quietly: a file that is not HDF5 is simply no run.
+    H5E_auto2_t old_func = nullptr;
+    void* old_data = nullptr;
+    H5Eget_auto2(H5E_DEFAULT, &old_func, &old_data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    std::string kind;
+    if (H5Fis_hdf5(file.c_str()) > 0) {
+        const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+        if (f >= 0) {
+            for (const char* name : {"checkpoint", "snapshots"})
+                if (kind.empty() && H5Lexists(f, name, H5P_DEFAULT) > 0)
+                    kind = std::string("an ecoterra run file (it holds /") + name + ")";
+            // A snapshot file (RUN.snapshots/NNNN.h5) holds one group NNNN with the plants.
+            H5G_info_t info{};
+            if (kind.empty() && H5Gget_info(f, &info) >= 0)
+                for (hsize_t k = 0; k < info.nlinks && kind.empty(); ++k) {
+                    char name[64] = {};
+                    if (H5Lget_name_by_idx(f, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
+                                           H5P_DEFAULT) <= 0)
+                        continue;
+                    const std::string plants = std::string(name) + "/plants";
+                    if (H5Lexists(f, name, H5P_DEFAULT) > 0 &&
+                        H5Lexists(f, plants.c_str(), H5P_DEFAULT) > 0)
+                        kind = "an ecoterra snapshot file (it holds /" + plants + ")";
+                }
+            H5Fclose(f);
+        }
+    }
+    H5Eset_auto2(H5E_DEFAULT, old_func, old_data);
+    return kind;
+}
+
 } // namespace ecoterra::io

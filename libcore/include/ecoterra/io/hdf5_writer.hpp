@@ -60,4 +60,9 @@ private:
     std::unique_ptr<Impl> m_impl;
 };
 
+/// What an HDF5 file holds of ecoterra's runs: "an ecoterra run file (it holds /checkpoint)",
+/// "... (it holds /snapshots)", "an ecoterra snapshot file (it holds /NNNN/plants)", or "" for any
+/// other file (a raster, a pond, a file that is not HDF5 or cannot be opened).
+std::string hdf5_run_kind(const std::filesystem::path& file);
+
 } // namespace ecoterra::io

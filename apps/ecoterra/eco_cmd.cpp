@@ -79,6 +79,7 @@ void run_run(const RunArgs& a) {
     eco::RunOptions opt;
     opt.resume = !a.resume.empty();
     opt.output = opt.resume ? fs::path(a.resume) : fs::path(a.output);
+    opt.replace = a.force;
     if (!opt.resume) {
         // A new run replaces an earlier one only with --force (then atomically: a failed or
         // killed run leaves the earlier one as it was); its picture folder likewise.

@@ -4,6 +4,8 @@
 #include "ecoterra/eco/run_reader.hpp"
 #include "run_layout.hpp"
 
+#include "ecoterra/io/file_lock.hpp"
+
 #include <H5Cpp.h>
 
 #include <cctype>
@@ -113,6 +115,12 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     if (!fs::is_directory(parent))
         throw IoError(out.string() + ": the folder " + parent.string() + " does not exist");
+    // One writer per run: a second run or resume into the same path is refused while this one
+    // works (the kernel drops the lock if the process is killed).
+    const io::FileLock lock(out);
+    if (!opt.resume && !opt.replace && fs::exists(out))
+        throw InputError(out.string() + ": the file exists; give --force to replace it (nothing "
+                                        "was written)");
     std::unique_ptr<Ecosystem> eco;
     json prov = opt.provenance;
     int snapshots = 0;

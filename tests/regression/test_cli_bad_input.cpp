@@ -11,8 +11,10 @@
 #include <H5Cpp.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 using namespace ecoterra;
 using nlohmann::json;
@@ -506,4 +508,61 @@ TEST_CASE("terrain convert never destroys its input or a run", "[cli][bad-input]
     REQUIRE(test::run(dir, "terrain convert cv.h5 t.tif").code == 0);
     CHECK(test::run(dir, "terrain convert cv.h5 t.tif").code == 2);
     CHECK(test::run(dir, "terrain convert cv.h5 t.tif --force").code == 0);
+}
+
+namespace {
+/// Starts `args` in the background in `dir`; returns its pid once the run holds its lock.
+long start_locked_run(const test::TempDir& dir, const std::string& args, const fs::path& lock) {
+    const std::string cmd = "cd '" + dir.path().string() + "' && ('" ECOTERRA_BIN "' " + args +
+                            " > bg.log 2>&1 & echo $! > bg.pid)";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    for (int i = 0; i < 600 && !fs::exists(lock); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    REQUIRE(fs::exists(lock));
+    return std::stol(read(dir / "bg.pid"));
+}
+void wait_for(long pid) {
+    for (int i = 0; i < 6000 && ::kill(static_cast<pid_t>(pid), 0) == 0; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+}
+} // namespace
+
+TEST_CASE("two processes never write one run: a second run or resume is refused while the first "
+          "works",
+          "[cli][bad-input][lock]") {
+    test::TempDir dir;
+    write(dir / "long.json", tiny_scene(60, 1).dump());
+    write(dir / "other.json", tiny_scene(3, 2).dump());
+    const fs::path lock = dir / ".run.h5.lock";
+    // A new run to the same -o while the first runs: refused, naming the other process.
+    long pid = start_locked_run(dir, "run long.json -o run.h5 --no-pictures", lock);
+    auto r = test::run(dir, "run other.json -o run.h5 --no-pictures --force");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("run.h5: another ecoterra process (pid " +
+                                      std::to_string(pid) + ") is writing it now"));
+    wait_for(pid);
+    CHECK_THAT(read(dir / "bg.log"), Catch::Contains("wrote run.h5"));
+    CHECK_FALSE(fs::exists(lock)); // released and removed
+    // Every snapshot is the first run's (they once mixed: 0000 from one seed, the rest from the
+    // other).
+    const auto info = eco::read_run_info(dir / "run.h5");
+    CHECK(info.provenance["scene"]["simulation"]["seed"] == 1);
+    CHECK(eco::read_snapshot_plants(dir / "run.h5", 0).year == 1);
+    CHECK(eco::read_snapshot_plants(dir / "run.h5", -1).year == 60);
+    // Two resumes at once: the second is refused; the first's report stands.
+    pid = start_locked_run(dir, "run --resume run.h5 --years 40 --no-pictures", lock);
+    r = test::run(dir, "run --resume run.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("is writing it now"));
+    wait_for(pid);
+    CHECK(eco::read_snapshot_plants(dir / "run.h5", -1).year == 100);
+    // A holder killed with SIGKILL leaves no lock behind that stops the next run.
+    pid = start_locked_run(dir, "run long.json -o run.h5 --no-pictures --force", lock);
+    ::kill(static_cast<pid_t>(pid), SIGKILL);
+    wait_for(pid);
+    r = test::run(dir, "run other.json -o run.h5 --no-pictures --force");
+    INFO(r.out);
+    CHECK(r.code == 0);
+    CHECK(eco::read_run_info(dir / "run.h5").provenance["scene"]["simulation"]["seed"] == 2);
+    CHECK_FALSE(fs::exists(lock));
 }

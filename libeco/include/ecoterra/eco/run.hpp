@@ -20,6 +20,10 @@ struct RunOptions {
     nlohmann::json provenance;         ///< version, command line (the scene is added)
     std::optional<int> years;          ///< years to run now (default: the scene's, less done)
     bool resume = false;
+    /// A new run into the path of an earlier run replaces it (atomically) only if true; else
+    /// InputError. Checked while holding the output's lock (io::FileLock), which every run holds
+    /// for as long as it writes, so that two processes never write one run.
+    bool replace = true;
 };
 
 struct RunProgress {

@@ -119,7 +119,8 @@ std::function<bool(const Tree&)> has_user_mesh(const ExportOptions& opt) {
 /// Copies a user's OBJ (as NAME.obj) and its material libraries into `dir` of the folder.
 void copy_user_mesh(OutputFolder& folder, const std::string& dir, const UserMesh& m) {
     folder.write(dir + m.name + ".obj", io::read_text(m.obj));
-    for (const auto& l : m.mtl) folder.write(dir + l.filename().string(), io::read_text(l));
+    // Checked again as they are read: the file may have changed since it was loaded.
+    for (const auto& l : m.mtl) folder.write(dir + l, io::read_text(checked_mtllib(m.obj, 0, l)));
 }
 
 double user_scale(const Tree& t, const UserMesh& m) {

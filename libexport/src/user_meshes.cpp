@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -54,14 +55,38 @@ Mesh read_obj_mesh(const fs::path& path, std::vector<std::string>* mtllibs) {
             for (std::size_t k = 1; k + 1 < poly.size(); ++k)
                 m.indices.insert(m.indices.end(), {poly[0], poly[k], poly[k + 1]});
         } else if (tag == "mtllib" && mtllibs) {
-            std::string name;
-            ls >> name;
-            mtllibs->push_back(name);
+            for (std::string name; ls >> name;) {
+                checked_mtllib(path, lineno, name);
+                mtllibs->push_back(name);
+            }
         }
     }
     if (m.indices.empty()) throw InputError(path.string() + ": no faces (not a mesh OBJ?)");
     m.compute_normals();
     return m;
+}
+
+fs::path checked_mtllib(const fs::path& obj, int line, const std::string& name) {
+    const std::string at = obj.string() + ":" + std::to_string(line) + ": mtllib '" + name + "'";
+    const fs::path rel(name);
+    if (rel.is_absolute())
+        throw InputError(at + ": an absolute path; a material library must lie in the OBJ's "
+                              "folder (name it relative to it)");
+    for (const auto& part : rel)
+        if (part == "..")
+            throw InputError(at + ": leads out of the OBJ's folder ('..'); a material library "
+                                  "must lie in it");
+    std::error_code ec;
+    const fs::path folder = fs::canonical(fs::absolute(obj).parent_path(), ec);
+    const fs::path file = fs::weakly_canonical(fs::absolute(obj).parent_path() / rel, ec);
+    if (!fs::is_regular_file(file, ec))
+        throw InputError(at + ": no such file (" + file.string() + ")");
+    // A link inside the folder may still lead out of it.
+    const auto [f, e] = std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
+    if (f != folder.end())
+        throw InputError(at + ": leads out of the OBJ's folder (to " + file.string() +
+                         "); a material library must lie in it");
+    return file;
 }
 
 UserMeshes UserMeshes::load(const fs::path& file, const std::vector<SpeciesLook>& sp) {
@@ -133,9 +158,7 @@ UserMeshes UserMeshes::load(const fs::path& file, const std::vector<SpeciesLook>
             for (auto& p : u.mesh.positions) p = {p[0], -p[2], p[1]};
             u.mesh.compute_normals();
         }
-        for (const auto& l : libs)
-            if (fs::is_regular_file(u.obj.parent_path() / l, ec))
-                u.mtl.push_back(u.obj.parent_path() / l);
+        u.mtl = libs; // each checked by read_obj_mesh
         u.name = "user_" + file_safe(u.obj.stem().string());
         while (!names.insert(u.name).second) u.name += "_";
         const std::size_t idx = out.m_meshes.size();

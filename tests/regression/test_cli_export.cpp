@@ -777,3 +777,48 @@ TEST_CASE("export scene: a DEM at a large northing exports about a local origin,
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("--origin 1,x: 'x' is not a number"));
 }
+
+TEST_CASE("species meshes: an OBJ's material libraries are copied only from its own folder",
+          "[export][cli][security]") {
+    test::TempDir dir;
+    std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
+    succeeds(dir, "run scene.json -o run.h5 --no-pictures");
+    fs::create_directories(dir / "m/sub");
+    fs::create_directories(dir / "outside");
+    std::ofstream(dir / "outside/secret.mtl") << "newmtl secret\nKd 1 0 0\n";
+    std::ofstream(dir / "m/sub/ok.mtl") << "newmtl leaf\nKd 0.1 0.5 0.1\n";
+    fs::create_symlink(dir / "outside/secret.mtl", dir / "m/link.mtl");
+    const std::string faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    std::ofstream(dir / "m/meshes.json")
+        << R"({"meshes": [{"species": "Birch", "obj": "tree.obj", "height_m": 2}]})";
+    struct Case {
+        std::string mtllib, expect;
+    };
+    const Case bad[] = {
+        {"/etc/shadow", "tree.obj:1: mtllib '/etc/shadow': an absolute path"},
+        {"../outside/secret.mtl", "mtllib '../outside/secret.mtl': leads out of the OBJ's folder"},
+        {"sub/../../outside/secret.mtl", "leads out of the OBJ's folder ('..')"},
+        {"link.mtl", "mtllib 'link.mtl': leads out of the OBJ's folder (to "},
+        {"missing.mtl", "mtllib 'missing.mtl': no such file"},
+        {"sub/ok.mtl /etc/passwd", "mtllib '/etc/passwd': an absolute path"},
+    };
+    for (const auto& c : bad)
+        for (const char* format : {"mavs", "unreal", "gazebo", "gltf"}) {
+            CAPTURE(c.mtllib, format);
+            std::ofstream(dir / "m/tree.obj", std::ios::trunc)
+                << "mtllib " + c.mtllib + "\n" + faces;
+            const auto r =
+                test::run(dir, std::string("export scene run.h5 --no-pictures --format ") + format +
+                                   " -o out --species-meshes m/meshes.json");
+            CHECK(r.code == 2);
+            CHECK_THAT(r.out, Catch::Contains(c.expect));
+            CHECK_FALSE(fs::exists(dir / "out"));
+        }
+    // Inside the folder, in a sub-folder: copied where the OBJ looks for it.
+    std::ofstream(dir / "m/tree.obj", std::ios::trunc) << "mtllib sub/ok.mtl\n" + faces;
+    succeeds(dir, "export scene run.h5 --no-pictures --format mavs -o out --species-meshes "
+                  "m/meshes.json");
+    CHECK(io::read_text(dir / "out/meshes/sub/ok.mtl") == io::read_text(dir / "m/sub/ok.mtl"));
+    for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+        CHECK(e.path().filename() != "secret.mtl");
+}

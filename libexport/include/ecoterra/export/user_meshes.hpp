@@ -19,8 +19,10 @@
 namespace ecoterra::exporter {
 
 struct UserMesh {
-    std::filesystem::path obj;              ///< absolute
-    std::vector<std::filesystem::path> mtl; ///< material libraries it names that exist
+    std::filesystem::path obj; ///< absolute
+    /// The material libraries it names, as named (relative paths inside the OBJ's folder: no
+    /// absolute path, no "..", no link leading out of it), each an existing file.
+    std::vector<std::string> mtl;
     double height_m = 1;
     bool rotate_y_to_z = false;
     Mesh mesh;        ///< read from the OBJ, z up (turned if rotate_y_to_z)
@@ -42,7 +44,15 @@ private:
 };
 
 /// Reads a Wavefront OBJ's vertices and faces (v; f with v, v/t, v//n or v/t/n, negative indices
-/// allowed; polygons fanned into triangles); InputError naming the file and line.
+/// allowed; polygons fanned into triangles); InputError naming the file and line. With `mtllibs`,
+/// the material libraries its mtllib lines name, checked by checked_mtllib().
 Mesh read_obj_mesh(const std::filesystem::path& path, std::vector<std::string>* mtllibs = nullptr);
+
+/// A material library `name` that the OBJ `obj` names on line `line`: it must be a relative path
+/// that stays inside the OBJ's folder (no absolute path, no "..", no link leading out) and an
+/// existing file; InputError naming the OBJ, the line and the name otherwise. An export copies
+/// only such files (an `mtllib /etc/shadow` once copied that file into the export).
+std::filesystem::path checked_mtllib(const std::filesystem::path& obj, int line,
+                                     const std::string& name);
 
 } // namespace ecoterra::exporter

@@ -72,7 +72,8 @@ void remove_leftovers(const fs::path& parent, const fs::path& out) {
 /// file (written again to link the final folder) replaces the earlier one atomically. A failure
 /// at any step puts the earlier run back as it was.
 void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work,
-                 const fs::path& snap_dir, const json& prov, int snapshots) {
+                 const fs::path& snap_dir, const json& prov,
+                 const std::vector<std::string>& checksums) {
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     const fs::path final_dir = parent / snapshot_dir_name(out);
     std::string aside(".");
@@ -96,7 +97,7 @@ void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work
                       ": cannot move the new snapshots into place: " + ec.message());
     }
     try {
-        write_main(eco, out, prov, snapshots);
+        write_main(eco, out, prov, checksums);
     } catch (...) {
         std::error_code e2;
         fs::rename(final_dir, snap_dir, e2);
@@ -124,6 +125,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     std::unique_ptr<Ecosystem> eco;
     json prov = opt.provenance;
     int snapshots = 0;
+    std::vector<std::string> checksums; // of the snapshot files, one each
     int years_total = 0;
     if (opt.resume) {
         const RunInfo info = read_run_info(out);
@@ -174,6 +176,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         ArchiveReader r(bytes.data(), bytes.size(), out.string());
         with_context(out.string() + ": /checkpoint", [&] { eco->load_state(r); });
         snapshots = info.snapshots;
+        checksums = read_snapshot_checksums(out, snapshots);
         prov["scene"] = stored_scene;
         prov["resumed_from_year"] = eco->years_done();
         if (stored.contains("resumed_from_year"))
@@ -229,9 +232,11 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
                                  st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
             const bool last = y == to_run || reached;
             if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
-                write_snapshot(*eco, snap_dir / snapshot_file_name(snapshots), snapshots);
+                const fs::path file = snap_dir / snapshot_file_name(snapshots);
+                write_snapshot(*eco, file, snapshots);
+                checksums.push_back(file_checksum(file));
                 ++snapshots;
-                write_main(*eco, work, prov, snapshots);
+                write_main(*eco, work, prov, checksums);
             }
             if (progress) {
                 RunProgress p;
@@ -268,7 +273,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         const std::string kept = ": the new run failed and the earlier run is kept: ";
         try {
             grow();
-            replace_run(*eco, out, work, snap_dir, prov, snapshots);
+            replace_run(*eco, out, work, snap_dir, prov, checksums);
         } catch (const IoError& e) {
             discard();
             throw IoError(out.string() + kept + e.what());

@@ -5,10 +5,14 @@
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <map>
+#include <mutex>
+#include <sstream>
 #include <unistd.h>
 
 namespace ecoterra::eco::run_layout {
@@ -78,7 +82,9 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     h5.commit();
 }
 
-void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance, int snapshots) {
+void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance,
+                const std::vector<std::string>& snapshot_checksums) {
+    const int snapshots = static_cast<int>(snapshot_checksums.size());
     io::Hdf5Writer h5(path);
     const EcoScene& sc = eco.scene();
     h5.raster("/terrain/elevation", sc.hydro.dem, "m", "terrain elevation (hydrology grid)");
@@ -121,8 +127,75 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
         h5.external_link(link, dir + "/" + snapshot_file_name(k), snapshot_group(k));
     }
     h5.integer_attribute("/snapshots", "count", snapshots);
+    std::string sums;
+    for (const auto& c : snapshot_checksums) sums += c + "\n";
+    h5.attribute("/snapshots", "checksums_fnv1a64", sums);
     h5.attribute("/", "area_m2", eco.plant_grid().width_m() * eco.plant_grid().height_m());
     h5.commit();
+}
+
+std::string file_checksum(const fs::path& file) {
+    std::FILE* f = std::fopen(file.c_str(), "rb");
+    if (!f) throw IoError(file.string() + ": cannot read (" + std::strerror(errno) + ")");
+    std::uint64_t h = fnv1a64(nullptr, 0); // the offset basis
+    std::vector<char> buf(1 << 20);
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) h = fnv1a64(buf.data(), n, h);
+    const bool failed = std::ferror(f) != 0;
+    std::fclose(f);
+    if (failed) throw IoError(file.string() + ": read failed");
+    return std::to_string(h);
+}
+
+std::vector<std::string> read_snapshot_checksums(const fs::path& run, int snapshots) {
+    std::vector<std::string> out(static_cast<std::size_t>(std::max(snapshots, 0)));
+    H5::H5File f = open_run(run);
+    if (!f.nameExists("/snapshots")) return out;
+    const H5::Group g = f.openGroup("/snapshots");
+    if (!g.attrExists("checksums_fnv1a64")) return out;
+    std::istringstream in(read_string_attr(g, "checksums_fnv1a64"));
+    std::string line;
+    for (std::size_t k = 0; k < out.size() && std::getline(in, line); ++k) out[k] = line;
+    return out;
+}
+
+void verify_snapshot(const fs::path& run, int k, const fs::path& file, const std::string& what) {
+    struct Seen {
+        std::uintmax_t size;
+        fs::file_time_type time;
+        std::string checksum;
+    };
+    static std::mutex mutex;
+    static std::map<std::string, Seen> seen; // files hashed in this process
+    std::string expected;
+    try {
+        expected = read_snapshot_checksums(run, k + 1)[static_cast<std::size_t>(k)];
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": cannot read /snapshots (" + e.getDetailMsg() + ")");
+    }
+    if (expected.empty()) return; // written before snapshots had checksums
+    std::error_code ec;
+    const auto size = fs::file_size(file, ec);
+    const auto time = fs::last_write_time(file, ec);
+    const std::string key = fs::absolute(file).lexically_normal().string();
+    std::string actual;
+    {
+        const std::lock_guard lock(mutex);
+        const auto it = seen.find(key);
+        if (it != seen.end() && it->second.size == size && it->second.time == time)
+            actual = it->second.checksum;
+    }
+    if (actual.empty()) {
+        actual = file_checksum(file);
+        const std::lock_guard lock(mutex);
+        seen[key] = {size, time, actual};
+    }
+    if (actual != expected)
+        throw InputError(what +
+                         "is damaged: its bytes do not match the checksum the run file "
+                         "holds for it (FNV-1a 64 " +
+                         actual + ", expected " + expected +
+                         "); it was changed or corrupted after the run wrote it");
 }
 
 std::string read_string_attr(const H5::H5Object& o, const std::string& name) {

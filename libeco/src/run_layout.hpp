@@ -35,9 +35,20 @@ std::string snapshot_group(int index);
 /// snapshot_group(index).
 void write_snapshot(const Ecosystem& eco, const fs::path& path, int index);
 /// Writes the run file `path` (atomically): rasters, species, series, checkpoint and the links to
-/// `snapshots` snapshot files.
+/// the snapshot files, one per checksum (`/snapshots` attribute `checksums_fnv1a64`, one decimal
+/// FNV-1a 64 of each snapshot file's bytes a line; an empty line for a snapshot written before
+/// snapshots had checksums).
 void write_main(const Ecosystem& eco, const fs::path& path, const nlohmann::json& provenance,
-                int snapshots);
+                const std::vector<std::string>& snapshot_checksums);
+/// FNV-1a 64 of a file's bytes, in decimal; IoError naming it if it cannot be read.
+std::string file_checksum(const fs::path& file);
+/// The snapshot checksums a run file holds (empty strings where it has none: runs written before
+/// snapshots had checksums), one per snapshot.
+std::vector<std::string> read_snapshot_checksums(const fs::path& run, int snapshots);
+/// InputError (`what` + "is damaged ...") unless snapshot `k`'s file matches the checksum the run
+/// file holds for it (snapshots without one pass). Each file is hashed once per process while its
+/// size and time are unchanged.
+void verify_snapshot(const fs::path& run, int k, const fs::path& file, const std::string& what);
 std::string read_string_attr(const H5::H5Object& o, const std::string& name);
 double read_double_attr(const H5::H5Object& o, const std::string& name);
 /// Opens a run file for reading; InputError naming it if it is missing or not a run.
@@ -68,6 +79,7 @@ void open_snapshot(const fs::path& run, int k, F&& f) {
                              "renamed together";
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) throw InputError(what + "is missing" + hint);
+    verify_snapshot(run, k, file, what);
     try {
         if (!H5::H5File::isHdf5(file.string())) throw InputError(what + "is not an HDF5 file");
         H5::H5File h(file.string(), H5F_ACC_RDONLY);

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <unistd.h>
 
 namespace {
@@ -64,6 +65,12 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const ecoterra::Error& e) {
         report("error", e.what());
+        return 1;
+    } catch (const std::filesystem::filesystem_error& e) {
+        // A folder or file the system refuses (read-only, no permission, no space): a failure to
+        // write, named by its path, not an internal error.
+        const std::string path = e.path1().empty() ? "" : e.path1().string() + ": ";
+        report("error", (path + "cannot write or read here (" + e.code().message() + ")").c_str());
         return 1;
     } catch (const std::bad_alloc&) {
         report("error", "out of memory");

@@ -67,11 +67,26 @@ long long get_integer(const nlohmann::json& obj, const std::string& key, long lo
     if (!v.is_number_integer() &&
         !(v.is_number() && v.get<double>() == std::floor(v.get<double>())))
         throw InputError(key_path(where, key) + " must be an integer, got " + v.dump());
-    const long long d = v.get<long long>();
-    if (d < min || d > max)
-        throw InputError(key_path(where, key) + " = " + std::to_string(d) + " is outside [" +
+    // A whole number written as a float (1e300) is checked before it is converted: beyond the
+    // range of long long the conversion is undefined (it gave -9223372036854775808).
+    bool out_of_range = false;
+    if (v.is_number_float()) {
+        const double x = v.get<double>();
+        constexpr double kTwo63 = 9223372036854775808.0; // the first double past long long
+        out_of_range =
+            !(x >= static_cast<double>(min) && x < kTwo63 && x <= static_cast<double>(max));
+    } else if (v.is_number_unsigned()) {
+        const auto u = v.get<unsigned long long>();
+        out_of_range = u > static_cast<unsigned long long>(std::max(max, 0LL)) ||
+                       (min > 0 && u < static_cast<unsigned long long>(min));
+    } else {
+        const long long x = v.get<long long>();
+        out_of_range = x < min || x > max;
+    }
+    if (out_of_range)
+        throw InputError(key_path(where, key) + " = " + v.dump() + " is outside [" +
                          std::to_string(min) + ", " + std::to_string(max) + "]");
-    return d;
+    return v.get<long long>();
 }
 
 bool get_bool(const nlohmann::json& obj, const std::string& key, bool fallback,

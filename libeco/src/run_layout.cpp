@@ -214,13 +214,22 @@ double read_double_attr(const H5::H5Object& o, const std::string& name) {
 H5::H5File open_run(const fs::path& run) {
     H5::Exception::dontPrint();
     if (!fs::exists(run)) throw InputError(run.string() + ": no such run file");
+    bool hdf5 = false;
+    try {
+        hdf5 = H5::H5File::isHdf5(run.string());
+    } catch (const H5::Exception&) {
+    }
+    if (!hdf5)
+        throw InputError(run.string() + ": not an HDF5 file; give an ecoterra run file (the " +
+                         "RUN.h5 that `ecoterra run -o` wrote)");
     try {
         H5::H5File f(run.string(), H5F_ACC_RDONLY);
         if (!f.nameExists("/provenance") || !f.nameExists("/checkpoint"))
             throw InputError(run.string() + ": not an ecoterra ecosystem run (no /checkpoint)");
         return f;
     } catch (const H5::Exception& e) {
-        throw InputError(run.string() + ": not a readable HDF5 file (" + e.getDetailMsg() + ")");
+        throw InputError(run.string() + ": the HDF5 file is damaged or truncated (" +
+                         e.getDetailMsg() + ")");
     }
 }
 

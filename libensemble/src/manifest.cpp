@@ -4,6 +4,7 @@
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/generate.hpp"
 
@@ -120,6 +121,36 @@ void check_analyses(const json& a, BaseKind kind, const std::string& where) {
             throw InputError(where + "." + name +
                              ": missing key 'vehicle' (a vehicle file, e.g. "
                              "../vehicles/mrzr4.json)");
+    }
+}
+
+/// Every vehicle file a member may use (the analyses', a fixed override's, an axis's values)
+/// loads: a missing or bad vehicle is refused before any member runs, not by every member.
+void check_vehicle_files(const Manifest& m) {
+    for (const char* analysis : {"mobility", "traverse"}) {
+        const std::string key = std::string("analyses.") + analysis + ".vehicle";
+        std::vector<std::pair<std::string, json>> values; // where named, value
+        if (m.analyses.contains(analysis) && m.analyses[analysis].contains("vehicle"))
+            values.emplace_back(key, m.analyses[analysis]["vehicle"]);
+        for (const auto& [k, v] : m.set)
+            if (k == key) values.emplace_back("set." + key, v);
+        for (std::size_t a = 0; a < m.axes.size(); ++a)
+            if (m.axes[a].key == key)
+                for (const auto& v : m.axes[a].values)
+                    values.emplace_back("axes[" + std::to_string(a) + "] (" + key + ")", v);
+        std::set<std::string> checked;
+        for (const auto& [where, v] : values) {
+            if (!v.is_string())
+                throw InputError(where + " = " + v.dump() + ": give a vehicle file's path");
+            const std::string name = v.get<std::string>();
+            if (!checked.insert(name).second) continue;
+            const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : m.dir / name;
+            try {
+                mobility::load_vehicle(file);
+            } catch (const Error& e) {
+                throw InputError(where + " = '" + name + "': " + e.what());
+            }
+        }
     }
 }
 
@@ -370,6 +401,7 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
                 m.pictures.push_back(std::move(s));
             }
         }
+        check_vehicle_files(m);
         return m;
     });
 }

@@ -349,7 +349,7 @@ MemberOutcome run_member(const fs::path& out, const Manifest& m, const Member& m
     const fs::path stage = stage_dir(out, m, mb.index);
     std::error_code ec;
     fs::remove_all(stage, ec);
-    fs::create_directories(stage);
+    io::create_folder(stage, "the member's staging folder");
     json record = base_record(m, mb);
     Metrics metrics;
     try {
@@ -426,7 +426,7 @@ void record_crashed_member(const fs::path& out, const Manifest& m, const Member&
     const fs::path stage = stage_dir(out, m, mb.index);
     std::error_code ec;
     fs::remove_all(stage, ec);
-    fs::create_directories(stage);
+    io::create_folder(stage, "the member's staging folder");
     json record = base_record(m, mb);
     record["status"] = "failed";
     record["error"] = reason + (tail.empty() ? "" : "; its log ends: " + tail);
@@ -459,8 +459,8 @@ void prepare_output(const fs::path& out, const Manifest& m) {
                          ": the folder has files and no ensemble.json; an ensemble writes only "
                          "into a new or empty folder (or one of its own)");
     }
-    fs::create_directories(out / "members");
-    fs::create_directories(out / "logs");
+    io::create_folder(out / "members", "the ensemble's folder (-o " + out.string() + ")");
+    io::create_folder(out / "logs", "the ensemble's folder (-o " + out.string() + ")");
     const json doc = {{"name", m.name},
                       {"manifest_file", fs::absolute(m.file).lexically_normal().string()},
                       {"manifest_dir", m.dir.string()},

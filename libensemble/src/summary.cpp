@@ -455,7 +455,7 @@ SummaryReport write_summary(const fs::path& out, const Manifest& m) {
     }
 
     const fs::path dir = out / "summary";
-    fs::create_directories(dir);
+    io::create_folder(dir, "the summary folder");
     io::write_text_atomic(dir / "members.csv", mt.csv());
     io::write_text_atomic(dir / "aggregate.csv", ag.csv());
     rep.files = {dir / "members.csv", dir / "aggregate.csv"};

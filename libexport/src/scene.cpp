@@ -116,7 +116,9 @@ std::array<int, 4> region_window(const GridSpec& g, const Region& r, const std::
                          format_number(x1) + "] x [" + format_number(g.origin_y_m) + ", " +
                          format_number(y1) + "] m");
     auto cell = [&](double v, double origin, int n) {
-        return std::clamp(static_cast<int>(std::floor((v - origin) / g.cell_size_m)), 0, n - 1);
+        // Clamped as a double: a region far past the terrain (1e308) must not overflow the cast.
+        return static_cast<int>(
+            std::clamp(std::floor((v - origin) / g.cell_size_m), 0.0, static_cast<double>(n - 1)));
     };
     const int i0 = cell(r.x0_m, g.origin_x_m, g.nx), j0 = cell(r.y0_m, g.origin_y_m, g.ny);
     // The last cell that the region enters (a region ending on a cell edge stops before it).

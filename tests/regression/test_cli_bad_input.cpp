@@ -5,6 +5,7 @@
 
 #include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -28,6 +29,12 @@ void write(const fs::path& p, const std::string& text) {
 
 std::string read(const fs::path& p) {
     return io::read_text(p);
+}
+
+/// Cells of a GeoTIFF layer (its width times its height, as GDAL reads it).
+long terrain_cells(const fs::path& tif) {
+    const RasterD r = terrain::io::read_gdal(tif);
+    return static_cast<long>(r.nx()) * r.ny();
 }
 
 /// The shared small scene with a snapshot every year.
@@ -615,4 +622,54 @@ TEST_CASE("snapshots are checksummed: a byte changed anywhere in one is refused 
     }
     CHECK(test::run(dir, "stand a.h5 --snapshot 0").code == 0);
     CHECK(test::run(dir, "run --resume a.h5 --years 1 --no-pictures").code == 0);
+}
+
+TEST_CASE("HDF5 inputs that are not rasters, damaged files and huge numbers get clear errors",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    {
+        // A group, a dataset of complex numbers (a compound of two floats) and one of strings.
+        H5::H5File f((dir / "odd.h5").string(), H5F_ACC_TRUNC);
+        f.createGroup("/g");
+        H5::CompType complex(2 * sizeof(float));
+        complex.insertMember("r", 0, H5::PredType::NATIVE_FLOAT);
+        complex.insertMember("i", sizeof(float), H5::PredType::NATIVE_FLOAT);
+        const hsize_t dims[2] = {4, 4};
+        f.createDataSet("/z", complex, H5::DataSpace(2, dims));
+        f.createDataSet("/s", H5::StrType(H5::PredType::C_S1, 8), H5::DataSpace(2, dims));
+    }
+    write(dir / "s.json", tiny_scene(1, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
+    const std::string bytes = read(dir / "run.h5");
+    write(dir / "cut.h5", bytes.substr(0, bytes.size() / 3));
+    write(dir / "stems.csv", "x_m,y_m,dbh_cm\n1,2,3\n");
+    struct Case {
+        std::string args, says;
+    };
+    const Case cases[] = {
+        {"terrain analyze odd.h5:/g", "odd.h5: /g is a group, not a raster dataset"},
+        {"terrain analyze odd.h5:/z", "dataset /z holds compound records"},
+        {"terrain convert odd.h5:/s s.tif", "dataset /s holds strings, not numbers"},
+        {"terrain analyze cut.h5", "cut.h5: cannot read /elevation: the file is damaged or "
+                                   "truncated"},
+        {"terrain convert cut.h5:/terrain/elevation t.tif", "the file is damaged or truncated"},
+        {"stand cut.h5", "cut.h5: the HDF5 file is damaged or truncated"},
+        {"stand stems.csv", "stems.csv: not an HDF5 file; give an ecoterra run file"},
+        {"run s.json -o x.h5 --set simulation.years=1e308",
+         "simulation.years = 1e+308 is outside [1, 10000]"},
+        {"run s.json -o x.h5 --set simulation.seed=1e300", "simulation.seed = 1e+300"},
+    };
+    for (const auto& c : cases) {
+        const auto r = test::run(dir, c.args);
+        INFO(c.args + "\n" + r.out);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.out, Catch::Contains(c.says));
+    }
+    // A region far past the terrain on every side covers the whole terrain.
+    auto r = test::run(dir, "export layers run.h5 -o all --region -1e308,-1e308,1e308,1e308");
+    INFO(r.out);
+    CHECK(r.code == 0);
+    CHECK(terrain_cells(dir / "all/elevation_m.tif") == 400);
+    r = test::run(dir, "export layers run.h5 -o part --region 0,0,1e308,1e308");
+    CHECK(r.code == 0);
 }

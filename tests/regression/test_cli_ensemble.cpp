@@ -351,6 +351,48 @@ TEST_CASE("ensemble: bad input gets a clear error and loses nothing", "[ensemble
         CHECK(r.code == 2);
         for (const auto& s : c.says) CHECK_THAT(r.out, Catch::Contains(s));
     }
+    // Numbers past an integer's range, and a missing vehicle, are refused up front (exit 2,
+    // nothing created); they once became -9223372036854775808, or failed every member (exit 1).
+    json huge = small_manifest();
+    huge["replicates"] = 1e300;
+    write(d / "huge.json", huge);
+    json axis = small_manifest();
+    axis["axes"][1] = {{"key", "simulation.years"}, {"values", {1e308, 2}}};
+    axis["pictures"] = json::array();
+    write(d / "axis.json", axis);
+    json car = small_manifest();
+    car["axes"].push_back({{"key", "analyses.mobility.vehicle"},
+                           {"values", {car["analyses"]["mobility"]["vehicle"], "nope.json"}}});
+    write(d / "car.json", car);
+    json car2 = small_manifest();
+    car2["analyses"]["mobility"]["vehicle"] = "../gone/vehicle.json";
+    write(d / "car2.json", car2);
+    const std::vector<Case> refused{
+        {"ensemble huge.json -o h", {"replicates = 1e+300 is outside [1, 1000000]"}},
+        {"ensemble car.json -o h",
+         {"axes[2] (analyses.mobility.vehicle) = 'nope.json'", "cannot open"}},
+        {"ensemble car2.json -o h",
+         {"analyses.mobility.vehicle = '../gone/vehicle.json'", "cannot open"}},
+    };
+    for (const auto& c : refused) {
+        const auto r = test::run(d, c.args);
+        INFO(c.args + "\n" + r.out);
+        CHECK(r.code == 2);
+        for (const auto& s : c.says) CHECK_THAT(r.out, Catch::Contains(s));
+        CHECK_FALSE(fs::exists(d / "h"));
+    }
+    auto listed = test::run(d, "ensemble axis.json --list");
+    CHECK(listed.code == 0);
+    CHECK_THAT(listed.out, Catch::Contains("1e+308"));
+    CHECK_THAT(listed.out, !Catch::Contains("-9223372036854775808"));
+    const auto one = test::run(d, "ensemble axis.json -o ax --member 0");
+    CHECK_THAT(one.out, Catch::Contains("simulation.years = 1e+308 is outside [1, 10000]"));
+    // An output folder the system refuses: a failure to write (exit 1) naming it, not an
+    // internal error (exit 3).
+    const auto ro = test::run(d, "ensemble m.json -o /proc/ecoterra-no-such/out");
+    CHECK(ro.code == 1);
+    CHECK_THAT(ro.out, Catch::Contains("/proc/ecoterra-no-such/out") &&
+                           Catch::Contains("cannot create") && !Catch::Contains("internal"));
     // A folder of other files is not an ensemble's: refused, its files untouched.
     fs::create_directories(d / "mine");
     io::write_text_atomic(d / "mine/notes.txt", "mine");

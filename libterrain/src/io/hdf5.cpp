@@ -36,28 +36,63 @@ bool path_exists(const H5::H5File& f, const std::string& path) {
         if (!f.nameExists(path.substr(0, at))) return false;
     return f.nameExists(path);
 }
+
+/// What an HDF5 type class holds, for messages.
+std::string type_class_name(H5T_class_t c) {
+    switch (c) {
+    case H5T_STRING:
+        return "strings";
+    case H5T_COMPOUND:
+        return "compound records (a complex number is one)";
+    case H5T_ARRAY:
+        return "arrays per element";
+    case H5T_ENUM:
+        return "enumerated values";
+    case H5T_REFERENCE:
+        return "references";
+    case H5T_OPAQUE:
+        return "opaque bytes";
+    case H5T_BITFIELD:
+        return "bit fields";
+    case H5T_VLEN:
+        return "variable-length sequences";
+    default:
+        return "values of HDF5 type class " + std::to_string(static_cast<int>(c));
+    }
+}
 } // namespace
 
 RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset) {
     H5::Exception::dontPrint();
     const std::string where = path.string();
     if (!std::filesystem::exists(path)) throw InputError(where + ": no such file");
+    std::string name = dataset;
     try {
         if (!H5::H5File::isHdf5(where)) throw InputError(where + ": not an HDF5 file");
         H5::H5File f(where, H5F_ACC_RDONLY);
         // A run file of ecoterra (hydrology or ecosystem) keeps its terrain at /terrain/elevation:
         // every raster command takes it where it asks for a DEM.
-        const std::string name = dataset == "/elevation" && !f.nameExists(dataset) &&
-                                         f.nameExists("/terrain") &&
-                                         f.openGroup("/terrain").nameExists("elevation")
-                                     ? "/terrain/elevation"
-                                     : dataset;
+        name = dataset == "/elevation" && !f.nameExists(dataset) && f.nameExists("/terrain") &&
+                       f.openGroup("/terrain").nameExists("elevation")
+                   ? "/terrain/elevation"
+                   : dataset;
         if (!path_exists(f, name))
             throw InputError(where + ": has no dataset " + dataset +
                              (dataset == "/elevation"
                                   ? " (nor /terrain/elevation, the terrain of a run file)"
                                   : ""));
+        H5O_info_t info{};
+        if (H5Oget_info_by_name(f.getId(), name.c_str(), &info, H5P_DEFAULT) < 0 ||
+            info.type != H5O_TYPE_DATASET)
+            throw InputError(where + ": " + name + " is " +
+                             (info.type == H5O_TYPE_GROUP ? "a group" : "not a dataset") +
+                             ", not a raster dataset (name a 2-D dataset, e.g. " + where +
+                             ":/terrain/elevation; h5ls -r lists them)");
         H5::DataSet ds = f.openDataSet(name);
+        const H5T_class_t type = ds.getTypeClass();
+        if (type != H5T_INTEGER && type != H5T_FLOAT)
+            throw InputError(where + ": dataset " + name + " holds " + type_class_name(type) +
+                             ", not numbers; a raster is integers or floats");
         H5::DataSpace sp = ds.getSpace();
         if (sp.getSimpleExtentNdims() != 2)
             throw InputError(where + ": dataset " + name + " must be 2-D [ny, nx]");
@@ -88,7 +123,9 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
         z.set_crs_wkt(read_string_attr(ds, "crs_wkt"));
         return z;
     } catch (const H5::Exception& e) {
-        throw IoError(where + ": HDF5 error: " + e.getDetailMsg());
+        // Reading failed past the checks above: a truncated or damaged file is bad input.
+        throw InputError(where + ": cannot read " + name +
+                         ": the file is damaged or truncated (HDF5: " + e.getDetailMsg() + ")");
     }
 }
 

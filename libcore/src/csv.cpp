@@ -3,8 +3,10 @@
 #include "ecoterra/error.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 namespace ecoterra {
@@ -30,10 +32,18 @@ bool read_line(std::ifstream& in, std::string& line) {
 
 CsvReader::CsvReader(const std::filesystem::path& path, const std::string& what)
     : m_path(path), m_in(path) {
-    if (!m_in) throw InputError(path.string() + ": cannot open the " + what);
+    if (!m_in)
+        throw InputError(path.string() + ": cannot open the " + what + " (" + std::strerror(errno) +
+                         ")");
     if (!read_line(m_in, m_header_line))
         throw InputError(path.string() + ": the " + what + " is empty");
     m_header = split(m_header_line);
+    for (std::size_t a = 0; a < m_header.size(); ++a)
+        for (std::size_t b = a + 1; b < m_header.size(); ++b)
+            if (!m_header[a].empty() && m_header[a] == m_header[b])
+                throw InputError(path.string() + ": the header names column " + m_header[a] +
+                                 " twice (columns " + std::to_string(a + 1) + " and " +
+                                 std::to_string(b + 1) + "); which one is meant is unclear");
 }
 
 int CsvReader::column(const std::string& name) const {

@@ -4,6 +4,7 @@
 #include "ecoterra/eco/run_reader.hpp"
 #include "run_layout.hpp"
 
+#include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/io/file_lock.hpp"
 
 #include <H5Cpp.h>
@@ -36,9 +37,7 @@ long leftover_pid(const std::string& name, const std::string& marker) {
 /// when the process that made them is gone. A live process's files are left alone.
 void remove_leftovers(const fs::path& parent, const fs::path& out) {
     const std::string stem = out.stem().string();
-    auto dead = [](long pid) {
-        return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
-    };
+    auto dead = [](long pid) { return pid > 0 && !io::process_alive(pid); };
     std::error_code ec;
     // A leftover is a name that starts with "." + head and holds marker + the pid that wrote it.
     struct Kind {

@@ -2,6 +2,8 @@
 
 #include "run_layout.hpp"
 
+#include <cmath>
+
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/units.hpp"
 
@@ -160,6 +162,28 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
         }
         if (!has_stem_diameter)
             for (auto& r : s.plants) r.stem_diameter_m = r.dbh_m;
+        // What the engine writes is finite, sizes are not negative and life forms are known: a
+        // file that says otherwise was damaged or edited, and is refused before it skews metrics.
+        for (const auto& r : s.plants) {
+            auto bad = [&](const std::string& column, double v, const std::string& why) {
+                throw InputError(run.string() + ": snapshot " + std::to_string(k) + ": plant " +
+                                 std::to_string(r.id) + ": " + column + " = " + format_number(v) +
+                                 " " + why);
+            };
+            for (const auto& [column, v] : {std::pair{"x_m", r.x_m},
+                                            {"y_m", r.y_m},
+                                            {"z_m", r.z_m},
+                                            {"carbohydrate_kg", r.carbohydrate_kg}})
+                if (!std::isfinite(v)) bad(column, v, "is not a finite number");
+            for (const auto& [column, v] : {std::pair{"height_m", r.height_m},
+                                            {"dbh_m", r.dbh_m},
+                                            {"stem_diameter_m", r.stem_diameter_m},
+                                            {"crown_radius_m", r.crown_radius_m},
+                                            {"age_yr", r.age_yr}})
+                if (!(std::isfinite(v) && v >= 0)) bad(column, v, "is not a size (finite, >= 0)");
+            if (r.life_form != 0 && r.life_form != 1 && r.life_form != 3)
+                bad("life_form", r.life_form, "is not 0 (tree), 1 (shrub) or 3 (object)");
+        }
     });
     return s;
 }

@@ -129,15 +129,19 @@ void check_analyses(const json& a, BaseKind kind, const std::string& where) {
 void check_vehicle_files(const Manifest& m) {
     for (const char* analysis : {"mobility", "traverse"}) {
         const std::string key = std::string("analyses.") + analysis + ".vehicle";
+        // The values members use: an axis's override the fixed `set`, which overrides the
+        // analyses' own (a placeholder there that every member overrides is not checked).
         std::vector<std::pair<std::string, json>> values; // where named, value
-        if (m.analyses.contains(analysis) && m.analyses[analysis].contains("vehicle"))
-            values.emplace_back(key, m.analyses[analysis]["vehicle"]);
-        for (const auto& [k, v] : m.set)
-            if (k == key) values.emplace_back("set." + key, v);
         for (std::size_t a = 0; a < m.axes.size(); ++a)
             if (m.axes[a].key == key)
                 for (const auto& v : m.axes[a].values)
                     values.emplace_back("axes[" + std::to_string(a) + "] (" + key + ")", v);
+        if (values.empty())
+            for (const auto& [k, v] : m.set)
+                if (k == key) values.emplace_back("set." + key, v);
+        if (values.empty() && m.analyses.contains(analysis) &&
+            m.analyses[analysis].contains("vehicle"))
+            values.emplace_back(key, m.analyses[analysis]["vehicle"]);
         std::set<std::string> checked;
         for (const auto& [where, v] : values) {
             if (!v.is_string())

@@ -269,12 +269,6 @@ std::string utc_now() {
     return b;
 }
 
-std::string host_name() {
-    char b[256] = {0};
-    if (gethostname(b, sizeof b - 1) != 0) return "unknown";
-    return b;
-}
-
 json base_record(const Manifest& m, const Member& mb) {
     json axes = json::array();
     for (const auto& [k, v] : mb.axes) axes.push_back({{"key", k}, {"value", v}});
@@ -320,7 +314,7 @@ void publish(const fs::path& stage, const fs::path& final_dir, const std::string
 /// The suffix of this process's staging folders: the host, because the folder may be shared by
 /// machines whose process ids mean nothing to each other, and the process id.
 std::string owner_tag() {
-    return host_name() + "-" + std::to_string(getpid());
+    return io::process_tag();
 }
 
 /// `.NNNNNN.partial-HOST-PID`: member `index` being written by this process.
@@ -335,7 +329,7 @@ void write_record(const fs::path& stage, const json& record, double seconds, int
     io::write_text_atomic(stage / "member.json", record.dump(1) + "\n");
     const json timing = {{"seconds", seconds},
                          {"threads", threads},
-                         {"host", host_name()},
+                         {"host", io::host_name()},
                          {"pid", static_cast<long long>(getpid())},
                          {"finished_utc", utc_now()}};
     io::write_text_atomic(stage / "timing.json", timing.dump(1) + "\n");
@@ -377,42 +371,9 @@ MemberOutcome run_member(const fs::path& out, const Manifest& m, const Member& m
     return o;
 }
 
-namespace {
-
-/// True when the process exists and is not a zombie (an orphan whose parent died is a zombie
-/// until someone reaps it, and in a container nobody may).
-bool process_alive(pid_t pid) {
-    if (kill(pid, 0) != 0 && errno == ESRCH) return false;
-    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-    std::string text;
-    if (!std::getline(stat, text)) return true; // no /proc: trust kill()
-    const auto close = text.rfind(')');
-    return close == std::string::npos || close + 2 >= text.size() || text[close + 2] != 'Z';
-}
-
-} // namespace
-
 std::size_t sweep_stale_stages(const fs::path& out) {
-    const std::string host = host_name();
-    std::size_t removed = 0;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(out / "members", ec)) {
-        const std::string n = e.path().filename().string();
-        if (n.empty() || n[0] != '.') continue;
-        std::size_t at = n.find(".partial-");
-        std::size_t len = 9;
-        if (at == std::string::npos) at = n.find(".old-"), len = 5;
-        if (at == std::string::npos) continue;
-        const std::string tag = n.substr(at + len);
-        const auto dash = tag.rfind('-');
-        if (dash == std::string::npos || tag.substr(0, dash) != host) continue;
-        const long pid = std::strtol(tag.c_str() + dash + 1, nullptr, 10);
-        if (pid <= 0 || !process_alive(static_cast<pid_t>(pid))) {
-            fs::remove_all(e.path(), ec);
-            ++removed;
-        }
-    }
-    return removed;
+    return io::sweep_dead_staging(out / "members", "", ".partial-") +
+           io::sweep_dead_staging(out / "members", "", ".old-");
 }
 
 void record_crashed_member(const fs::path& out, const Manifest& m, const Member& mb,

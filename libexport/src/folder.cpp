@@ -1,6 +1,7 @@
 #include "ecoterra/export/folder.hpp"
 
 #include "ecoterra/error.hpp"
+#include "ecoterra/io/atomic_file.hpp"
 
 #include <fstream>
 #include <system_error>
@@ -25,9 +26,13 @@ OutputFolder::OutputFolder(fs::path dir, bool force) : m_dir(std::move(dir)) {
     const fs::path parent =
         abs.has_filename() ? abs.parent_path() : abs.parent_path().parent_path();
     fs::create_directories(parent, ec);
+    const std::string name =
+        (abs.has_filename() ? abs.filename() : abs.parent_path().filename()).string();
+    // Staging folders of exports into the same place whose processes were killed: removed.
+    io::sweep_dead_staging(parent, name, ".partial-");
     std::string hidden(".");
-    hidden += (abs.has_filename() ? abs.filename() : abs.parent_path().filename()).string();
-    hidden += ".partial-" + std::to_string(::getpid());
+    hidden += name;
+    hidden += ".partial-" + io::process_tag();
     m_stage = parent / hidden;
     fs::remove_all(m_stage, ec);
     if (!fs::create_directories(m_stage, ec))

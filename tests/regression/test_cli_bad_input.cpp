@@ -12,10 +12,13 @@
 #include <H5Cpp.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 
 using namespace ecoterra;
 using nlohmann::json;
@@ -672,4 +675,87 @@ TEST_CASE("HDF5 inputs that are not rasters, damaged files and huge numbers get 
     CHECK(terrain_cells(dir / "all/elevation_m.tif") == 400);
     r = test::run(dir, "export layers run.h5 -o part --region 0,0,1e308,1e308");
     CHECK(r.code == 0);
+}
+
+TEST_CASE("damaged plant values, ambiguous CSV headers and killed exports' staging folders",
+          "[cli][bad-input]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(2, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
+    fs::copy(dir / "run.snapshots", dir / "keep.snapshots");
+    // A snapshot whose values were edited: the checksum refuses it; with no checksum (a run of an
+    // older ecoterra) the values themselves are checked.
+    struct Edit {
+        std::string column;
+        double value;
+        std::string says;
+    };
+    const Edit edits[] = {{"dbh_m", std::nan(""), "dbh_m = nan is not a size"},
+                          {"dbh_m", -0.2, "dbh_m = -0.2 is not a size"},
+                          {"height_m", -1, "height_m = -1 is not a size"},
+                          {"crown_radius_m", INFINITY, "crown_radius_m = inf is not a size"},
+                          {"x_m", std::nan(""), "x_m = nan is not a finite number"}};
+    for (const bool checksums : {true, false})
+        for (const auto& e : edits) {
+            CAPTURE(checksums, e.column, e.value);
+            fs::remove_all(dir / "run.snapshots");
+            fs::copy(dir / "keep.snapshots", dir / "run.snapshots");
+            {
+                H5::H5File f((dir / "run.snapshots/0000.h5").string(), H5F_ACC_RDWR);
+                H5::DataSet ds = f.openDataSet("/0000/plants/" + e.column);
+                std::vector<double> v(
+                    static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
+                ds.read(v.data(), H5::PredType::NATIVE_DOUBLE);
+                REQUIRE(v.size() > 3);
+                v[3] = e.value;
+                ds.write(v.data(), H5::PredType::NATIVE_DOUBLE);
+            }
+            if (!checksums) {
+                H5::H5File f((dir / "run.h5").string(), H5F_ACC_RDWR);
+                H5::Group g = f.openGroup("/snapshots");
+                if (g.attrExists("checksums_fnv1a64")) g.removeAttr("checksums_fnv1a64");
+            }
+            for (const std::string cmd :
+                 {"stand run.h5 --snapshot 0", "export vegetation run.h5 --snapshot 0 -o v.csv"}) {
+                const auto r = test::run(dir, cmd);
+                INFO(cmd + "\n" + r.out);
+                CHECK(r.code == 2);
+                CHECK_THAT(r.out, Catch::Contains("run.h5: snapshot 0"));
+                CHECK_THAT(r.out, Catch::Contains(checksums ? "checksum" : e.says));
+            }
+            CHECK_FALSE(fs::exists(dir / "v.csv"));
+        }
+    // A stem list naming a column twice is ambiguous: refused, naming the column.
+    write(dir / "dup.csv", "x_m,y_m,dbh_cm,dbh_cm\n5,5,10,20\n");
+    REQUIRE(test::run(dir, "terrain generate --method fbm --size 40 --cell 1 -o d.asc").code == 0);
+    auto r = test::run(dir, "mobility --stems dup.csv --dem d.asc --vehicle " +
+                                (test::data_dir() / "vehicles/mrzr4.json").string());
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("dup.csv: the header names column dbh_cm twice (columns 3 "
+                                      "and 4)"));
+    // Staging folders of killed exports (a process of this host that is gone) are removed by the
+    // next export into the same place; a live process's and another host's are left alone.
+    fs::remove_all(dir / "run.snapshots");
+    fs::copy(dir / "keep.snapshots", dir / "run.snapshots");
+    const long gone = [] {
+        const pid_t p = ::fork();
+        if (p == 0) ::_exit(0);
+        ::waitpid(p, nullptr, 0);
+        return static_cast<long>(p);
+    }();
+    char host[256] = {0};
+    ::gethostname(host, sizeof host - 1);
+    const std::string me = std::string(host) + "-";
+    for (const std::string& name : {".layers.partial-" + me + std::to_string(gone),
+                                    ".layers.partial-" + me + std::to_string(::getpid()),
+                                    ".layers.partial-elsewhere-" + std::to_string(gone)}) {
+        fs::create_directories(dir / name);
+        write(dir / name / "elevation_m.tif", std::string(1000, 'x'));
+    }
+    r = test::run(dir, "export layers run.h5 -o layers");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_FALSE(fs::exists(dir / (".layers.partial-" + me + std::to_string(gone))));
+    CHECK(fs::exists(dir / (".layers.partial-" + me + std::to_string(::getpid()))));
+    CHECK(fs::exists(dir / (".layers.partial-elsewhere-" + std::to_string(gone))));
 }

@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -91,6 +93,49 @@ std::string read_text(const fs::path& path) {
     std::ostringstream s;
     s << f.rdbuf();
     return s.str();
+}
+
+std::string host_name() {
+    char b[256] = {0};
+    if (::gethostname(b, sizeof b - 1) != 0 || b[0] == 0) return "unknown";
+    return b;
+}
+
+bool process_alive(long pid) {
+    if (pid <= 0) return false;
+    if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) return false;
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string text;
+    if (!std::getline(stat, text)) return true; // no /proc: trust kill()
+    const auto close = text.rfind(')');
+    return close == std::string::npos || close + 2 >= text.size() || text[close + 2] != 'Z';
+}
+
+std::string process_tag() {
+    return host_name() + "-" + std::to_string(::getpid());
+}
+
+std::size_t sweep_dead_staging(const fs::path& dir, const std::string& head,
+                               const std::string& marker) {
+    const std::string host = host_name() + "-";
+    std::size_t removed = 0;
+    std::error_code ec;
+    std::vector<fs::path> gone;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string n = e.path().filename().string();
+        if (n.size() <= head.size() + 1 || n[0] != '.' || n.compare(1, head.size(), head) != 0)
+            continue;
+        const auto at = n.find(marker, 1 + head.size());
+        if (at == std::string::npos || n.compare(at + marker.size(), host.size(), host) != 0)
+            continue;
+        const char* digits = n.c_str() + at + marker.size() + host.size();
+        char* end = nullptr;
+        const long pid = std::strtol(digits, &end, 10);
+        if (end == digits || process_alive(pid)) continue;
+        gone.push_back(e.path());
+    }
+    for (const auto& p : gone) removed += fs::remove_all(p, ec) > 0;
+    return removed;
 }
 
 } // namespace ecoterra::io

@@ -32,6 +32,20 @@ void write_text_atomic(const std::filesystem::path& target, const std::string& t
 /// Creates the folder `dir` and its parents if needed; IoError "DIR: cannot create WHAT: reason".
 void create_folder(const std::filesystem::path& dir, const std::string& what);
 
+/// This machine's host name ("unknown" if it has none): staging names carry it, so that a sweep
+/// on a shared file system never takes another machine's live work for a dead process's.
+std::string host_name();
+/// True when process `pid` of this machine exists and is not a zombie (an orphan whose parent
+/// died stays a zombie until someone reaps it, and in a container nobody may).
+bool process_alive(long pid);
+/// "HOST-PID" of this process: the tag of its staging names.
+std::string process_tag();
+/// Removes the entries of `dir` named "." + `head` + ... + `marker` + HOST-PID + ... whose
+/// process, on this host, is gone (killed writers' staging folders and files); returns how
+/// many. Others' and live processes' entries are left alone.
+std::size_t sweep_dead_staging(const std::filesystem::path& dir, const std::string& head,
+                               const std::string& marker);
+
 /// Reads a whole file; throws IoError naming it.
 std::string read_text(const std::filesystem::path& path);
 

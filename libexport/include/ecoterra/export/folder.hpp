@@ -2,7 +2,8 @@
 // An output folder that appears whole or not at all. Files are written into a hidden sibling
 // staging folder; commit() renames it into place (a new folder), or, with --force into an
 // existing folder, moves each file over its namesake (other files of the user are never touched
-// or deleted). Without commit() (an error on the way) the staging folder is removed.
+// or deleted). Without commit() (an error on the way) the staging folder is removed; a killed
+// process's staging folder (".NAME.partial-HOST-PID") is removed by the next export to NAME.
 #include <cstdint>
 #include <filesystem>
 #include <string>

@@ -54,6 +54,14 @@ std::vector<float> accessor_floats(const json& j, const std::string& bin, int a)
     return v;
 }
 
+/// Calls f(node, its EXT_mesh_gpu_instancing attributes) for every instanced trunks node.
+template <class F>
+void each_trunks_node(const json& j, F&& f) {
+    for (const auto& node : j["nodes"])
+        if (node.contains("extensions") && node["name"].get<std::string>().ends_with("_trunks"))
+            f(node, node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]);
+}
+
 /// The trees of a run's last snapshot by plant id.
 std::map<std::int64_t, Tree> trees_by_id(const Scene& s) {
     std::map<std::int64_t, Tree> m;
@@ -705,12 +713,11 @@ TEST_CASE("export scene: a DEM at a large northing exports about a local origin,
     succeeds(dir, "export scene utm.h5 --format gltf -o s.glb --no-pictures");
     check_gltf_validator(dir, "s.glb");
     frame_is(read_json(dir / "s.glb.json")["frame"], ox, oy);
-    const auto [j, bin] = read_glb(dir / "s.glb");
+    const auto glb = read_glb(dir / "s.glb"); // (clang 14 cannot capture structured bindings)
+    const json& j = glb.first;
+    const std::string& bin = glb.second;
     std::size_t seen = 0;
-    for (const auto& node : j["nodes"]) {
-        if (!node.contains("extensions") || !node["name"].get<std::string>().ends_with("_trunks"))
-            continue;
-        const auto& at = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+    each_trunks_node(j, [&](const json&, const json& at) {
         const auto pos = accessor_floats(j, bin, at["TRANSLATION"]);
         const auto ids = accessor_floats(j, bin, at["_PLANT_ID"]);
         for (std::size_t k = 0; k < ids.size(); ++k, ++seen) {
@@ -718,7 +725,7 @@ TEST_CASE("export scene: a DEM at a large northing exports about a local origin,
             CHECK(pos[3 * k] + ox == Approx(t.x_m).margin(1e-3));
             CHECK(-pos[3 * k + 2] + oy == Approx(t.y_m).margin(1e-3));
         }
-    }
+    });
     CHECK(seen == s.trees.size());
 
     // Unreal: the table and the landscape share the local frame.

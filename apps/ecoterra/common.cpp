@@ -2,6 +2,7 @@
 
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <algorithm>
 #include <cstdarg>
@@ -83,10 +84,7 @@ void add_force_flag(CLI::App* command, bool& force) {
 }
 
 std::string raster_file_part(const std::string& reference) {
-    // "run.h5:/terrain/elevation": the part before ":/" when that part names an HDF5 file.
-    const auto at = reference.find(":/");
-    if (at == std::string::npos) return reference;
-    return reference.substr(0, at);
+    return terrain::io::split_hdf5_reference(reference).first;
 }
 
 void refuse_over_run_file(const std::string& option, const std::string& path) {

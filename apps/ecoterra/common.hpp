@@ -34,7 +34,8 @@ void add_force_flag(CLI::App* command, bool& force);
 /// Refuses to write a raster over an ecoterra run or snapshot file (a file with /checkpoint,
 /// /snapshots or /NNNN/plants), whatever --force says: a raster would destroy the run's contents.
 void refuse_over_run_file(const std::string& option, const std::string& path);
-/// The file part of a raster reference "FILE" or "FILE:/DATASET" (HDF5), for comparing paths.
+/// The file part of a raster reference "FILE" or "FILE.h5:/DATASET" (terrain::io::
+/// split_hdf5_reference), for comparing paths.
 std::string raster_file_part(const std::string& reference);
 /// Prints each warning to stderr as "warning: ...".
 void print_warnings(const std::vector<std::string>& warnings);

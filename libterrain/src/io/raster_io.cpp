@@ -57,10 +57,7 @@ std::string format_name(RasterFormat f) {
     return "unknown";
 }
 
-RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>* warnings) {
-    // FILE.h5:/DATASET names one dataset of an HDF5 file, e.g. a snapshot's raster of a run file
-    // (run.h5:/snapshots/0002/soil_moisture; the snapshot links are followed).
-    const std::string text = path.string();
+std::pair<std::string, std::string> split_hdf5_reference(const std::string& text) {
     for (const std::string ext : {".h5:", ".hdf5:"}) {
         const auto at = lower(text).rfind(ext);
         if (at == std::string::npos || ends_with(lower(text), ext.substr(0, ext.size() - 1)))
@@ -75,6 +72,16 @@ RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>*
             absolute += dataset;
             dataset = absolute;
         }
+        return {file, dataset};
+    }
+    return {text, ""};
+}
+
+RasterD read_raster(const std::filesystem::path& path, std::vector<std::string>* warnings) {
+    // FILE.h5:/DATASET names one dataset of an HDF5 file, e.g. a snapshot's raster of a run file
+    // (run.h5:/snapshots/0002/soil_moisture; the snapshot links are followed).
+    const std::string text = path.string();
+    if (const auto [file, dataset] = split_hdf5_reference(text); !dataset.empty()) {
         RasterD z = read_hdf5(file, dataset);
         require_valid_cells(z, text);
         return z;

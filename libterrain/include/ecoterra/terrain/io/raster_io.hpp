@@ -18,6 +18,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 
 namespace ecoterra::terrain::io {
 
@@ -33,6 +34,11 @@ struct WriteOptions {
     nlohmann::json provenance = nlohmann::json::object(); ///< stored where the format allows
     std::vector<std::string>* warnings = nullptr;         ///< where notes are appended
 };
+
+/// A raster reference "FILE.h5:/DATASET" (or .hdf5) split into the file and the dataset (with a
+/// leading '/'); a plain path gives itself and an empty dataset. InputError for "FILE.h5:" or
+/// "FILE.h5:/" with no dataset named.
+std::pair<std::string, std::string> split_hdf5_reference(const std::string& reference);
 
 /// Reads an elevation raster (m); NODATA becomes NaN. Throws IoError/InputError naming the file.
 /// Notes (a PNG without sidecar, a geographic coordinate system) go to `warnings` if given.

@@ -67,9 +67,10 @@ void remove_leftovers(const fs::path& parent, const fs::path& out) {
 }
 
 /// Puts a complete new run (run file `work`, snapshots in `snap_dir`) in the place of the earlier
-/// run at `out`: the earlier snapshots are set aside, the new ones moved into place, and the run
-/// file (written again to link the final folder) replaces the earlier one atomically. A failure
-/// at any step puts the earlier run back as it was.
+/// run at `out`. The run file linking the final folder is written completely first (under a
+/// staging name), so that the swap is three renames: earlier snapshots aside, new ones into
+/// place, new run file over the earlier one. A kill can fall only between two renames, not in
+/// the middle of writing a file; a failure at any step puts the earlier run back as it was.
 void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work,
                  const fs::path& snap_dir, const json& prov,
                  const std::vector<std::string>& checksums) {
@@ -78,15 +79,27 @@ void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work
     std::string aside(".");
     aside.append(snapshot_dir_name(out)).append(".old-").append(std::to_string(::getpid()));
     const fs::path old_dir = parent / aside;
+    // ".STEM.replacing-PID.ready.h5": swept with the other staging files if the process dies.
+    std::string ready_name(".");
+    ready_name.append(out.stem().string())
+        .append(".replacing-")
+        .append(std::to_string(::getpid()))
+        .append(".ready")
+        .append(out.extension().string());
+    const fs::path ready = parent / ready_name;
+    write_main(eco, ready, prov, checksums, snapshot_dir_name(out));
     std::error_code ec;
     fs::remove_all(old_dir, ec);
     const bool had_snapshots = fs::exists(final_dir, ec);
     if (had_snapshots) fs::rename(final_dir, old_dir, ec);
-    if (ec)
+    if (ec) {
+        fs::remove(ready, ec);
         throw IoError(final_dir.string() +
                       ": cannot move the earlier run's snapshots aside: " + ec.message());
+    }
     auto restore = [&] {
         std::error_code e2;
+        fs::remove(ready, e2);
         if (had_snapshots) fs::rename(old_dir, final_dir, e2);
     };
     fs::rename(snap_dir, final_dir, ec);
@@ -95,13 +108,12 @@ void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work
         throw IoError(final_dir.string() +
                       ": cannot move the new snapshots into place: " + ec.message());
     }
-    try {
-        write_main(eco, out, prov, checksums);
-    } catch (...) {
+    fs::rename(ready, out, ec);
+    if (ec) {
         std::error_code e2;
         fs::rename(final_dir, snap_dir, e2);
         restore();
-        throw;
+        throw IoError(out.string() + ": cannot move the new run file into place: " + ec.message());
     }
     fs::remove(work, ec);
     fs::remove_all(old_dir, ec);

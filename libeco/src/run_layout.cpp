@@ -83,7 +83,7 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
 }
 
 void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance,
-                const std::vector<std::string>& snapshot_checksums) {
+                const std::vector<std::string>& snapshot_checksums, const std::string& link_dir) {
     const int snapshots = static_cast<int>(snapshot_checksums.size());
     io::Hdf5Writer h5(path);
     const EcoScene& sc = eco.scene();
@@ -120,7 +120,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     h5.attribute("/checkpoint", "terrain_hash", std::to_string(raster_hash(sc.hydro.dem)));
     h5.attribute("/checkpoint", "checksum_fnv1a64",
                  std::to_string(fnv1a64(a.bytes().data(), a.bytes().size())));
-    const std::string dir = snapshot_dir_name(path);
+    const std::string dir = link_dir.empty() ? snapshot_dir_name(path) : link_dir;
     for (int k = 0; k < snapshots; ++k) {
         char link[32];
         std::snprintf(link, sizeof link, "/snapshots/%04d", k);

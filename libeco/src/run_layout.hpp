@@ -38,8 +38,10 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index);
 /// the snapshot files, one per checksum (`/snapshots` attribute `checksums_fnv1a64`, one decimal
 /// FNV-1a 64 of each snapshot file's bytes a line; an empty line for a snapshot written before
 /// snapshots had checksums).
+/// `link_dir` names the snapshot folder the links point into (default: the one of `path`).
 void write_main(const Ecosystem& eco, const fs::path& path, const nlohmann::json& provenance,
-                const std::vector<std::string>& snapshot_checksums);
+                const std::vector<std::string>& snapshot_checksums,
+                const std::string& link_dir = "");
 /// FNV-1a 64 of a file's bytes, in decimal; IoError naming it if it cannot be read.
 std::string file_checksum(const fs::path& file);
 /// The snapshot checksums a run file holds (empty strings where it has none: runs written before

@@ -173,16 +173,17 @@ void self_thinning(const json& base, const std::filesystem::path& dir, int seeds
         const auto sc = eco::load_eco_scene(q, dir);
         eco::Ecosystem e(sc);
         std::int64_t last_planted = 0;
-        for (const auto& p : e.plants()) last_planted = std::max(last_planted, p.id);
+        for (const std::int64_t id : e.plants().id) last_planted = std::max(last_planted, id);
         const double area_ha = e.plant_grid().width_m() * e.plant_grid().height_m() / 1e4;
         std::vector<double> n_stand, dq_stand, n_cohort, dq_cohort;
         for (int y = 0; y < years; ++y) {
             e.run_year();
             double ns = 0, ds = 0, nc = 0, dc = 0;
-            for (const auto& p : e.plants()) {
-                const double d2 = p.dbh_m * p.dbh_m;
-                if (p.dbh_m >= kThinningMinDbhM) ns += 1, ds += d2;
-                if (p.id <= last_planted && p.dbh_m > 0) nc += 1, dc += d2;
+            const auto& pop = e.plants();
+            for (std::size_t k = 0; k < pop.size(); ++k) {
+                const double d = pop.dbh_m[k], d2 = d * d;
+                if (d >= kThinningMinDbhM) ns += 1, ds += d2;
+                if (pop.id[k] <= last_planted && d > 0) nc += 1, dc += d2;
             }
             n_stand.push_back(ns / area_ha);
             dq_stand.push_back(ns > 0 ? std::sqrt(ds / ns) : 0.0);

@@ -74,10 +74,14 @@ double CsvReader::number(int col, const std::string& name, bool non_negative) co
     const std::string t = col >= 0 && col < static_cast<int>(m_row.size())
                               ? m_row[static_cast<std::size_t>(col)]
                               : std::string();
+    // Spaces around the number are allowed, anything else after it is not ("12abc").
+    const std::size_t b = t.find_first_not_of(" \t"), e = t.find_last_not_of(" \t");
+    const char* first = t.data() + (b == std::string::npos ? t.size() : b);
+    const char* last = t.data() + (e == std::string::npos ? t.size() : e + 1);
     double v = 0;
-    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (ec != std::errc() || end != t.data() + t.size() || !std::isfinite(v))
-        throw InputError(where() + ": " + name + " = '" + t + "' is not a number");
+    const auto [end, ec] = std::from_chars(first, last, v);
+    if (ec != std::errc() || end != last || first == last || !std::isfinite(v))
+        throw InputError(where() + ": " + name + " = '" + t + "' is not a finite number");
     if (non_negative && v < 0) throw InputError(where() + ": " + name + " = " + t + " is negative");
     return v;
 }

@@ -75,17 +75,27 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
 
 CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, double f_temp,
                      double q10_factor) {
+    CarbonPools pools{p.reserve_kg, p.wood_kg, p.turnover_kg};
+    const CarbonDay c =
+        carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, growth, phen, f_temp, q10_factor);
+    p.reserve_kg = pools.reserve_kg;
+    p.wood_kg = pools.wood_kg;
+    p.turnover_kg = pools.turnover_kg;
+    return c;
+}
+
+CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m, CarbonPools& p,
+                     double growth, double phen, double f_temp, double q10_factor) {
     CarbonDay c;
-    const double la = p.leaf_area_m2;
     c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen * f_temp;
     c.maintenance_kg =
-        s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * p.height_m * q10_factor;
+        s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * height_m * q10_factor;
     const double net = c.production_kg - c.maintenance_kg;
     const double cap = s.reserve_capacity_kg_per_m2_leaf * la;
     if (net >= 0) {
         c.to_reserve_kg = std::clamp(cap - p.reserve_kg, 0.0, net);
         const double rest = net - c.to_reserve_kg;
-        const double w = wood_allocation(s, p.dbh_m);
+        const double w = wood_allocation(s, dbh_m);
         const double built = rest * w;
         c.turnover_kg = rest - built; // 0 below 0.9 D_max
         c.growth_respiration_kg = kGrowthRespiration * built;
@@ -108,16 +118,21 @@ double wood_allocation(const Species& s, double d) {
 }
 
 double update_growth_efficiency(Plant& p) {
-    const double mass = p.wood_kg + p.reserve_kg;
+    return update_growth_efficiency(p.wood_kg, p.reserve_kg, p.leaf_area_m2,
+                                    p.mass_at_year_start_kg, p.turnover_kg, p.growth_efficiency);
+}
+
+double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_area_m2,
+                                double& mass_at_year_start_kg, double& turnover_kg,
+                                double& mean_efficiency) {
+    const double mass = wood_kg + reserve_kg;
     // Carbon turned over at the maximum diameter counts as growth: such a plant is not suppressed.
-    const double e =
-        (mass - p.mass_at_year_start_kg + p.turnover_kg) / std::max(p.leaf_area_m2, 1e-12);
-    p.mass_at_year_start_kg = mass;
-    p.turnover_kg = 0;
-    p.growth_efficiency =
-        std::isnan(p.growth_efficiency)
-            ? e
-            : p.growth_efficiency + kSuppressionSmoothing * (e - p.growth_efficiency);
+    const double e = (mass - mass_at_year_start_kg + turnover_kg) / std::max(leaf_area_m2, 1e-12);
+    mass_at_year_start_kg = mass;
+    turnover_kg = 0;
+    mean_efficiency = std::isnan(mean_efficiency)
+                          ? e
+                          : mean_efficiency + kSuppressionSmoothing * (e - mean_efficiency);
     return e;
 }
 

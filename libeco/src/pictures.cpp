@@ -134,7 +134,7 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
     // Crowns, largest first so small plants stay visible.
     std::vector<std::size_t> order(eco.plants().size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    const auto& plants = eco.plants();
+    const std::vector<Plant> plants = eco::rows(eco.plants());
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
         return plants[a].crown_radius_m > plants[b].crown_radius_m;
     });

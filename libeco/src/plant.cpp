@@ -72,11 +72,21 @@ double dbh_from_stem_mass(const Species& s, double mass, double guess) {
     return d;
 }
 
+Size size(const Species& s, double dbh_m) {
+    Size z;
+    z.dbh_m = s.life_form == LifeForm::object ? object_diameter_m(s) : dbh_m;
+    z.height_m = height_m(s, z.dbh_m);
+    z.crown_radius_m = crown_radius_m(s, z.dbh_m);
+    z.leaf_area_m2 = leaf_area_m2(s, z.crown_radius_m);
+    return z;
+}
+
 void apply(const Species& s, Plant& p) {
-    if (s.life_form == LifeForm::object) p.dbh_m = object_diameter_m(s);
-    p.height_m = height_m(s, p.dbh_m);
-    p.crown_radius_m = crown_radius_m(s, p.dbh_m);
-    p.leaf_area_m2 = leaf_area_m2(s, p.crown_radius_m);
+    const Size z = size(s, p.dbh_m);
+    p.dbh_m = z.dbh_m;
+    p.height_m = z.height_m;
+    p.crown_radius_m = z.crown_radius_m;
+    p.leaf_area_m2 = z.leaf_area_m2;
 }
 
 double object_diameter_m(const Species& s) {

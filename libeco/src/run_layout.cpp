@@ -46,7 +46,8 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     std::vector<PlantRecord> rows;
     rows.reserve(eco.plants().size());
     const auto& species = eco.scene().ecosystem.species;
-    for (const auto& p : eco.plants()) rows.push_back(plant_record(p, species[p.species]));
+    for (const Plant& p : eco::rows(eco.plants()))
+        rows.push_back(plant_record(p, species[p.species]));
     for (const auto& c : plant_columns()) {
         const std::string dataset = g + "/plants/" + c.name;
         auto write = [&]<class T>(T) {

@@ -312,7 +312,7 @@ TEST_CASE("every output column is written and read back") {
     for (const auto& c : eco::plant_columns()) {
         INFO("plant column " << c.name);
         std::vector<double> expect;
-        for (const auto& p : e.plants())
+        for (const auto& p : eco::rows(e.plants()))
             expect.push_back(c.get(eco::plant_record(p, e.scene().ecosystem.species[p.species])));
         CHECK(snap.values(c.name) == expect);
     }

@@ -87,7 +87,7 @@ TEST_CASE("ecosystem: budgets close, plants live, die and recruit", "[eco][engin
         if (e.daily().names[k] == "transpiration_mm")
             for (double v : e.daily().columns[k]) tr += v;
     CHECK(tr > 100.0); // mm over 6 years
-    for (const auto& p : e.plants()) {
+    for (const auto& p : eco::rows(e.plants())) {
         CHECK(p.dbh_m > 0);
         CHECK(p.reserve_kg > 0);
         CHECK(p.height_m > kBreastHeightM - 1e-12);
@@ -100,7 +100,7 @@ TEST_CASE("ecosystem: same seed, same plants on 1 and 2 threads", "[eco][engine]
         omp_set_num_threads(threads);
         eco::Ecosystem e(sc);
         for (int y = 0; y < 3; ++y) e.run_year();
-        return e.plants();
+        return eco::rows(e.plants());
     };
     const auto a = grow(1), b = grow(2);
     omp_set_num_threads(2);
@@ -120,7 +120,7 @@ TEST_CASE("ecosystem: light-only kills the smaller of overlapping circles", "[ec
         const auto sc = load(j);
         eco::Ecosystem e(sc);
         for (int y = 0; y < 4; ++y) e.run_year();
-        const auto& p = e.plants();
+        const auto p = eco::rows(e.plants());
         auto radius = [&](const eco::Plant& q) {
             return mode == "crown"
                        ? q.crown_radius_m

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -111,6 +112,67 @@ private:
     }
     const std::uint8_t* m_p;
     const std::uint8_t* m_end;
+    std::string m_source;
+};
+
+/// Checkpoint sections: a checkpoint as named parts, each with a version of its own, so that a new
+/// column in one process's state changes that section's version only. A section is stored as its
+/// name, its version and its bytes.
+class SectionWriter {
+public:
+    explicit SectionWriter(ArchiveWriter& out) : m_out(out) {}
+    /// Writes section `name` at `version`: what `body(ArchiveWriter&)` puts.
+    template <class F>
+    void section(const std::string& name, std::uint32_t version, F&& body) {
+        ArchiveWriter part;
+        body(part);
+        m_out.put_string(name);
+        m_out.put(version);
+        m_out.put_vector(part.bytes());
+    }
+
+private:
+    ArchiveWriter& m_out;
+};
+
+class SectionReader {
+public:
+    /// Reads the sections that fill the rest of `in`; `source` names the checkpoint in messages.
+    SectionReader(ArchiveReader& in, std::string source);
+    /// The version of section `name` in the checkpoint, 0 when it has none.
+    std::uint32_t version(const std::string& name) const;
+    /// Reads section `name` with `body(ArchiveReader&, version)`, accepting versions `oldest` to
+    /// `newest` (older ones the body converts). CheckpointError naming the section when it is
+    /// absent, of another version, or when `body` leaves bytes unread.
+    template <class F>
+    void read(const std::string& name, std::uint32_t oldest, std::uint32_t newest, F&& body) {
+        const auto it = m_parts.find(name);
+        if (it == m_parts.end())
+            throw CheckpointError(m_source + ": the checkpoint has no section '" + name + "'");
+        const std::uint32_t v = it->second.version;
+        if (v < oldest || v > newest)
+            throw CheckpointError(m_source + ": checkpoint section '" + name + "' has version " +
+                                  std::to_string(v) + ", this ecoterra reads versions " +
+                                  std::to_string(oldest) + " to " + std::to_string(newest));
+        ArchiveReader r(it->second.bytes.data(), it->second.bytes.size(),
+                        m_source + " (section " + name + ")");
+        body(r, v);
+        if (!r.at_end())
+            throw CheckpointError(m_source + ": checkpoint section '" + name +
+                                  "' holds more than this ecoterra reads from its version " +
+                                  std::to_string(v));
+        it->second.read = true;
+    }
+    /// CheckpointError naming the first section no read() took (a newer ecoterra's).
+    void finish() const;
+
+private:
+    struct Part {
+        std::uint32_t version = 0;
+        std::vector<std::uint8_t> bytes;
+        bool read = false;
+    };
+    std::map<std::string, Part> m_parts;
     std::string m_source;
 };
 

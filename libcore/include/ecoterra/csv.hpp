@@ -26,6 +26,8 @@ public:
     double number(int col, const std::string& name, bool non_negative = false) const;
     /// The text in column `col` of the row ("" past its end).
     std::string text(int col) const;
+    /// The number of fields in the current row.
+    int fields() const { return static_cast<int>(m_row.size()); }
     /// "FILE line N", for messages about the current row.
     std::string where() const;
 

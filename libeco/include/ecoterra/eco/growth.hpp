@@ -64,6 +64,16 @@ struct CarbonDay {
     bool starved = false;
 };
 
+/// The carbon pools carbon_day changes, kg.
+struct CarbonPools {
+    double reserve_kg = 0, wood_kg = 0, turnover_kg = 0;
+};
+/// One day of the carbohydrate balance of a plant of leaf area `leaf_area_m2` (in leaf), height
+/// `height_m` and diameter `dbh_m`, with the day's temperature responses precomputed (`f_temp` =
+/// f_T(T) of the species, `q10_factor` = Q10^((T - 20)/10)); updates `pools`.
+CarbonDay carbon_day(const Species& s, double leaf_area_m2, double height_m, double dbh_m,
+                     CarbonPools& pools, double growth, double phen, double f_temp,
+                     double q10_factor);
 /// One day of the carbohydrate balance of plant `p` (its in-leaf leaf_area_m2 and height_m):
 /// `growth` is the growth percentage G, `phen` the leaf-on fraction phen(doy), `tmean_c` the
 /// day's mean air temperature. Updates the plant's reserve and wood.
@@ -77,8 +87,13 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
 /// with the centre of mass of a 5-year running mean (alpha = 2 / (5 + 1)).
 inline constexpr double kSuppressionSmoothing = 1.0 / 3.0;
 
-/// Year end: the plant's growth efficiency e = (wood + reserve - their value a year ago) / leaf
-/// area (kg m-2 yr-1) enters its running mean (the first year sets it); returns e.
+/// Year end: the plant's growth efficiency e = (wood + reserve - their value a year ago + the
+/// year's turnover) / leaf area (kg m-2 yr-1) enters its running mean `mean_efficiency` (the first
+/// year, NaN, sets it); the year's start mass becomes wood + reserve and the turnover restarts at
+/// 0. Returns e.
+double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_area_m2,
+                                double& mass_at_year_start_kg, double& turnover_kg,
+                                double& mean_efficiency);
 double update_growth_efficiency(Plant& p);
 /// Yearly growth-suppression death probability mu_max * clamp(1 - mean e / e_min, 0, 1) (0 when
 /// the species' threshold e_min is 0).

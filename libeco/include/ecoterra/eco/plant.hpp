@@ -66,6 +66,11 @@ double stem_mass_kg(const Species& s, double dbh_m);
 double dbh_from_stem_mass(const Species& s, double mass_kg, double guess_m);
 /// An object's diameter: ratio x Max Height, m.
 double object_diameter_m(const Species& s);
+/// A plant's size from its diameter: an object's diameter is its footprint's.
+struct Size {
+    double dbh_m = 0, height_m = 0, crown_radius_m = 0, leaf_area_m2 = 0;
+};
+Size size(const Species& s, double dbh_m);
 /// Sets height, crown radius and leaf area from dbh (an object's dbh to its diameter).
 void apply(const Species& s, Plant& p);
 } // namespace allometry

@@ -1,0 +1,291 @@
+// Births, ageing and deaths of the plants, in both competition modes, and the yearly carbon
+// budget (processes.hpp).
+#include "ecoterra/eco/dispersal.hpp"
+#include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/processes.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ecoterra::eco {
+
+namespace {
+/// Light-only mode: diameters approach the one at which H = 95 % of Hmax (MAVS's saturating
+/// growth curve applied to the stem, see docs/ecosystem.md s6).
+constexpr double kLightOnlyHeightFraction = 0.95;
+/// Age on the light-only curve of an initial stem: the diameter's share of D95 is capped here (a
+/// stem at or above D95 gets the age of this share), and 1 - share floored at kMinRemainder.
+constexpr double kLightOnlyMaxShareOfD95 = 0.999;
+constexpr double kMinRemainder = 1e-9;
+/// The yearly carbon check: |cumulative residual| may reach this share of the cumulative
+/// throughput (at least 1 kg of it) plus kCarbonStockRounding of the stock.
+constexpr double kCarbonTolerance = 1e-9;
+constexpr double kCarbonStockRounding = 1e-12;
+
+/// The diameter at which H = kLightOnlyHeightFraction * Hmax, m.
+double light_only_d95_m(const Species& s) {
+    return -std::log(1 - kLightOnlyHeightFraction) / s.height_dbh_slope_per_cm / kCmPerM;
+}
+/// MAVS's competitive radius is half of its height-to-diameter ratio times the height.
+double mavs_competition_radius_m(const Species& s, double height_m) {
+    return 0.5 * s.height_to_diameter_ratio * height_m;
+}
+/// Whether (x, y) lies on the grid, its far edges excluded.
+bool on_grid(const GridSpec& g, double x, double y) {
+    return g.contains_point(x, y) && x < g.origin_x_m + g.width_m() &&
+           y < g.origin_y_m + g.height_m();
+}
+} // namespace
+
+Plant Nursery::make(std::uint16_t sp, double x, double y, double dbh) const {
+    const Species& s = species[sp];
+    Plant p;
+    p.id = next_id++;
+    p.species = sp;
+    p.x_m = x;
+    p.y_m = y;
+    p.z_m = dem.sample_bilinear(x, y);
+    p.dbh_m = dbh;
+    if (s.life_form == LifeForm::object) {
+        allometry::apply(s, p); // full size, no carbon
+    } else if (competition == Competition::light_only) {
+        p.dbh_m = 0;
+        allometry::apply(s, p);
+        p.height_m = 0;
+    } else {
+        allometry::apply(s, p);
+        p.wood_kg = allometry::stem_mass_kg(s, dbh);
+        p.reserve_kg =
+            s.initial_reserve_fraction * s.reserve_capacity_kg_per_m2_leaf * p.leaf_area_m2;
+        p.mass_at_year_start_kg = p.wood_kg + p.reserve_kg;
+    }
+    const auto [i, j] = soil.grid().clamped_cell(x, y);
+    p.soil_factor = soil_suitability(s, soil, i, j);
+    return p;
+}
+
+bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const {
+    const double draw = rng.uniform(); // always drawn: the stream does not depend on the tests
+    const auto [i, j] = canopy.plant_grid.clamped_cell(x, y);
+    const int hi = i / canopy.map.factor, hj = j / canopy.map.factor;
+    const std::int64_t cell = static_cast<std::int64_t>(hj) * canopy.map.hydro_nx + hi;
+    // Light through the crowns and then through the grass and herbs (none without a ground layer).
+    double light = 1.0 - canopy.ground_shade(i, j);
+    if (!ground.empty()) light *= ground.transmission(species, cell, extinction);
+    if (light < s.germination_min_light) return false;
+    if (water.relative(hi, hj) < s.germination_min_soil_water) return false;
+    if (lakes.owner(cell) != 0) return false;
+    return draw < s.germination_probability * soil_suitability(s, water.soil, hi, hj);
+}
+
+std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Species>& species,
+                                       Rng& rng, PlantSums& sums) {
+    std::vector<char> dead(pop.size(), 0);
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Species& s = species[pop.species[k]];
+        const double u = rng.uniform(); // drawn for every plant: the stream stays aligned
+        if (!pop.alive[k]) continue;    // starved this year, counted then
+        pop.age_yr[k] += 1;
+        if (s.life_form == LifeForm::object) { // no growth, no background death: removed at Max Age
+            if (pop.age_yr[k] >= s.max_age_yr) {
+                dead[k] = 1;
+                sums.deaths_age += 1;
+            }
+            continue;
+        }
+        update_growth_efficiency(pop.wood_kg[k], pop.reserve_kg[k], pop.leaf_area_m2[k],
+                                 pop.mass_at_year_start_kg[k], pop.turnover_kg[k],
+                                 pop.growth_efficiency[k]);
+        const double suppression = suppression_mortality(s, pop.growth_efficiency[k]);
+        if (pop.age_yr[k] >= s.max_age_yr) {
+            dead[k] = 1;
+            sums.deaths_age += 1;
+        } else if (u < s.background_mortality_per_yr) {
+            dead[k] = 1;
+            sums.deaths_background += 1;
+        } else if (u < s.background_mortality_per_yr + suppression) {
+            dead[k] = 1;
+            sums.deaths_suppression += 1;
+        }
+    }
+    return dead;
+}
+
+std::vector<Plant> seed_dispersal(const Population& pop, const std::vector<char>& dead,
+                                  const std::vector<Species>& species, const GridSpec& grid,
+                                  const Seedbed& bed, const Nursery& nursery, Rng& rng,
+                                  PlantSums& sums) {
+    std::vector<Plant> recruits;
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Species& s = species[pop.species[k]];
+        if (dead[k] || !pop.alive[k] || s.life_form == LifeForm::object ||
+            pop.age_yr[k] < s.maturity_age_yr)
+            continue;
+        const double vigor = pop.growth_days[k] > 0 ? pop.growth_sum[k] / pop.growth_days[k] : 0.0;
+        const std::int64_t n = poisson(rng, seeds_per_year(s, pop.dbh_m[k], vigor));
+        sums.seeds += static_cast<double>(n);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double d = sample_dispersal_distance(s.dispersal, rng);
+            const double a = 2.0 * std::numbers::pi * rng.uniform();
+            const double x = pop.x_m[k] + d * std::cos(a), y = pop.y_m[k] + d * std::sin(a);
+            if (!on_grid(grid, x, y)) {
+                sums.seeds_lost += 1;
+                rng.uniform(); // keep the stream aligned with the landed case
+                continue;
+            }
+            if (bed.establishes(s, x, y, rng))
+                recruits.push_back(nursery.make(pop.species[k], x, y, s.recruit_dbh_m));
+        }
+    }
+    return recruits;
+}
+
+void background_arrivals(const std::vector<Species>& species, const GridSpec& grid,
+                         const Seedbed& bed, const Nursery& nursery, Rng& rng,
+                         std::vector<Plant>& recruits) {
+    const double area = grid.width_m() * grid.height_m();
+    for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        const Species& s = species[sp];
+        if (s.life_form == LifeForm::grass) continue; // arrives into the ground layer's cover
+        const std::int64_t n = poisson(rng, s.new_per_area_per_yr * area);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double x = grid.origin_x_m + rng.uniform() * grid.width_m();
+            const double y = grid.origin_y_m + rng.uniform() * grid.height_m();
+            if (s.life_form == LifeForm::object || bed.establishes(s, x, y, rng))
+                recruits.push_back(
+                    nursery.make(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));
+        }
+    }
+}
+
+void remove_dead(Population& pop, PlantSums& sums) {
+    std::vector<char> keep(pop.size());
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        keep[k] = pop.alive[k] ? 1 : 0;
+        if (!keep[k]) sums.dead_carbon += pop.wood_kg[k] + pop.reserve_kg[k];
+    }
+    pop.keep_if(keep);
+}
+
+double light_only_dbh_m(const Species& s, double age_yr) {
+    return light_only_d95_m(s) * (1 - std::exp(-s.growth_rate_per_yr * age_yr));
+}
+
+double light_only_age_yr(const Species& s, double dbh_m) {
+    return std::ceil(-std::log(std::max(kMinRemainder, 1 - std::min(dbh_m / light_only_d95_m(s),
+                                                                    kLightOnlyMaxShareOfD95))) /
+                     s.growth_rate_per_yr);
+}
+
+std::vector<char> light_only_growth(Population& pop, const std::vector<Species>& species,
+                                    PlantSums& sums) {
+    std::vector<char> dead(pop.size(), 0);
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Species& s = species[pop.species[k]];
+        pop.age_yr[k] += 1;
+        if (pop.age_yr[k] >= s.max_age_yr) {
+            dead[k] = 1;
+            sums.deaths_age += 1;
+            continue;
+        }
+        if (s.life_form == LifeForm::object) continue;
+        const allometry::Size z = allometry::size(s, light_only_dbh_m(s, pop.age_yr[k]));
+        pop.dbh_m[k] = z.dbh_m;
+        pop.height_m[k] = z.height_m;
+        pop.crown_radius_m[k] = z.crown_radius_m;
+        pop.leaf_area_m2[k] = z.leaf_area_m2;
+    }
+    return dead;
+}
+
+void light_only_arrivals(Population& pop, std::vector<char>& dead,
+                         const std::vector<Species>& species, const GridSpec& grid,
+                         const Nursery& nursery, Rng& rng, PlantSums& sums) {
+    const double area = grid.width_m() * grid.height_m();
+    for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        if (species[sp].life_form == LifeForm::grass) continue;
+        const std::int64_t n = poisson(rng, species[sp].new_per_area_per_yr * area);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double x = grid.origin_x_m + rng.uniform() * grid.width_m();
+            const double y = grid.origin_y_m + rng.uniform() * grid.height_m();
+            pop.push(nursery.make(static_cast<std::uint16_t>(sp), x, y, 0.0));
+            dead.push_back(0);
+            sums.births += 1;
+        }
+    }
+}
+
+void overlap_thinning(const Population& pop, std::vector<char>& dead,
+                      const std::vector<Species>& species, const GridSpec& g, LightOnlyRadius rule,
+                      PlantSums& sums) {
+    const std::size_t n = pop.size();
+    std::vector<std::size_t> order(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = k;
+    std::vector<double> radius(n);
+    for (std::size_t k = 0; k < n; ++k)
+        radius[k] = rule == LightOnlyRadius::mavs
+                        ? mavs_competition_radius_m(species[pop.species[k]], pop.height_m[k])
+                        : pop.crown_radius_m[k];
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return radius[a] > radius[b]; });
+    // Kept plants in square buckets at least two of the largest radii wide: a circle can only
+    // overlap one in its own or a neighbouring bucket.
+    double rmax = 0;
+    for (const double r : radius) rmax = std::max(rmax, r);
+    const double bucket = std::max(2 * rmax, g.cell_size_m);
+    const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
+    const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
+    std::vector<std::vector<std::size_t>> kept(static_cast<std::size_t>(bx) * by);
+    auto overlaps_kept = [&](std::size_t k, int cx, int cy) {
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int x = cx + dx, y = cy + dy;
+                if (x < 0 || y < 0 || x >= bx || y >= by) continue;
+                for (const std::size_t o : kept[static_cast<std::size_t>(y) * bx + x])
+                    if (std::hypot(pop.x_m[k] - pop.x_m[o], pop.y_m[k] - pop.y_m[o]) <
+                        radius[k] + radius[o])
+                        return true;
+            }
+        return false;
+    };
+    for (const std::size_t k : order) {
+        if (dead[k]) continue;
+        const int cx = static_cast<int>((pop.x_m[k] - g.origin_x_m) / bucket);
+        const int cy = static_cast<int>((pop.y_m[k] - g.origin_y_m) / bucket);
+        if (overlaps_kept(k, cx, cy)) {
+            dead[k] = 1;
+            sums.deaths_overlap += 1;
+        } else {
+            kept[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
+        }
+    }
+}
+
+CarbonStocks close_carbon_budget(const Population& pop, const PlantSums& sums, int year,
+                                 CarbonLedger& ledger) {
+    CarbonStocks c;
+    for (std::size_t k = 0; k < pop.size(); ++k)
+        c.wood_kg += pop.wood_kg[k], c.reserve_kg += pop.reserve_kg[k];
+    const double stock = c.wood_kg + c.reserve_kg;
+    const double expected = ledger.stock_at_year_start_kg + sums.production - sums.maintenance -
+                            sums.growth_resp + sums.recruit_carbon - sums.dead_carbon -
+                            sums.turnover;
+    c.residual_kg = stock - expected;
+    ledger.cumulative_residual_kg += c.residual_kg;
+    ledger.cumulative_throughput_kg += sums.production + sums.maintenance + sums.growth_resp +
+                                       sums.recruit_carbon + std::abs(sums.dead_carbon) +
+                                       sums.turnover;
+    if (std::abs(ledger.cumulative_residual_kg) >
+        kCarbonTolerance * std::max(ledger.cumulative_throughput_kg, 1.0) +
+            kCarbonStockRounding * stock)
+        throw Error("carbon budget broke in year " + std::to_string(year) + ": residual " +
+                    format_number(ledger.cumulative_residual_kg) + " kg against a throughput of " +
+                    format_number(ledger.cumulative_throughput_kg) + " kg");
+    ledger.stock_at_year_start_kg = stock;
+    return c;
+}
+
+} // namespace ecoterra::eco

@@ -1,0 +1,353 @@
+// Contract tests of the plant process kernels (processes.hpp): each process driven alone on a small
+// population, checked for what it must conserve or keep (water, carbon, counts, the random streams,
+// the geometry of the canopy), over several seeds.
+#include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/processes.hpp"
+#include "ecoterra/hydro/catchments.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numeric>
+#include <set>
+
+using namespace ecoterra;
+using namespace ecoterra::eco;
+
+namespace {
+constexpr int kHydroCells = 8; ///< hydrology grid side
+constexpr int kFactor = 2;     ///< plant cells per hydrology cell along a side
+constexpr double kHydroCellM = 2.0;
+
+GridSpec hydro_grid() {
+    GridSpec g;
+    g.nx = g.ny = kHydroCells;
+    g.cell_size_m = kHydroCellM;
+    return g;
+}
+
+/// Two tree species and an object, with the defaults of species.hpp.
+std::vector<Species> test_species() {
+    std::vector<Species> sp(3);
+    sp[0].name = "broad";
+    sp[1].name = "narrow";
+    sp[1].max_crown_radius_m = 2.0;
+    sp[1].shade = {0.1, 0.3};
+    sp[2].name = "rock";
+    sp[2].life_form = LifeForm::object;
+    sp[2].max_height_m = 0.5;
+    return sp;
+}
+
+/// The world a population lives in for the tests: a flat terrain, a uniform soil at a given
+/// water content, a canopy on a grid `kFactor` times finer.
+struct World {
+    std::vector<Species> species = test_species();
+    RasterD dem{hydro_grid(), 0.0};
+    hydro::SoilMap soil = hydro::uniform_soil(hydro_grid(), {40, 40, 20, 6.5, std::nullopt});
+    RasterD theta{hydro_grid(), 0.3};
+    hydro::Catchments lakes{dem};
+    Canopy canopy;
+    GroundLayer ground;
+    std::int64_t next_id = 1;
+    World() {
+        canopy.map.factor = kFactor;
+        canopy.map.hydro_nx = kHydroCells;
+        canopy.plant_grid = hydro_grid();
+        canopy.plant_grid.nx = canopy.plant_grid.ny = kHydroCells * kFactor;
+        canopy.plant_grid.cell_size_m = kHydroCellM / kFactor;
+        canopy.ground_shade = RasterD(canopy.plant_grid, 0.0);
+    }
+    Nursery nursery(Competition c = Competition::coupled) {
+        return {species, dem, soil, c, next_id};
+    }
+    SoilWater water() const { return {theta, soil}; }
+    Seedbed seedbed() const { return {canopy, ground, species, 0.5, water(), lakes}; }
+    /// `n` random plants of the two tree species (and every fifth an object).
+    Population population(std::uint64_t seed, int n) {
+        Rng rng(seed, "test.population");
+        Population pop;
+        const auto& g = canopy.plant_grid;
+        for (int k = 0; k < n; ++k) {
+            const auto sp = static_cast<std::uint16_t>(k % 5 == 4 ? 2 : rng.below(2));
+            const double x = rng.uniform() * g.width_m(), y = rng.uniform() * g.height_m();
+            pop.push(nursery().make(sp, x, y, rng.uniform(0.01, 0.3)));
+            pop.age_yr.back() = std::floor(rng.uniform(0, 60));
+        }
+        canopy.refresh(pop, species, ShadingMode::blocking, 0.5);
+        return pop;
+    }
+};
+
+double carbon(const Population& pop) {
+    double c = 0;
+    for (std::size_t k = 0; k < pop.size(); ++k) c += pop.wood_kg[k] + pop.reserve_kg[k];
+    return c;
+}
+} // namespace
+
+TEST_CASE("population: rows, compaction and its checkpoint section round-trip",
+          "[eco][processes][population]") {
+    World w;
+    Population pop = w.population(1, 40);
+    REQUIRE(pop.size() == 40);
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Plant p = pop.plant(k);
+        CHECK(p.id == pop.id[k]);
+        CHECK(p.wood_kg == pop.wood_kg[k]);
+    }
+    ArchiveWriter a;
+    pop.save(a);
+    ArchiveReader r(a.bytes().data(), a.bytes().size(), "test");
+    Population back;
+    back.load(r);
+    CHECK(r.at_end());
+    CHECK(back.bitwise_equal(pop));
+    std::vector<char> keep(pop.size());
+    for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = k % 3 != 0;
+    back.keep_if(keep);
+    CHECK(back.size() == 26);
+    for (std::size_t k = 0, j = 0; k < pop.size(); ++k)
+        if (keep[k]) CHECK(back.id[j++] == pop.id[k]);
+    // A section whose columns differ in length is refused.
+    Population broken = pop;
+    broken.wood_kg.pop_back();
+    ArchiveWriter b;
+    broken.save(b);
+    ArchiveReader rb(b.bytes().data(), b.bytes().size(), "test");
+    CHECK_THROWS_WITH(back.load(rb), Catch::Contains("differ in length"));
+}
+
+TEST_CASE("water demand and supply: the cells ask what the plants demand, the plants get what "
+          "the cells supply",
+          "[eco][processes][water]") {
+    for (std::uint64_t seed : {1, 2, 3, 4, 5}) {
+        CAPTURE(seed);
+        World w;
+        Population pop = w.population(seed, 60);
+        pop.alive[3] = 0; // a starved plant asks for nothing
+        const DayClimate day = day_climate(w.species, 180, 22.0);
+        std::vector<double> demand, request(static_cast<std::size_t>(w.dem.size()), 0.0);
+        plant_water_demand(pop, w.species, day.phen, 0.004, demand);
+        CHECK(demand[3] == 0.0);
+        scatter_demand(w.canopy.roots, demand, request);
+        const double asked = std::accumulate(demand.begin(), demand.end(), 0.0);
+        CHECK(std::accumulate(request.begin(), request.end(), 0.0) == Approx(asked).epsilon(1e-12));
+        // A supply of a seeded share of each cell's request.
+        Rng rng(seed, "test.supply");
+        RasterD req_mm(w.dem.grid(), 0.0), sup_mm(w.dem.grid(), 0.0);
+        double supplied_m3 = 0;
+        for (std::int64_t c = 0; c < req_mm.size(); ++c) {
+            req_mm.data()[c] = request[static_cast<std::size_t>(c)];
+            sup_mm.data()[c] = req_mm.data()[c] * rng.uniform();
+            supplied_m3 += sup_mm.data()[c];
+        }
+        std::vector<double> ratio, fraction;
+        supply_fractions(w.canopy.roots, req_mm, sup_mm, ratio, fraction);
+        double received = 0;
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            CHECK(fraction[k] >= 0.0);
+            CHECK(fraction[k] <= 1.0);
+            received += demand[k] * fraction[k];
+        }
+        CHECK(received == Approx(supplied_m3).epsilon(1e-10));
+        // A full supply meets every demand.
+        supply_fractions(w.canopy.roots, req_mm, req_mm, ratio, fraction);
+        for (const double f : fraction) CHECK(f == 1.0);
+    }
+}
+
+TEST_CASE("carbon balance: each plant's pools change by its production less respiration and "
+          "turnover, and the sums are the plants'",
+          "[eco][processes][carbon]") {
+    for (std::uint64_t seed : {1, 2, 3}) {
+        CAPTURE(seed);
+        World w;
+        Population pop = w.population(seed, 50);
+        pop.reserve_kg[0] = 1e-9; // starves in the dark
+        pop.shade_fraction[0] = 1.0;
+        const Population before = pop;
+        const std::vector<double> demand(pop.size(), 0.01);
+        std::vector<double> fraction(pop.size());
+        Rng rng(seed, "test.fraction");
+        for (double& f : fraction) f = rng.uniform();
+        PlantSums sums;
+        carbon_balance(pop, w.species, day_climate(w.species, 200, 10.0), fraction, demand, sums);
+        CHECK(carbon(pop) - carbon(before) ==
+              Approx(sums.production - sums.maintenance - sums.growth_resp - sums.turnover)
+                  .margin(1e-12));
+        double starved = 0;
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            if (w.species[pop.species[k]].life_form == LifeForm::object) {
+                CHECK(pop.wood_kg[k] == before.wood_kg[k]);
+                CHECK(pop.reserve_kg[k] == before.reserve_kg[k]);
+            }
+            starved += pop.alive[k] ? 0 : 1;
+        }
+        CHECK(pop.alive[0] == 0);
+        CHECK(sums.deaths_starvation == starved);
+        CHECK(sums.demand_m3 == Approx(0.01 * static_cast<double>(pop.size())));
+        CHECK(sums.supplied_m3 ==
+              Approx(0.01 * std::accumulate(fraction.begin(), fraction.end(), 0.0)));
+    }
+}
+
+TEST_CASE("canopy: structure follows the wood, shade stays in [0, 1], roots share out whole",
+          "[eco][processes][canopy]") {
+    World w;
+    Population pop = w.population(7, 80);
+    for (std::size_t k = 0; k < pop.size(); ++k) pop.wood_kg[k] *= 1.5;
+    const Population before = pop;
+    refresh_structure(pop, w.species);
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Species& s = w.species[pop.species[k]];
+        if (s.life_form == LifeForm::object) {
+            CHECK(pop.dbh_m[k] == before.dbh_m[k]);
+            continue;
+        }
+        CHECK(allometry::stem_mass_kg(s, pop.dbh_m[k]) == Approx(pop.wood_kg[k]).epsilon(1e-9));
+        CHECK(pop.dbh_m[k] > before.dbh_m[k]);
+    }
+    w.canopy.refresh(pop, w.species, ShadingMode::beer_lambert, 0.5);
+    for (const double s : pop.shade_fraction) {
+        CHECK(s >= 0.0);
+        CHECK(s <= 1.0);
+    }
+    // The cell shade is the mean of the ground shade over each cell's plant cells.
+    double ground = 0, cells = 0;
+    for (std::int64_t c = 0; c < w.canopy.ground_shade.size(); ++c)
+        ground += w.canopy.ground_shade.data()[c];
+    for (const double v : w.canopy.cell_shade) cells += v;
+    CHECK(cells * kFactor * kFactor == Approx(ground));
+    for (std::size_t p = 0; p < w.canopy.roots.size(); ++p) {
+        double share = 0;
+        for (auto e = w.canopy.roots.offset[p]; e < w.canopy.roots.offset[p + 1]; ++e)
+            share += w.canopy.roots.share[e];
+        CHECK(share == Approx(1.0));
+    }
+    // Vegetation density is the crown cover without a ground layer, in [0, 1].
+    const RasterD density = w.canopy.vegetation_density(w.ground, w.dem.grid());
+    for (std::int64_t c = 0; c < density.size(); ++c) {
+        CHECK(density.data()[c] == Approx(w.canopy.cell_shade[static_cast<std::size_t>(c)]));
+    }
+}
+
+TEST_CASE("mortality: one draw per plant, deaths counted by one cause each",
+          "[eco][processes][demography]") {
+    for (std::uint64_t seed : {1, 2, 3, 4}) {
+        CAPTURE(seed);
+        World w;
+        for (auto& s : w.species) s.background_mortality_per_yr = 0.2, s.max_age_yr = 50;
+        Population pop = w.population(seed, 100);
+        pop.alive[5] = 0; // starved earlier this year: not counted again, but drawn for
+        const Population before = pop;
+        Rng rng(seed, "test.mortality"), twin(seed, "test.mortality");
+        PlantSums sums;
+        const auto dead = ageing_and_mortality(pop, w.species, rng, sums);
+        for (std::size_t k = 0; k < pop.size(); ++k) twin.uniform();
+        CHECK(rng.state() == twin.state());
+        const double flagged = static_cast<double>(std::count(dead.begin(), dead.end(), 1));
+        CHECK(flagged == sums.deaths_age + sums.deaths_background + sums.deaths_suppression);
+        CHECK(dead[5] == 0);
+        CHECK(pop.age_yr[5] == before.age_yr[5]);
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            if (k != 5) CHECK(pop.age_yr[k] == before.age_yr[k] + 1);
+            if (pop.age_yr[k] >= 50 && pop.alive[k]) CHECK(dead[k] == 1);
+        }
+        // Removing the dead moves exactly their carbon into the dead carbon.
+        for (std::size_t k = 0; k < pop.size(); ++k)
+            if (dead[k]) pop.alive[k] = 0;
+        const double c0 = carbon(pop);
+        remove_dead(pop, sums);
+        CHECK(c0 - carbon(pop) == Approx(sums.dead_carbon));
+        CHECK(pop.size() == 100 - static_cast<std::size_t>(flagged) - 1);
+    }
+}
+
+TEST_CASE("seeding: every seed lands or is lost, recruits stand on the grid with fresh ids",
+          "[eco][processes][demography]") {
+    for (std::uint64_t seed : {1, 2, 3}) {
+        CAPTURE(seed);
+        World w;
+        for (auto& s : w.species) {
+            s.maturity_age_yr = 0;
+            s.germination_probability = 1.0;
+            s.germination_min_light = 0.0;
+            s.germination_min_soil_water = -1.0;
+            s.new_per_area_per_yr = 0.05;
+            s.seeds_per_yr_at_30cm = 20;
+        }
+        Population pop = w.population(seed, 30);
+        for (std::size_t k = 0; k < pop.size(); ++k) pop.growth_sum[k] = pop.growth_days[k] = 100;
+        const std::vector<char> dead(pop.size(), 0);
+        Rng rng(seed, "test.seeding");
+        PlantSums sums;
+        const std::int64_t id0 = w.next_id;
+        auto recruits = seed_dispersal(pop, dead, w.species, w.canopy.plant_grid, w.seedbed(),
+                                       w.nursery(), rng, sums);
+        const auto from_seed = static_cast<double>(recruits.size());
+        CHECK(sums.seeds > 0);
+        CHECK(from_seed + sums.seeds_lost <= sums.seeds);
+        background_arrivals(w.species, w.canopy.plant_grid, w.seedbed(), w.nursery(), rng,
+                            recruits);
+        std::set<std::int64_t> ids;
+        const auto& g = w.canopy.plant_grid;
+        for (const Plant& r : recruits) {
+            CHECK(r.x_m >= 0);
+            CHECK(r.x_m < g.width_m());
+            CHECK(r.y_m >= 0);
+            CHECK(r.y_m < g.height_m());
+            CHECK(r.id >= id0);
+            ids.insert(r.id);
+        }
+        CHECK(ids.size() == recruits.size());
+        CHECK(w.next_id == id0 + static_cast<std::int64_t>(recruits.size()));
+    }
+}
+
+TEST_CASE("light-only: thinning leaves no two circles overlapping and counts what it removes",
+          "[eco][processes][light_only]") {
+    for (const LightOnlyRadius rule : {LightOnlyRadius::mavs, LightOnlyRadius::crown}) {
+        World w;
+        Population pop = w.population(11, 120);
+        PlantSums sums;
+        std::vector<char> dead = light_only_growth(pop, w.species, sums);
+        overlap_thinning(pop, dead, w.species, w.canopy.plant_grid, rule, sums);
+        auto radius = [&](std::size_t k) {
+            return rule == LightOnlyRadius::crown
+                       ? pop.crown_radius_m[k]
+                       : 0.5 * w.species[pop.species[k]].height_to_diameter_ratio * pop.height_m[k];
+        };
+        for (std::size_t i = 0; i < pop.size(); ++i)
+            for (std::size_t k = i + 1; k < pop.size(); ++k)
+                if (!dead[i] && !dead[k])
+                    CHECK(std::hypot(pop.x_m[i] - pop.x_m[k], pop.y_m[i] - pop.y_m[k]) >=
+                          radius(i) + radius(k));
+        CHECK(static_cast<double>(std::count(dead.begin(), dead.end(), 1)) ==
+              sums.deaths_age + sums.deaths_overlap);
+        // An initial stem's age on the growth curve is the first whole year that reaches its
+        // diameter.
+        const Species& s = w.species[0];
+        const double d = light_only_dbh_m(s, 12.5);
+        CHECK(light_only_age_yr(s, d) == 13);
+        CHECK(light_only_dbh_m(s, 12) < d);
+    }
+}
+
+TEST_CASE("carbon budget: closes on consistent sums and names the year when a kilogram appears",
+          "[eco][processes][carbon]") {
+    World w;
+    Population pop = w.population(3, 20);
+    CarbonLedger ledger;
+    ledger.stock_at_year_start_kg = carbon(pop);
+    PlantSums sums;
+    carbon_balance(pop, w.species, day_climate(w.species, 200, 20.0),
+                   std::vector<double>(pop.size(), 1.0), std::vector<double>(pop.size(), 0.0),
+                   sums);
+    const CarbonStocks c = close_carbon_budget(pop, sums, 1, ledger);
+    CHECK(std::abs(c.residual_kg) < 1e-9 * std::max(1.0, c.wood_kg));
+    CHECK(ledger.stock_at_year_start_kg == Approx(c.wood_kg + c.reserve_kg));
+    pop.wood_kg[0] += 1.0;
+    CHECK_THROWS_WITH(close_carbon_budget(pop, PlantSums{}, 2, ledger),
+                      Catch::Contains("carbon budget broke in year 2"));
+}

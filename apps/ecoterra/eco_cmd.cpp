@@ -2,12 +2,12 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
-#include "ecoterra/eco/describe.hpp"
-#include "ecoterra/eco/run.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/run/describe.hpp"
+#include "ecoterra/run/run.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <cstdio>
@@ -76,7 +76,7 @@ void run_run(const RunArgs& a) {
         throw InputError("run --resume: --set and --seed need the scene file too (and then must "
                          "not change it)");
     }
-    eco::RunOptions opt;
+    run::RunOptions opt;
     opt.resume = !a.resume.empty();
     opt.output = opt.resume ? fs::path(a.resume) : fs::path(a.output);
     opt.replace = a.force;
@@ -108,7 +108,7 @@ void run_run(const RunArgs& a) {
                     static_cast<unsigned long long>(scene->seed));
     }
     const auto sum =
-        eco::run_ecosystem(scene ? &*scene : nullptr, opt, [](const eco::RunProgress& p) {
+        run::run_ecosystem(scene ? &*scene : nullptr, opt, [](const run::RunProgress& p) {
             constexpr int kBar = 24;
             const int done = p.years > 0 ? kBar * p.year / p.years : kBar;
             std::string bar(static_cast<std::size_t>(done), '#');
@@ -149,8 +149,8 @@ struct StandArgs {
 void run_stand(const StandArgs& a) {
     refuse_output_over_input("--json", a.json_out, {a.run});
     claim_output("--json", a.json_out, a.force);
-    const auto info = eco::read_run_info(a.run);
-    const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
+    const auto info = run::read_run_info(a.run);
+    const auto s = run::read_snapshot_plants(a.run, a.snapshot);
     const std::vector<double> dbh = s.values("dbh_m"); // 0 below breast height
     const auto all = eco::stand_metrics(dbh, info.area_m2);
     json out = eco::to_json(all);
@@ -172,7 +172,7 @@ void run_stand(const StandArgs& a) {
     for (const auto& p : s.plants) species.push_back(p.species);
     const auto by_species =
         eco::stand_metrics_by_species(dbh, species, info.species.size(), info.area_m2);
-    const auto run_species = eco::read_run_species(a.run);
+    const auto run_species = run::read_run_species(a.run);
     for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
         if (sp < run_species.size() && run_species[sp].life_form != eco::LifeForm::tree) continue;
         print(info.species[sp], by_species[sp]);
@@ -180,7 +180,7 @@ void run_stand(const StandArgs& a) {
     }
     out["species"] = per;
     out["note"] = "trees only: shrubs, objects and the ground layer are under undergrowth";
-    const auto u = eco::read_snapshot_undergrowth(a.run, s.index);
+    const auto u = run::read_snapshot_undergrowth(a.run, s.index);
     out["undergrowth"] = eco::to_json(u, info.species);
     print_undergrowth(u, info.species);
     std::printf("DBH classes (cm)   stems/ha\n");
@@ -210,9 +210,9 @@ struct ExportArgs {
 void run_export_vegetation(const ExportArgs& a) {
     refuse_output_over_input("-o", a.output, {a.run});
     claim_output("-o", a.output, a.force);
-    const auto info = eco::read_run_info(a.run);
-    const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-    io::write_text_atomic(a.output, eco::stem_csv(s.plants, info.species));
+    const auto info = run::read_run_info(a.run);
+    const auto s = run::read_snapshot_plants(a.run, a.snapshot);
+    io::write_text_atomic(a.output, run::stem_csv(s.plants, info.species));
     std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.plants.size(), s.index,
                 s.year, a.output.c_str());
 }
@@ -257,7 +257,7 @@ void add_eco_commands(CLI::App& app) {
     desc->add_option("topic", d->first, "scene, species, terrain, vehicle, outputs or all")
         ->capture_default_str();
     desc->add_flag("--markdown", d->second, "Markdown tables (as docs/parameters.md)");
-    desc->callback([d] { std::fputs(eco::describe(d->first, d->second).c_str(), stdout); });
+    desc->callback([d] { std::fputs(run::describe(d->first, d->second).c_str(), stdout); });
 
     auto e = std::make_shared<ExportArgs>();
     CLI::App* exp = app.add_subcommand("export", "export run contents");

@@ -3,11 +3,11 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
-#include "ecoterra/eco/pictures.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
+#include "ecoterra/run/pictures.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
@@ -69,8 +69,8 @@ void run_mobility(const MobilityArgs& a) {
     RasterD dem;
     json source;
     if (!a.run.empty()) {
-        const auto s = eco::read_snapshot_plants(a.run, a.snapshot);
-        stems = eco::stand_stems(s.plants);
+        const auto s = run::read_snapshot_plants(a.run, a.snapshot);
+        stems = run::stand_stems(s.plants);
         dem = terrain::io::read_hdf5(a.run, "/terrain/elevation");
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
     } else {
@@ -110,7 +110,7 @@ void run_mobility(const MobilityArgs& a) {
     }
     const auto pics = picture_dir(a.pictures, a.no_pictures, a.json_out);
     if (!pics.empty()) {
-        eco::draw_mobility_pictures(m, v, dem, pics);
+        run::draw_mobility_pictures(m, v, dem, pics);
         std::printf("pictures: %s/{smg_lines,smg_histogram}.png\n", pics.string().c_str());
     }
 }
@@ -172,7 +172,7 @@ void run_traverse(const TraverseArgs& a) {
     }
     const auto pics = picture_dir(a.pictures, a.no_pictures, a.json_out);
     if (!pics.empty()) {
-        eco::draw_traverse_picture(missions, rep.results, dem, pics);
+        run::draw_traverse_picture(missions, rep.results, dem, pics);
         std::printf("picture: %s/missions.png\n", pics.string().c_str());
     }
 }

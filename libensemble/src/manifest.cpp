@@ -1,11 +1,11 @@
 #include "ecoterra/ensemble/manifest.hpp"
 
-#include "ecoterra/eco/describe.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/random.hpp"
+#include "ecoterra/run/describe.hpp"
 #include "ecoterra/terrain/generate.hpp"
 
 #include <algorithm>
@@ -178,7 +178,7 @@ std::set<std::string> known_keys(const Manifest& m) {
             keys.insert(prefix + "params." + p);
     };
     if (m.kind == BaseKind::run) {
-        for (const auto& k : eco::scene_keys()) keys.insert(k);
+        for (const auto& k : run::scene_keys()) keys.insert(k);
         if (m.base.contains("terrain") && m.base["terrain"].contains("generate"))
             terrain_keys(m.base["terrain"]["generate"], "terrain.generate.");
     } else if (m.kind == BaseKind::terrain) {

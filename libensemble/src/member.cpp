@@ -1,7 +1,5 @@
 #include "ecoterra/ensemble/member.hpp"
 
-#include "ecoterra/eco/run.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/export/formats.hpp"
@@ -9,6 +7,8 @@
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
+#include "ecoterra/run/run.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/generate.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
@@ -210,12 +210,12 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
     const json& an = mb.analyses;
     if (m.kind == BaseKind::run) {
         auto scene = eco::load_eco_scene(mb.scene, m.base_dir);
-        eco::RunOptions opt;
+        run::RunOptions opt;
         opt.output = stage / "run.h5";
         opt.pictures = an.value("pictures", false);
         opt.picture_dir = stage / "pictures";
         opt.provenance = provenance(m, mb);
-        const auto sum = eco::run_ecosystem(&scene, opt);
+        const auto sum = run::run_ecosystem(&scene, opt);
         metrics.push_back({"run.years", static_cast<double>(sum.years_total)});
         metrics.push_back({"run.reached_target", sum.reached_target ? 1.0 : 0.0});
         metrics.push_back({"run.water_residual_relative", sum.water_residual_relative});
@@ -226,8 +226,8 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
             dem = terrain::io::read_hdf5(opt.output, "/terrain/elevation");
         if (an.contains("mobility")) {
-            const auto s = eco::read_snapshot_plants(opt.output, -1);
-            analyse_mobility(m, an["mobility"], eco::stand_stems(s.plants), dem, stage, metrics);
+            const auto s = run::read_snapshot_plants(opt.output, -1);
+            analyse_mobility(m, an["mobility"], run::stand_stems(s.plants), dem, stage, metrics);
         }
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);

@@ -1,10 +1,10 @@
 #include "ecoterra/ensemble/summary.hpp"
 
-#include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/ensemble/member.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
+#include "ecoterra/run/pictures.hpp"
 
 #include <algorithm>
 #include <array>
@@ -259,7 +259,7 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
         const fs::path file = dir / (p.name + ".png");
         const std::string title = p.title.empty() ? m.name : p.title;
         if (p.histogram) {
-            std::vector<eco::HistogramSeries> hs;
+            std::vector<run::HistogramSeries> hs;
             double width = 5;
             std::size_t count = 0;
             for (const auto& sv : series_values) {
@@ -269,7 +269,7 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                         sel.push_back(&r);
                 if (sel.empty()) continue;
                 count = std::max(count, sel.size());
-                eco::HistogramSeries h;
+                run::HistogramSeries h;
                 h.label = sv.empty() ? "all members" : sv;
                 h.stems_per_ha = mean_histogram(sel, width).first;
                 const Fit f = fit_histogram(h.stems_per_ha, width);
@@ -277,13 +277,13 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                 h.intercept = f.intercept, h.rate_per_cm = f.rate, h.q_per_class = f.q, h.r2 = f.r2;
                 hs.push_back(std::move(h));
             }
-            eco::draw_histogram_plot(hs, width, title,
+            run::draw_histogram_plot(hs, width, title,
                                      "mean of up to " + std::to_string(count) +
                                          " members per series; lines: negative-exponential fits "
                                          "of the means",
                                      file);
         } else {
-            std::vector<eco::PlotSeries> ps;
+            std::vector<run::PlotSeries> ps;
             std::vector<double> xs;
             for (const auto& a : m.axes)
                 if (a.key == p.x)
@@ -291,7 +291,7 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                         if (v.is_number()) xs.push_back(v.get<double>());
             std::size_t per_point = 0;
             for (const auto& sv : series_values) {
-                eco::PlotSeries s;
+                run::PlotSeries s;
                 s.label = sv.empty() ? p.y : sv;
                 for (double x : xs) {
                     std::vector<double> ys;
@@ -310,7 +310,7 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
                 if (!s.x.empty()) ps.push_back(std::move(s));
             }
             const std::string unit = unit_of(p.y);
-            eco::draw_line_plot(ps, title, p.x_label.empty() ? p.x : p.x_label,
+            run::draw_line_plot(ps, title, p.x_label.empty() ? p.x : p.x_label,
                                 p.y_label.empty() ? p.y + (unit == "1" ? "" : " (" + unit + ")")
                                                   : p.y_label,
                                 "points: mean of up to " + std::to_string(per_point) +

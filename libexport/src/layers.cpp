@@ -1,8 +1,8 @@
 // GeoTIFF layers of a snapshot on the terrain's grid (`ecoterra export layers`).
 #include "ecoterra/export/formats.hpp"
 
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/error.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <algorithm>
@@ -77,7 +77,7 @@ VegetationLayers vegetation_layers(const Scene& s, const LayerOptions& opt) {
 
 void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt) {
     const auto veg = vegetation_layers(s, opt);
-    const GridSpec full = eco::read_run_terrain(s.run).grid();
+    const GridSpec full = run::read_run_terrain(s.run).grid();
     struct Layer {
         std::string file, unit, what;
         RasterD r;
@@ -109,16 +109,16 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
     auto cut = [&](RasterD r) {
         return s.region ? r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny()) : r;
     };
-    if (eco::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) {
+    if (run::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) {
         layers.push_back({"ground_cover.tif", "1",
                           "cover of the ground layer (grasses and herbs), fraction of the ground",
-                          cut(eco::read_snapshot_raster(s.run, s.snapshot, "ground_cover", full))});
+                          cut(run::read_snapshot_raster(s.run, s.snapshot, "ground_cover", full))});
     }
     // The snapshot holds the root zone's volumetric water content; the relative moisture follows
     // from the run's soil: (theta - theta_wp) / (theta_fc - theta_wp).
-    const RasterD theta = cut(eco::read_snapshot_raster(s.run, s.snapshot, "soil_moisture", full));
-    const RasterD fc = cut(eco::read_run_soil(s.run, "field_capacity", full));
-    const RasterD wp = cut(eco::read_run_soil(s.run, "wilting_point", full));
+    const RasterD theta = cut(run::read_snapshot_raster(s.run, s.snapshot, "soil_moisture", full));
+    const RasterD fc = cut(run::read_run_soil(s.run, "field_capacity", full));
+    const RasterD wp = cut(run::read_run_soil(s.run, "wilting_point", full));
     RasterD relative(theta.grid(), std::numeric_limits<double>::quiet_NaN());
     for (Eigen::Index k = 0; k < theta.size(); ++k) {
         const double span = fc.data()[k] - wp.data()[k];
@@ -134,7 +134,7 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
                       relative});
     for (const auto& [name, what] : water)
         layers.push_back({name + ".tif", name == "catchment_id" ? "id" : "m", what,
-                          cut(eco::read_snapshot_raster(s.run, s.snapshot, name, full))});
+                          cut(run::read_snapshot_raster(s.run, s.snapshot, name, full))});
     std::string table = "| file | unit | what |\n|---|---|---|\n";
     for (auto& l : layers) {
         l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain

@@ -4,8 +4,8 @@
 #include "ecoterra/export/picture.hpp"
 #include "ecoterra/export/mesh.hpp"
 
-#include "ecoterra/eco/pictures.hpp"
 #include "ecoterra/error.hpp"
+#include "ecoterra/run/pictures.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
 #include <cairo.h>
@@ -85,7 +85,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     cairo_set_line_width(cr, 0.8);
     for (const auto k : order) {
         const Tree& t = s.trees[k];
-        const auto c = eco::species_colour(static_cast<std::size_t>(t.species));
+        const auto c = run::species_colour(static_cast<std::size_t>(t.species));
         cairo_arc(cr, px(t.x_m, 0), py(t.y_m), std::max(1.0, t.crown_radius_m * scale), 0,
                   2 * std::numbers::pi);
         cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.55);
@@ -104,7 +104,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     add(tris, terrain_mesh(s.terrain, step), kGroundColour);
     const Mesh trunk = unit_trunk();
     for (const auto& t : s.trees) {
-        const auto col = eco::species_colour(static_cast<std::size_t>(t.species));
+        const auto col = run::species_colour(static_cast<std::size_t>(t.species));
         if (const UserMesh* u = user ? user->find(t.species, t.stage) : nullptr) {
             const double k = std::max(t.height_m, 1e-3) / u->height_m;
             Mesh m;

@@ -2,9 +2,9 @@
 #include "ecoterra/export/mesh.hpp"
 
 #include "ecoterra/eco/dispersal.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/random.hpp"
+#include "ecoterra/run/run_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -134,7 +134,7 @@ namespace {
 
 /// The tufts of the snapshot's ground layer inside the scene (see kTuftAreaM2).
 void add_tufts(Scene& s, const RasterD& full, const std::vector<eco::Species>& species) {
-    if (!eco::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) return;
+    if (!run::snapshot_has_dataset(s.run, s.snapshot, "ground_cover")) return;
     const GridSpec& g = full.grid();
     const double cell = g.cell_size_m * g.cell_size_m;
     const double radius = std::sqrt(kTuftAreaM2 / std::numbers::pi);
@@ -142,7 +142,7 @@ void add_tufts(Scene& s, const RasterD& full, const std::vector<eco::Species>& s
     const int i1 = i0 + s.terrain.nx(), j1 = j0 + s.terrain.ny();
     for (std::size_t k = 0; k < species.size(); ++k) {
         if (species[k].life_form != eco::LifeForm::grass) continue;
-        const RasterD cover = eco::read_snapshot_raster(
+        const RasterD cover = run::read_snapshot_raster(
             s.run, s.snapshot, "ground_cover_by_species/" + std::to_string(k), g);
         for (int j = j0; j < j1; ++j)
             for (int i = i0; i < i1; ++i) {
@@ -195,17 +195,17 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
     Scene s;
     s.run = run;
     s.source = run.string();
-    const auto info = eco::read_run_info(run);
-    const auto plants = eco::read_snapshot_plants(run, snapshot);
+    const auto info = run::read_run_info(run);
+    const auto plants = run::read_snapshot_plants(run, snapshot);
     s.snapshot = plants.index;
     s.year = plants.year;
     if (info.provenance.contains("seed") && info.provenance["seed"].is_number_unsigned())
         s.seed = info.provenance["seed"].get<std::uint64_t>();
-    const auto species = eco::read_run_species(run);
+    const auto species = run::read_run_species(run);
     for (const auto& sp : species)
         s.species.push_back(
             {sp.name, sp.crown_shape, sp.max_height_m, sp.evergreen, sp.leaf_area_per_crown_area});
-    const RasterD full = eco::read_run_terrain(run);
+    const RasterD full = run::read_run_terrain(run);
     s.run_corner_x_m = full.grid().origin_x_m;
     s.run_corner_y_m = full.grid().origin_y_m;
     s.frame.crs_wkt = full.crs_wkt();

@@ -5,13 +5,13 @@
 #include "support/scenes.hpp"
 #include "support/temp_dir.hpp"
 
-#include "ecoterra/eco/describe.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/eco/run.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
+#include "ecoterra/run/describe.hpp"
+#include "ecoterra/run/run.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/generate.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
@@ -296,24 +296,24 @@ TEST_CASE("every terrain generator key round-trips through the resolved specific
 TEST_CASE("every output column is written and read back") {
     test::TempDir dir;
     const auto scene = eco::load_eco_scene(test::small_scene(2), dir.path());
-    eco::RunOptions opt;
+    run::RunOptions opt;
     opt.output = dir / "run.h5";
     opt.pictures = false;
     opt.provenance = {{"software", "ecoterra"}, {"version", "test"}};
-    eco::run_ecosystem(&scene, opt);
+    run::run_ecosystem(&scene, opt);
     // The same run in memory.
     eco::Ecosystem e(scene);
     e.run_year();
     e.run_year();
     // Snapshot plants: every column, every plant.
-    const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const auto snap = run::read_snapshot_plants(dir / "run.h5", -1);
     REQUIRE(snap.plants.size() == e.plants().size());
     REQUIRE(!snap.plants.empty());
-    for (const auto& c : eco::plant_columns()) {
+    for (const auto& c : run::plant_columns()) {
         INFO("plant column " << c.name);
         std::vector<double> expect;
         for (const auto& p : eco::rows(e.plants()))
-            expect.push_back(c.get(eco::plant_record(p, e.scene().ecosystem.species[p.species])));
+            expect.push_back(c.get(run::plant_record(p, e.scene().ecosystem.species[p.species])));
         CHECK(snap.values(c.name) == expect);
     }
     // Yearly and daily series: every column with its unit.
@@ -374,7 +374,7 @@ TEST_CASE("every output column is written and read back") {
     CHECK(hydro::soil_map_layers().size() == 9);
     for (const auto& l : hydro::soil_map_layers()) CHECK(f.nameExists("/soil/" + l.name));
     const auto& hy = e.hydrology();
-    const auto info = eco::read_run_info(dir / "run.h5");
+    const auto info = run::read_run_info(dir / "run.h5");
     // Through the run file's link to the snapshot file's group /NNNN (docs/formats.md).
     char name[32];
     std::snprintf(name, sizeof name, "/snapshots/%04d", info.snapshots - 1);
@@ -385,9 +385,9 @@ TEST_CASE("every output column is written and read back") {
     check_layer(s + "/water_table_depth_m", "m", "float32", hy.water_table_depth());
     CHECK(hydro::water_state_layers().size() == 4);
     // The stem CSV: the catalogue's header and one row per plant.
-    const std::string csv = eco::stem_csv(snap.plants, {"a", "b", "c", "d", "e", "f"});
+    const std::string csv = run::stem_csv(snap.plants, {"a", "b", "c", "d", "e", "f"});
     std::string header;
-    for (const auto& c : eco::stem_csv_columns()) header += (header.empty() ? "" : ",") + c.name;
+    for (const auto& c : run::stem_csv_columns()) header += (header.empty() ? "" : ",") + c.name;
     CHECK(csv.substr(0, csv.find('\n')) == header);
     CHECK(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')) ==
           snap.plants.size() + 1);
@@ -398,7 +398,7 @@ TEST_CASE("docs/parameters.md is what the catalogues say") {
     REQUIRE(f.good());
     std::stringstream ss;
     ss << f.rdbuf();
-    const std::string expected = eco::describe("all", true);
+    const std::string expected = run::describe("all", true);
     INFO("regenerate with: ecoterra describe all --markdown > docs/parameters.md");
     CHECK(ss.str() == expected);
 }

@@ -3,8 +3,8 @@
 #include "support/run_cli.hpp"
 #include "support/scenes.hpp"
 
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <catch2/catch.hpp>
@@ -135,8 +135,8 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
     write(dir / "a.json", tiny_scene(3, 1).dump());
     write(dir / "b.json", tiny_scene(40, 2).dump());
     REQUIRE(test::run(dir, "run a.json -o run.h5 --no-pictures").code == 0);
-    const auto before = eco::read_snapshot_plants(dir / "run.h5", -1);
-    const auto info_before = eco::read_run_info(dir / "run.h5");
+    const auto before = run::read_snapshot_plants(dir / "run.h5", -1);
+    const auto info_before = run::read_run_info(dir / "run.h5");
     for (const char* moment : {"0.05", "0.2", "0.4", "0.8", "1.2"}) {
         CAPTURE(moment);
         // The new run in the background, killed with SIGKILL after `moment` seconds.
@@ -147,11 +147,11 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
             "sleep " +
             std::string(moment) + "; kill -9 $p; wait $p) 2>/dev/null; true";
         REQUIRE(std::system(cmd.c_str()) == 0);
-        const auto after = eco::read_snapshot_plants(dir / "run.h5", -1);
+        const auto after = run::read_snapshot_plants(dir / "run.h5", -1);
         CHECK(after.year == before.year);
         CHECK(after.values("id") == before.values("id"));
         CHECK(after.values("dbh_m") == before.values("dbh_m"));
-        CHECK(eco::read_run_info(dir / "run.h5").provenance == info_before.provenance);
+        CHECK(run::read_run_info(dir / "run.h5").provenance == info_before.provenance);
     }
     // The killed runs' staging files are swept by the next run into the path (their processes
     // are gone); the run still resumes as before.
@@ -164,9 +164,9 @@ TEST_CASE("a finished run survives a new run to its path that is killed, at any 
     write(dir / "c.json", tiny_scene(2, 3).dump());
     REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures").code == 2); // not without --force
     REQUIRE(test::run(dir, "run c.json -o run.h5 --no-pictures --force").code == 0);
-    const auto replaced = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const auto replaced = run::read_snapshot_plants(dir / "run.h5", -1);
     CHECK(replaced.year == 2);
-    CHECK(eco::read_run_info(dir / "run.h5").snapshots == 2);
+    CHECK(run::read_run_info(dir / "run.h5").snapshots == 2);
     for (const auto& e : fs::directory_iterator(dir.path()))
         CHECK(e.path().filename().string().find(".old-") == std::string::npos);
 }
@@ -202,7 +202,7 @@ TEST_CASE("a write that fails for want of space is reported, at any size, and lo
     REQUIRE(test::run(dir, "hydro pond d.h5 --depth-m 0.05 -o p.h5").code == 0);
     write(dir / "s.json", tiny_scene(3, 1).dump());
     REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
-    const auto plants_before = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const auto plants_before = run::read_snapshot_plants(dir / "run.h5", -1);
     const std::string dem = read(dir / "d.h5"), pond = read(dir / "p.h5");
     const std::uintmax_t largest = fs::file_size(dir / "d.h5") / 512 + 2;
     int failures = 0, successes = 0;
@@ -234,7 +234,7 @@ TEST_CASE("a write that fails for want of space is reported, at any size, and lo
             if (what == "dem") CHECK(read(dir / "d.h5") == dem);
             if (what == "pond") CHECK(read(dir / "p.h5") == pond);
             if (what == "run") {
-                const auto after = eco::read_snapshot_plants(dir / "run.h5", -1);
+                const auto after = run::read_snapshot_plants(dir / "run.h5", -1);
                 CHECK(after.values("id") == plants_before.values("id"));
                 CHECK(after.values("dbh_m") == plants_before.values("dbh_m"));
             }
@@ -270,7 +270,7 @@ TEST_CASE("a weather file with a missing day is refused, one with gaps is filled
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("w.csv: 4 of 365 days filled: rain_mm: missing, taken as 0"));
     CHECK_THAT(r.out, Catch::Contains("w.csv: 28 of 365 days filled: u2: 2 m/s (FAO-56)"));
-    const json prov = eco::read_run_info(dir / "run.h5").provenance;
+    const json prov = run::read_run_info(dir / "run.h5").provenance;
     CHECK(prov.at("observed_weather_filled").at("rain_mm: missing, taken as 0") == 4);
     // 10 March taken out: refused with the file, the line and the missing day.
     const auto cut = rows.find("2003-03-10");
@@ -288,11 +288,11 @@ TEST_CASE("resume refuses a run whose snapshots are gone or damaged, and reads o
     test::TempDir dir;
     write(dir / "s.json", tiny_scene(3, 1).dump());
     REQUIRE(test::run(dir, "run s.json -o a.h5 --no-pictures").code == 0);
-    const auto plants = eco::read_snapshot_plants(dir / "a.h5", -1);
+    const auto plants = run::read_snapshot_plants(dir / "a.h5", -1);
     // Renamed together (file and folder): still read and resumed; the resume relinks the file.
     fs::rename(dir / "a.h5", dir / "b.h5");
     fs::rename(dir / "a.snapshots", dir / "b.snapshots");
-    CHECK(eco::read_snapshot_plants(dir / "b.h5", -1).values("dbh_m") == plants.values("dbh_m"));
+    CHECK(run::read_snapshot_plants(dir / "b.h5", -1).values("dbh_m") == plants.values("dbh_m"));
     auto r = test::run(dir, "stand b.h5");
     CHECK(r.code == 0);
     fs::copy(dir / "b.h5", dir / "keep.h5");
@@ -382,7 +382,7 @@ TEST_CASE("a run killed at any moment and resumed ends bit for bit as one run",
                                 moment + "; kill -9 $p; wait $p) 2>/dev/null; true";
         REQUIRE(std::system(cmd.c_str()) == 0);
         if (!fs::exists(dir / "k.h5")) continue; // killed before its first snapshot
-        const int done = eco::read_run_info(dir / "k.h5").snapshots;
+        const int done = run::read_run_info(dir / "k.h5").snapshots;
         if (done < kYears) {
             const auto r = test::run(dir, "run --resume k.h5 --years " +
                                               std::to_string(kYears - done) + " --no-pictures");
@@ -513,7 +513,7 @@ TEST_CASE("terrain convert never destroys its input or a run", "[cli][bad-input]
     }
     CHECK(read(dir / "cv.h5") == run_bytes);
     CHECK(read(dir / "base.snapshots/0001.h5") == snap_bytes);
-    CHECK(eco::read_run_info(dir / "cv.h5").snapshots == 2);
+    CHECK(run::read_run_info(dir / "cv.h5").snapshots == 2);
     // A plain raster file is another matter: refused without --force, replaced with it.
     REQUIRE(test::run(dir, "terrain convert cv.h5 t.tif").code == 0);
     CHECK(test::run(dir, "terrain convert cv.h5 t.tif").code == 2);
@@ -555,17 +555,17 @@ TEST_CASE("two processes never write one run: a second run or resume is refused 
     CHECK_FALSE(fs::exists(lock)); // released and removed
     // Every snapshot is the first run's (they once mixed: 0000 from one seed, the rest from the
     // other).
-    const auto info = eco::read_run_info(dir / "run.h5");
+    const auto info = run::read_run_info(dir / "run.h5");
     CHECK(info.provenance["scene"]["simulation"]["seed"] == 1);
-    CHECK(eco::read_snapshot_plants(dir / "run.h5", 0).year == 1);
-    CHECK(eco::read_snapshot_plants(dir / "run.h5", -1).year == 60);
+    CHECK(run::read_snapshot_plants(dir / "run.h5", 0).year == 1);
+    CHECK(run::read_snapshot_plants(dir / "run.h5", -1).year == 60);
     // Two resumes at once: the second is refused; the first's report stands.
     pid = start_locked_run(dir, "run --resume run.h5 --years 40 --no-pictures", lock);
     r = test::run(dir, "run --resume run.h5 --years 1 --no-pictures");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("is writing it now"));
     wait_for(pid);
-    CHECK(eco::read_snapshot_plants(dir / "run.h5", -1).year == 100);
+    CHECK(run::read_snapshot_plants(dir / "run.h5", -1).year == 100);
     // A holder killed with SIGKILL leaves no lock behind that stops the next run.
     pid = start_locked_run(dir, "run long.json -o run.h5 --no-pictures --force", lock);
     ::kill(static_cast<pid_t>(pid), SIGKILL);
@@ -573,7 +573,7 @@ TEST_CASE("two processes never write one run: a second run or resume is refused 
     r = test::run(dir, "run other.json -o run.h5 --no-pictures --force");
     INFO(r.out);
     CHECK(r.code == 0);
-    CHECK(eco::read_run_info(dir / "run.h5").provenance["scene"]["simulation"]["seed"] == 2);
+    CHECK(run::read_run_info(dir / "run.h5").provenance["scene"]["simulation"]["seed"] == 2);
     CHECK_FALSE(fs::exists(lock));
 }
 

@@ -4,8 +4,8 @@
 #include "support/scenes.hpp"
 
 #include "ecoterra/eco/ecosystem.hpp"
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/run/run_reader.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -45,8 +45,8 @@ void check_resume_equals_full_run(const test::TempDir& dir, int years, int first
                            " --no-pictures");
     INFO(r.out);
     REQUIRE(r.code == 0);
-    const auto a = eco::read_snapshot_plants(dir / "full.h5", -1);
-    const auto b = eco::read_snapshot_plants(dir / "part.h5", -1);
+    const auto a = run::read_snapshot_plants(dir / "full.h5", -1);
+    const auto b = run::read_snapshot_plants(dir / "part.h5", -1);
     CHECK(a.year == years);
     CHECK(b.year == years);
     CHECK(a.values("id") == b.values("id"));
@@ -270,8 +270,8 @@ TEST_CASE("run, stand and export as the issue writes them", "[eco][cli]") {
     CHECK(header == "id,x_m,y_m,z_m,species,species_index,life_form,dbh_cm,stem_diameter_cm,"
                     "height_m,crown_radius_m");
     // Every row joins back to its plant by id, with the plant's species index and position.
-    std::map<std::int64_t, eco::PlantRecord> plants;
-    for (const auto& p : eco::read_snapshot_plants(dir / "run.h5", -1).plants) plants[p.id] = p;
+    std::map<std::int64_t, run::PlantRecord> plants;
+    for (const auto& p : run::read_snapshot_plants(dir / "run.h5", -1).plants) plants[p.id] = p;
     std::size_t rows = 0;
     for (std::string line; std::getline(csv, line);) {
         std::vector<std::string> f;
@@ -363,8 +363,8 @@ TEST_CASE("raster commands read a snapshot's raster as RUN.h5:/snapshots/NNNN/NA
     INFO(c.out);
     REQUIRE(c.code == 0);
     // The values are the snapshot's, as ecoterra's own reader sees them.
-    const auto grid = eco::read_run_terrain(d / "run.h5").grid();
-    const RasterD want = eco::read_snapshot_raster(d / "run.h5", 1, "soil_moisture", grid);
+    const auto grid = run::read_run_terrain(d / "run.h5").grid();
+    const RasterD want = run::read_snapshot_raster(d / "run.h5", 1, "soil_moisture", grid);
     std::ifstream in(d / "m.asc");
     std::string word;
     for (int k = 0; k < 12; ++k) in >> word; // the six header lines
@@ -410,9 +410,9 @@ TEST_CASE("MAVS's own ecosystem files grow trees and shrubs with objects and a g
                                     entry.path().string() + "'");
         INFO(r.out);
         REQUIRE(r.code == 0);
-        const auto species = eco::read_run_species(dir / "run.h5");
-        const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
-        const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
+        const auto species = run::read_run_species(dir / "run.h5");
+        const auto snap = run::read_snapshot_plants(dir / "run.h5", -1);
+        const auto under = run::read_snapshot_undergrowth(dir / "run.h5", -1);
         std::map<eco::LifeForm, int> n;
         for (const auto& p : snap.plants) {
             const auto& s = species.at(static_cast<std::size_t>(p.species));

@@ -3,11 +3,11 @@
 #include "support/run_cli.hpp"
 #include "support/scenes.hpp"
 
-#include "ecoterra/eco/run_reader.hpp"
 #include "ecoterra/export/formats.hpp"
 #include "ecoterra/export/mesh.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/random.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <catch2/catch.hpp>
@@ -205,7 +205,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     const Scene s = load_scene(dir / "run.h5", -1);
     REQUIRE(s.trees.size() > 20);
     const auto by_id = trees_by_id(s);
-    const RasterD dem = eco::read_run_terrain(dir / "run.h5");
+    const RasterD dem = run::read_run_terrain(dir / "run.h5");
 
     SECTION("glTF: the Khronos validator accepts it; instances and nodes hold the stems") {
         for (const std::string mode : {"", " --gltf-nodes"}) {
@@ -359,7 +359,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         // the volumetric content is the snapshot's, the relative moisture is 0 at the wilting
         // point and 1 at field capacity (it once held the volumetric content labelled relative).
         const RasterD theta =
-            eco::read_snapshot_raster(dir / "run.h5", -1, "soil_moisture", dem.grid());
+            run::read_snapshot_raster(dir / "run.h5", -1, "soil_moisture", dem.grid());
         const RasterD fc = terrain::io::read_hdf5(dir / "run.h5", "/soil/field_capacity");
         const RasterD wp = terrain::io::read_hdf5(dir / "run.h5", "/soil/wilting_point");
         const RasterD vol = terrain::io::read_gdal(dir / "layers/soil_water_content_m3_per_m3.tif");
@@ -519,7 +519,7 @@ TEST_CASE("export layers: the input DEM's coordinate system is carried through t
     r = test::run(dir, "run utm.json -o utm.h5 --no-pictures");
     INFO(r.out);
     REQUIRE(r.code == 0);
-    CHECK_THAT(eco::read_run_terrain(dir / "utm.h5").crs_wkt(), Catch::Contains("UTM zone 16N"));
+    CHECK_THAT(run::read_run_terrain(dir / "utm.h5").crs_wkt(), Catch::Contains("UTM zone 16N"));
     REQUIRE(test::run(dir, "export layers utm.h5 -o layers --region 500010,4000010,500030,4000030")
                 .code == 0);
     for (const char* f :
@@ -567,9 +567,9 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     const std::string out = succeeds(dir, "run scene.json -o run.h5 --no-pictures");
     CHECK_THAT(out, Catch::Contains("ground layer:"));
     const Scene s = load_scene(dir / "run.h5", -1);
-    const auto snap = eco::read_snapshot_plants(dir / "run.h5", -1);
+    const auto snap = run::read_snapshot_plants(dir / "run.h5", -1);
     std::map<eco::LifeForm, int> forms;
-    std::map<std::int64_t, eco::PlantRecord> plant;
+    std::map<std::int64_t, run::PlantRecord> plant;
     for (const auto& p : snap.plants) {
         ++forms[static_cast<eco::LifeForm>(p.life_form)];
         plant[p.id] = p;
@@ -578,7 +578,7 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     REQUIRE(forms[eco::LifeForm::shrub] > 0);
     REQUIRE(forms[eco::LifeForm::object] > 0);
     REQUIRE(s.trees.size() == snap.plants.size());
-    const auto under = eco::read_snapshot_undergrowth(dir / "run.h5", -1);
+    const auto under = run::read_snapshot_undergrowth(dir / "run.h5", -1);
 
     // glTF: valid; each instance's trunk is the stem: a shrub's base is its stem at the ground,
     // an object's its footprint (0.5 m), a tree's larger than its DBH (taper to breast height).

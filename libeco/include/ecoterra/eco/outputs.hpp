@@ -1,12 +1,10 @@
 #pragma once
-// The output groups of an ecosystem run as catalogues: each column's name, unit, type and
-// description written once, and the writers and readers follow from them (docs/parameters.md
-// lists them, `ecoterra describe outputs` prints them).
+// The model's yearly report as a catalogue: each column's name, unit, type and description written
+// once (docs/parameters.md lists them, `ecoterra describe outputs` prints them). The run file's
+// other groups are the run layer's (run/records.hpp).
 //
-//   /snapshots/NNNN/plants/*   plant_columns(), one row per live plant (PlantRecord)
 //   /series/yearly/*           yearly_columns(), one row per simulated year (YearRow)
 //   /series/daily/*            hydro::daily_budget_columns(), one row per day
-//   stem CSV                   stem_csv_columns() (`ecoterra export vegetation`)
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/eco/species.hpp"
@@ -16,19 +14,6 @@
 #include <vector>
 
 namespace ecoterra::eco {
-
-/// What a snapshot stores of one plant.
-struct PlantRecord {
-    std::int64_t id = 0;
-    std::int32_t species = 0;
-    std::int32_t life_form = 0; ///< LifeForm's value: 0 tree, 1 shrub, 3 object
-    double x_m = 0, y_m = 0, z_m = 0, height_m = 0;
-    double dbh_m = 0;           ///< trees only (0 below breast height and for other life forms)
-    double stem_diameter_m = 0; ///< a tree's at breast height, a shrub's or object's at the ground
-    double crown_radius_m = 0, age_yr = 0, carbohydrate_kg = 0;
-};
-PlantRecord plant_record(const Plant& p, const Species& s);
-const std::vector<Column<PlantRecord>>& plant_columns();
 
 /// One year of the yearly series.
 struct YearRow {
@@ -43,16 +28,5 @@ struct YearRow {
            ground_transpiration_supplied_mm = 0, turnover_kg = 0;
 };
 const std::vector<Column<YearRow>>& yearly_columns();
-
-/// A column of the stem CSV: its text for one plant, given the run's species names.
-struct StemCsvColumn {
-    std::string name, unit, description;
-    ColumnType type;
-    std::string (*text)(const PlantRecord&, const std::vector<std::string>& species);
-};
-const std::vector<StemCsvColumn>& stem_csv_columns();
-/// The stem CSV of a snapshot's plants (header line, then one row per plant).
-std::string stem_csv(const std::vector<PlantRecord>& plants,
-                     const std::vector<std::string>& species);
 
 } // namespace ecoterra::eco

@@ -1,7 +1,7 @@
-#include "ecoterra/eco/run.hpp"
+#include "ecoterra/run/run.hpp"
 
-#include "ecoterra/eco/pictures.hpp"
-#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/run/pictures.hpp"
+#include "ecoterra/run/run_reader.hpp"
 #include "run_layout.hpp"
 
 #include "ecoterra/io/atomic_file.hpp"
@@ -16,10 +16,12 @@
 #include <cstring>
 #include <unistd.h>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
+
+using namespace ecoterra::eco;
 
 using nlohmann::json;
-using namespace run_layout;
+using namespace layout;
 
 namespace {
 /// Process id in a leftover name "...<marker><pid>[-.]..." or -1.
@@ -318,4 +320,4 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     return sum;
 }
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

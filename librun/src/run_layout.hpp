@@ -8,6 +8,7 @@
 //   RUN.snapshots/NNNN.h5      one file per snapshot, written atomically once and never touched
 //                              again; /snapshots/NNNN in RUN.h5 is an HDF5 external link to it
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/run/records.hpp"
 
 #include <H5Cpp.h>
 #include <nlohmann/json.hpp>
@@ -17,7 +18,9 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::eco::run_layout {
+namespace ecoterra::run::layout {
+
+using namespace ecoterra::eco;
 
 namespace fs = std::filesystem;
 
@@ -93,4 +96,4 @@ void open_snapshot(const fs::path& run, int k, F&& f) {
     }
 }
 
-} // namespace ecoterra::eco::run_layout
+} // namespace ecoterra::run::layout

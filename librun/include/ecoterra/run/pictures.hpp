@@ -13,14 +13,14 @@
 
 typedef struct _cairo cairo_t; // cairo.h's own declaration
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
 
 /// The colour of species k in every picture: Okabe-Ito (colour-blind safe), grey from the 8th.
 std::array<double, 3> species_colour(std::size_t k);
 
 /// Per-run pictures (Cairo): stems over hillshade, moisture, standing water, the DBH histogram
 /// with its exponential fit, basal area and stems over time.
-void draw_run_pictures(const Ecosystem& eco, const std::filesystem::path& dir);
+void draw_run_pictures(const eco::Ecosystem& eco, const std::filesystem::path& dir);
 
 /// `ecoterra mobility`: smg_lines.png (the lines over the stem map, stems avoided and pushed over
 /// marked, the paths driven coloured by SMG) and smg_histogram.png, into `dir`.
@@ -57,4 +57,4 @@ void draw_histogram_plot(const std::vector<HistogramSeries>& series, double clas
                          const std::string& title, const std::string& note,
                          const std::filesystem::path& file);
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

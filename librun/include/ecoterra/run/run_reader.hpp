@@ -1,10 +1,10 @@
 #pragma once
 // Reading ecosystem runs: what `stand`, `export` and resume read from RUN.h5 and its snapshots.
-#include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/raster.hpp"
+#include "ecoterra/run/records.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
 
 /// What stand and export read from a run.
 struct RunInfo {
@@ -33,14 +33,14 @@ struct SnapshotPlants {
 SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index);
 
 /// Shrubs, objects and the ground layer of snapshot `index` (runs before life forms: none).
-UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& run, int index);
+eco::UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& run, int index);
 
 /// A snapshot's plants as mobility sees them: trees by their DBH, shrubs by their stem at the
 /// ground, objects as rigid obstacles (the ground layer has no stems).
 std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& plants);
 
 /// The species of a run, as resolved when it started (every parameter).
-std::vector<Species> read_run_species(const std::filesystem::path& run);
+std::vector<eco::Species> read_run_species(const std::filesystem::path& run);
 /// The run's terrain (m), on the grid every other raster of the run shares.
 RasterD read_run_terrain(const std::filesystem::path& run);
 /// A soil raster of the run (`/soil/NAME`: field_capacity, wilting_point, porosity, ...; m3/m3 or
@@ -60,4 +60,4 @@ bool snapshot_has_dataset(const std::filesystem::path& run, int index, const std
 /// The snapshot index `index` stands for (negative: from the last), checked against the run.
 int resolve_snapshot_index(const std::filesystem::path& run, int index);
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

@@ -15,7 +15,9 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace ecoterra::eco::run_layout {
+namespace ecoterra::run::layout {
+
+using namespace ecoterra::eco;
 
 using nlohmann::json;
 
@@ -248,4 +250,4 @@ void require_writable_folder(const fs::path& dir, const std::string& what) {
     fs::remove(file, ec);
 }
 
-} // namespace ecoterra::eco::run_layout
+} // namespace ecoterra::run::layout

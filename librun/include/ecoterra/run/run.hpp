@@ -11,7 +11,7 @@
 #include <functional>
 #include <optional>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
 
 struct RunOptions {
     std::filesystem::path output;
@@ -35,8 +35,8 @@ struct RunProgress {
 struct RunSummary {
     int years_run = 0, years_total = 0, snapshots = 0;
     bool reached_target = false;
-    StandMetrics stand;             ///< trees
-    UndergrowthMetrics undergrowth; ///< shrubs, objects, ground layer
+    eco::StandMetrics stand;             ///< trees
+    eco::UndergrowthMetrics undergrowth; ///< shrubs, objects, ground layer
     std::vector<std::string> species;
     double seconds = 0, plant_years = 0;
     double water_residual_relative = 0, carbon_residual_relative = 0;
@@ -44,7 +44,7 @@ struct RunSummary {
 };
 
 /// Runs a scene from its start (opt.resume false) or continues the run in opt.output.
-RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
+RunSummary run_ecosystem(const eco::EcoScene* scene, const RunOptions& opt,
                          const std::function<void(const RunProgress&)>& progress = {});
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

@@ -1,5 +1,5 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
-#include "ecoterra/eco/pictures.hpp"
+#include "ecoterra/run/pictures.hpp"
 #include "ecoterra/hydro/pictures.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/picture.hpp"
@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <memory>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
+
+using namespace ecoterra::eco;
 
 namespace {
 
@@ -583,4 +585,4 @@ void draw_histogram_plot(const std::vector<HistogramSeries>& series, double clas
     s.save(file);
 }
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

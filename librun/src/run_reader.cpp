@@ -1,4 +1,4 @@
-#include "ecoterra/eco/run_reader.hpp"
+#include "ecoterra/run/run_reader.hpp"
 
 #include "run_layout.hpp"
 
@@ -10,10 +10,12 @@
 #include <algorithm>
 #include <numbers>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
+
+using namespace ecoterra::eco;
 
 using nlohmann::json;
-using namespace run_layout;
+using namespace layout;
 
 RunInfo read_run_info(const fs::path& run) {
     H5::H5File f = open_run(run);
@@ -240,4 +242,4 @@ std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& pla
     return stems;
 }
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

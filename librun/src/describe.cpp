@@ -1,4 +1,4 @@
-#include "ecoterra/eco/describe.hpp"
+#include "ecoterra/run/describe.hpp"
 
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/eco/outputs.hpp"
@@ -6,11 +6,14 @@
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
+#include "ecoterra/run/records.hpp"
 #include "ecoterra/terrain/generate.hpp"
 
 #include <algorithm>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
+
+using namespace ecoterra::eco;
 
 namespace {
 
@@ -227,4 +230,4 @@ std::string describe(const std::string& topic, bool md) {
            markdown(s);
 }
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::eco {
+namespace ecoterra::run {
 
 /// The topics: "scene", "species", "terrain", "vehicle", "outputs", or "all".
 std::vector<std::string> describe_topics();
@@ -19,4 +19,4 @@ std::string describe(const std::string& topic, bool markdown);
 /// generator keys below terrain.generate are not listed: they depend on the method.
 std::vector<std::string> scene_keys();
 
-} // namespace ecoterra::eco
+} // namespace ecoterra::run

@@ -1,6 +1,8 @@
 #pragma once
 // Shared helpers of the ecoterra subcommands: provenance, timing, messages.
+#include "ecoterra/provenance.hpp"
 #include <CLI/CLI.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -13,13 +15,11 @@ namespace ecoterra::app {
 /// members of an ensemble failed.
 void set_exit_code(int code);
 int exit_code();
-/// The version compiled in.
-const char* version();
-/// The command line as one string, set once by main.
-void set_command_line(int argc, char** argv);
-const std::string& command_line();
-/// {software, version, command_line} plus `extra` merged in.
-nlohmann::json provenance(const nlohmann::json& extra = nlohmann::json::object());
+/// The provenance of a command's outputs (ecoterra/provenance.hpp: software, version, command
+/// line).
+inline nlohmann::json provenance(const nlohmann::json& extra = nlohmann::json::object()) {
+    return command_provenance(extra);
+}
 /// Refuses an output that names an input (writing it would destroy the input): InputError naming
 /// the option, the output and the input. Empty paths are ignored.
 void refuse_output_over_input(const std::string& option, const std::string& output,

@@ -66,7 +66,7 @@ void run_run(const RunArgs& a) {
         json j = parse_json(io::read_text(a.scene), a.scene);
         if (a.years && a.resume.empty())
             sets.push_back("simulation.years=" + std::to_string(*a.years));
-        hydro::apply_overrides(j, sets);
+        apply_overrides(j, sets);
         const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
         scene = with_context(a.scene, [&] { return eco::load_eco_scene(j, base); });
         for (const auto& n : scene->ecosystem.notes)

@@ -155,7 +155,7 @@ void run_hydro_run(const RunArgs& a) {
     std::vector<std::string> sets = a.sets;
     if (a.years) sets.push_back("simulation.years=" + std::to_string(*a.years));
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
-    hydro::apply_overrides(scene, sets);
+    apply_overrides(scene, sets);
     const std::filesystem::path base = std::filesystem::path(a.scene).parent_path();
     const hydro::HydroScene sc = with_context(a.scene, [&] {
         return hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);

@@ -39,12 +39,12 @@ int main(int argc, char** argv) {
     ensure_passive_wait(argv);
     // A file over the size limit (ulimit -f) is a write error to report, not a fatal signal.
     std::signal(SIGXFSZ, SIG_IGN);
-    ecoterra::app::set_command_line(argc, argv);
+    ecoterra::set_command_line(argc, argv);
     CLI::App app{"ecoterra: synthetic off-road worlds (terrain, hydrology, vegetation)"};
     app.require_subcommand(1);
     // --help shows every option's default (subcommands inherit this when they are added).
     app.option_defaults()->always_capture_default();
-    app.set_version_flag("--version", std::string("ecoterra ") + ecoterra::app::version());
+    app.set_version_flag("--version", std::string("ecoterra ") + ecoterra::version());
     ecoterra::app::add_terrain_command(app);
     ecoterra::app::add_hydro_command(app);
     ecoterra::app::add_eco_commands(app);

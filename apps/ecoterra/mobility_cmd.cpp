@@ -71,7 +71,7 @@ void run_mobility(const MobilityArgs& a) {
     if (!a.run.empty()) {
         const auto s = run::read_snapshot_plants(a.run, a.snapshot);
         stems = run::stand_stems(s.plants);
-        dem = terrain::io::read_hdf5(a.run, "/terrain/elevation");
+        dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
     } else {
         stems = mobility::read_stem_csv(a.stems);

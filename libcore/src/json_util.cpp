@@ -127,4 +127,40 @@ nlohmann::json parse_json(const std::string& text, const std::string& source) {
     }
 }
 
+void set_dotted(nlohmann::json& j, const std::string& key, const nlohmann::json& value) {
+    nlohmann::json* node = &j;
+    std::size_t start = 0;
+    for (;;) {
+        const auto dot = key.find('.', start);
+        const std::string part = key.substr(start, dot - start);
+        if (dot == std::string::npos) {
+            (*node)[part] = value;
+            return;
+        }
+        if (!node->contains(part) || !(*node)[part].is_object())
+            (*node)[part] = nlohmann::json::object();
+        node = &(*node)[part];
+        start = dot + 1;
+    }
+}
+
+void apply_overrides(nlohmann::json& j, const std::vector<std::string>& overrides) {
+    for (const auto& o : overrides) {
+        const auto eq = o.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw InputError("--set takes KEY=VALUE, got '" + o + "'");
+        const std::string key = o.substr(0, eq), value = o.substr(eq + 1);
+        nlohmann::json v;
+        try {
+            v = nlohmann::json::parse(value);
+        } catch (const nlohmann::json::out_of_range&) {
+            throw InputError("--set " + key + ": the value " + value +
+                             " is out of range for a number");
+        } catch (const nlohmann::json::parse_error&) {
+            v = value;
+        }
+        set_dotted(j, key, v);
+    }
+}
+
 } // namespace ecoterra

@@ -286,7 +286,7 @@ RasterD Ecosystem::ground_cover(std::size_t g) const {
 std::uint64_t Ecosystem::observed_weather_hash() const {
     if (!m_scene.hydro.observed) return 0;
     // FNV-1a over the day values (field by field, whatever the layout of DayWeather).
-    std::uint64_t h = fnv1a64(nullptr, 0);
+    std::uint64_t h = kFnvOffsetBasis;
     for (const auto& d : m_scene.hydro.observed->days) {
         h = fnv1a64(&d.year, sizeof d.year, h);
         h = fnv1a64(&d.doy, sizeof d.doy, h);

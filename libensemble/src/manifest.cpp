@@ -4,6 +4,7 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
+#include "ecoterra/provenance.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/run/describe.hpp"
 #include "ecoterra/terrain/generate.hpp"
@@ -14,10 +15,6 @@
 #include <map>
 #include <mutex>
 #include <set>
-
-#ifndef ECOTERRA_VERSION
-#define ECOTERRA_VERSION "unknown"
-#endif
 
 namespace ecoterra::ensemble {
 
@@ -40,22 +37,6 @@ std::size_t Manifest::combinations() const {
     std::size_t n = 1;
     for (const auto& a : axes) n *= a.values.size();
     return n;
-}
-
-void set_dotted(json& j, const std::string& key, const json& value) {
-    json* node = &j;
-    std::size_t start = 0;
-    for (;;) {
-        const auto dot = key.find('.', start);
-        const std::string part = key.substr(start, dot - start);
-        if (dot == std::string::npos) {
-            (*node)[part] = value;
-            return;
-        }
-        if (!node->contains(part) || !(*node)[part].is_object()) (*node)[part] = json::object();
-        node = &(*node)[part];
-        start = dot + 1;
-    }
 }
 
 std::string value_text(const json& v) {
@@ -215,15 +196,6 @@ std::string name_of(const json& doc, const std::string& file) {
     return n;
 }
 
-/// FNV-1a over bytes, continuing from h.
-std::uint64_t fnv(std::uint64_t h, const std::string& bytes) {
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ULL;
-    }
-    return h;
-}
-
 /// Folds in the contents of every file the JSON names (strings that are paths of existing files,
 /// relative to `dir`), in key order, so an edited ecosystem or vehicle file reruns the member.
 /// FNV-1a of a file's bytes, remembered by path, size and modification time (an ensemble of
@@ -246,11 +218,7 @@ std::uint64_t file_hash(const fs::path& p) {
         if (it != cache.end() && it->second.size == size && it->second.time == time)
             return it->second.hash;
     }
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    std::ifstream in(p, std::ios::binary);
-    std::string buf(1 << 16, '\0');
-    while (in.read(buf.data(), static_cast<std::streamsize>(buf.size())) || in.gcount() > 0)
-        h = fnv(h, buf.substr(0, static_cast<std::size_t>(in.gcount())));
+    const std::uint64_t h = fnv1a64_file(p);
     const std::lock_guard<std::mutex> g(lock);
     cache[key] = {size, time, h};
     return h;
@@ -265,9 +233,7 @@ void hash_files(const json& j, const fs::path& dir, std::uint64_t& h) {
         std::error_code ec;
         const fs::path p = fs::path(s).is_absolute() ? fs::path(s) : dir / s;
         if (!fs::is_regular_file(p, ec)) return;
-        h = fnv(h, s);
-        h ^= file_hash(p);
-        h *= 0x100000001b3ULL;
+        h = fnv1a64_fold(fnv1a64_text(s, h), file_hash(p));
     }
 }
 
@@ -460,12 +426,11 @@ Member make_member(const Manifest& m, std::size_t index) {
         mb.axes.emplace_back(m.axes[k].key, m.axes[k].values[pick[k]]);
         apply(m.axes[k].key, m.axes[k].values[pick[k]]);
     }
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    h = fnv(h, std::string("ecoterra ") + ECOTERRA_VERSION);
-    h = fnv(h, base_kind_name(m.kind));
-    h = fnv(h, mb.scene.dump());
-    h = fnv(h, mb.analyses.dump());
-    h = fnv(h, m.keep_files ? "keep" : "drop");
+    std::uint64_t h = fnv1a64_text(std::string("ecoterra ") + version());
+    h = fnv1a64_text(base_kind_name(m.kind), h);
+    h = fnv1a64_text(mb.scene.dump(), h);
+    h = fnv1a64_text(mb.analyses.dump(), h);
+    h = fnv1a64_text(m.keep_files ? "keep" : "drop", h);
     hash_files(mb.scene, m.base_dir, h);
     hash_files(mb.analyses, m.dir, h);
     char hex[17];

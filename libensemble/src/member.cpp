@@ -7,6 +7,7 @@
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
+#include "ecoterra/provenance.hpp"
 #include "ecoterra/run/run.hpp"
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/analysis.hpp"
@@ -23,10 +24,6 @@
 #include <ctime>
 #include <fstream>
 #include <unistd.h>
-
-#ifndef ECOTERRA_VERSION
-#define ECOTERRA_VERSION "unknown"
-#endif
 
 namespace ecoterra::ensemble {
 
@@ -69,12 +66,8 @@ fs::path manifest_path(const Manifest& m, const std::string& p) {
     return fs::path(p).is_absolute() ? fs::path(p) : m.dir / p;
 }
 
-json provenance(const Manifest& m, const Member& mb) {
-    return {{"software", "ecoterra"},
-            {"version", ECOTERRA_VERSION},
-            {"ensemble", m.name},
-            {"member", mb.index},
-            {"input_hash", mb.input_hash}};
+json member_provenance(const Manifest& m, const Member& mb) {
+    return provenance({{"ensemble", m.name}, {"member", mb.index}, {"input_hash", mb.input_hash}});
 }
 
 void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
@@ -214,7 +207,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         opt.output = stage / "run.h5";
         opt.pictures = an.value("pictures", false);
         opt.picture_dir = stage / "pictures";
-        opt.provenance = provenance(m, mb);
+        opt.provenance = member_provenance(m, mb);
         const auto sum = run::run_ecosystem(&scene, opt);
         metrics.push_back({"run.years", static_cast<double>(sum.years_total)});
         metrics.push_back({"run.reached_target", sum.reached_target ? 1.0 : 0.0});
@@ -224,7 +217,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
             io::write_text_atomic(stage / "stand.json", eco::to_json(sum.stand).dump(1) + "\n");
         RasterD dem;
         if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
-            dem = terrain::io::read_hdf5(opt.output, "/terrain/elevation");
+            dem = terrain::io::read_hdf5(opt.output, terrain::io::kRunTerrainDataset);
         if (an.contains("mobility")) {
             const auto s = run::read_snapshot_plants(opt.output, -1);
             analyse_mobility(m, an["mobility"], run::stand_stems(s.plants), dem, stage, metrics);
@@ -246,7 +239,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], t.z, stage, metrics);
         if (m.keep_files) {
             terrain::io::WriteOptions wo;
-            wo.provenance = provenance(m, mb);
+            wo.provenance = member_provenance(m, mb);
             wo.provenance["terrain"] = t.resolved;
             terrain::io::write_raster(t.z, stage / "terrain.h5", wo);
         }
@@ -280,7 +273,7 @@ json base_record(const Manifest& m, const Member& mb) {
             {"seed", mb.seed},
             {"seeds", mb.seeds},
             {"input_hash", mb.input_hash},
-            {"software", {{"name", "ecoterra"}, {"version", ECOTERRA_VERSION}}}};
+            {"software", {{"name", "ecoterra"}, {"version", version()}}}};
 }
 
 std::string owner_tag();
@@ -431,7 +424,7 @@ void prepare_output(const fs::path& out, const Manifest& m) {
                       {"replicates", m.replicates},
                       {"manifest", m.document},
                       {"base", m.base},
-                      {"software", {{"name", "ecoterra"}, {"version", ECOTERRA_VERSION}}}};
+                      {"software", {{"name", "ecoterra"}, {"version", version()}}}};
     const std::string text = doc.dump(1) + "\n";
     // Left alone when it already says the same (many processes may start at once).
     try {

@@ -155,37 +155,6 @@ const ParamCatalog<HydroScene>& hydro_simulation_catalog() {
     return c;
 }
 
-void apply_overrides(json& scene, const std::vector<std::string>& overrides) {
-    for (const auto& o : overrides) {
-        const auto eq = o.find('=');
-        if (eq == std::string::npos || eq == 0)
-            throw InputError("--set takes KEY=VALUE, got '" + o + "'");
-        const std::string key = o.substr(0, eq), value = o.substr(eq + 1);
-        json v;
-        try {
-            v = json::parse(value);
-        } catch (const json::out_of_range&) {
-            throw InputError("--set " + key + ": the value " + value +
-                             " is out of range for a number");
-        } catch (const json::parse_error&) {
-            v = value;
-        }
-        json* node = &scene;
-        std::size_t start = 0;
-        for (;;) {
-            const auto dot = key.find('.', start);
-            const std::string part = key.substr(start, dot - start);
-            if (dot == std::string::npos) {
-                (*node)[part] = v;
-                break;
-            }
-            if (!node->contains(part)) (*node)[part] = json::object();
-            node = &(*node)[part];
-            start = dot + 1;
-        }
-    }
-}
-
 HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
                        "");
@@ -318,7 +287,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     sum.residual_relative = std::abs(model.cumulative_residual_m3()) /
                             std::max(model.cumulative_throughput_m3(), 1e-300);
     // Maps and series.
-    h5.raster("/terrain/elevation", sc.dem, "m", "terrain elevation");
+    h5.raster(terrain::io::kRunTerrainDataset, sc.dem, "m", "terrain elevation");
     write_soil_maps(h5, sc.soil);
     h5.raster("/vegetation/density", sc.vegetation_density, "1", "vegetation density (fraction)");
     write_table(h5, "/series/daily", series);

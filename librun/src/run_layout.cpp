@@ -4,6 +4,7 @@
 
 #include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -90,7 +91,8 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     const int snapshots = static_cast<int>(snapshot_checksums.size());
     io::Hdf5Writer h5(path);
     const EcoScene& sc = eco.scene();
-    h5.raster("/terrain/elevation", sc.hydro.dem, "m", "terrain elevation (hydrology grid)");
+    h5.raster(terrain::io::kRunTerrainDataset, sc.hydro.dem, "m",
+              "terrain elevation (hydrology grid)");
     hydro::write_soil_maps(h5, sc.hydro.soil);
     json sp = json::array();
     std::string names;
@@ -138,16 +140,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
 }
 
 std::string file_checksum(const fs::path& file) {
-    std::FILE* f = std::fopen(file.c_str(), "rb");
-    if (!f) throw IoError(file.string() + ": cannot read (" + std::strerror(errno) + ")");
-    std::uint64_t h = fnv1a64(nullptr, 0); // the offset basis
-    std::vector<char> buf(1 << 20);
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) h = fnv1a64(buf.data(), n, h);
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
-    if (failed) throw IoError(file.string() + ": read failed");
-    return std::to_string(h);
+    return std::to_string(fnv1a64_file(file));
 }
 
 std::vector<std::string> read_snapshot_checksums(const fs::path& run, int snapshots) {

@@ -78,7 +78,7 @@ std::vector<Species> read_run_species(const fs::path& run) {
 
 RasterD read_run_terrain(const fs::path& run) {
     open_run(run); // names the file if it is not a run
-    return terrain::io::read_hdf5(run, "/terrain/elevation");
+    return terrain::io::read_hdf5(run, terrain::io::kRunTerrainDataset);
 }
 
 RasterD read_run_soil(const fs::path& run, const std::string& name, const GridSpec& grid) {

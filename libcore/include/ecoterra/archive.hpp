@@ -3,6 +3,7 @@
 // rasters, stored bit-exact in native byte order. The checkpoint blob of a run starts with a magic
 // tag and a format version; reading past the end, or a wrong tag, throws ecoterra::Error.
 #include "ecoterra/error.hpp"
+#include "ecoterra/hash.hpp"
 #include "ecoterra/raster.hpp"
 
 #include <cstdint>
@@ -13,15 +14,6 @@
 #include <vector>
 
 namespace ecoterra {
-
-/// FNV-1a 64-bit hash of bytes: checksums of checkpoints and fingerprints of inputs (not
-/// cryptographic). Pass a previous result as `h` to continue a hash over several pieces.
-inline std::uint64_t fnv1a64(const void* data, std::size_t n,
-                             std::uint64_t h = 0xcbf29ce484222325ULL) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 0x100000001b3ULL;
-    return h;
-}
 
 class ArchiveWriter {
 public:

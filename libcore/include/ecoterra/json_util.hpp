@@ -37,4 +37,14 @@ std::size_t get_choice(const nlohmann::json& obj, const std::string& key,
 
 nlohmann::json parse_json(const std::string& text, const std::string& source);
 
+/// Sets `value` at the dotted path `key` of `j` ("vegetation.initial.random.stems_per_ha"),
+/// making the objects on the way (a non-object on the way is replaced by one): the one setter of
+/// `--set KEY=VALUE`, ensemble axes and ensemble `set` entries.
+void set_dotted(nlohmann::json& j, const std::string& key, const nlohmann::json& value);
+
+/// Applies `--set KEY=VALUE` overrides in order: VALUE is parsed as JSON, and taken as a string
+/// when it is not JSON ("--set climate.preset=temperate"). InputError for a missing '=' or a
+/// number out of range.
+void apply_overrides(nlohmann::json& j, const std::vector<std::string>& overrides);
+
 } // namespace ecoterra

@@ -5,6 +5,8 @@
 //
 // Generator: xoshiro256** 1.0 (Blackman & Vigna 2018, "Scrambled linear pseudorandom number
 // generators", ACM TOMS 47(4) 2021), state seeded with SplitMix64 (Steele, Lea & Flood 2014).
+#include "ecoterra/hash.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -20,14 +22,9 @@ constexpr std::uint64_t splitmix64(std::uint64_t& state) {
     return z ^ (z >> 31);
 }
 
-/// FNV-1a hash of a stream name, used to derive independent streams from one seed.
+/// The hash of a stream name, used to derive independent streams from one seed.
 constexpr std::uint64_t hash_name(std::string_view name) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (char c : name) {
-        h ^= static_cast<unsigned char>(c);
-        h *= 0x100000001b3ULL;
-    }
-    return h;
+    return fnv1a64_text(name);
 }
 
 class Rng {

@@ -74,7 +74,7 @@ RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset)
         // every raster command takes it where it asks for a DEM.
         name = dataset == "/elevation" && !f.nameExists(dataset) && f.nameExists("/terrain") &&
                        f.openGroup("/terrain").nameExists("elevation")
-                   ? "/terrain/elevation"
+                   ? kRunTerrainDataset
                    : dataset;
         if (!path_exists(f, name))
             throw InputError(where + ": has no dataset " + dataset +

@@ -79,9 +79,6 @@ Member make_member(const Manifest& m, std::size_t index);
 /// index, through the same xoshiro256** streams as every other draw.
 std::uint64_t derive_seed(std::uint64_t seed, const std::string& stream, std::uint64_t index);
 
-/// Sets the dotted `key` of `j` to `value` (objects created on the way).
-void set_dotted(nlohmann::json& j, const std::string& key, const nlohmann::json& value);
-
 /// A cell text of a JSON value for tables: strings as they are, numbers in full precision.
 std::string value_text(const nlohmann::json& v);
 

@@ -59,9 +59,6 @@ const ParamCatalog<HydroScene>& hydro_simulation_catalog();
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.
 HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
 
-/// Applies "a.b.c=value" overrides to a scene (value parsed as JSON, else taken as a string).
-void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& overrides);
-
 struct HydroRunSummary {
     int days = 0;
     double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, runoff_out_mm = 0,

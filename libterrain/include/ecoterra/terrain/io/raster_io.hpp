@@ -53,6 +53,8 @@ inline void write_raster(const RasterD& z, const std::filesystem::path& path,
 }
 
 // Per-format entry points (used by read_raster / write_raster and by tests).
+/// The dataset of a run file (hydrology or ecosystem) that holds its terrain, m.
+inline constexpr const char* kRunTerrainDataset = "/terrain/elevation";
 RasterD read_hdf5(const std::filesystem::path& path, const std::string& dataset = "/elevation");
 void write_hdf5(const RasterD& z, const std::filesystem::path& path, const WriteOptions& opt);
 RasterD read_esri_ascii(const std::filesystem::path& path);

@@ -4,6 +4,7 @@
 #include "ecoterra/error.hpp"
 #include "ecoterra/export/formats.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/io/staging.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
@@ -276,8 +277,6 @@ json base_record(const Manifest& m, const Member& mb) {
             {"software", {{"name", "ecoterra"}, {"version", version()}}}};
 }
 
-std::string owner_tag();
-
 /// Moves the staged member into place. Another process may have finished the same member
 /// meanwhile (a resumed ensemble racing an orphaned member): its record stays if it is ok with
 /// the same inputs.
@@ -292,30 +291,13 @@ void publish(const fs::path& stage, const fs::path& final_dir, const std::string
             }
         } catch (const std::exception&) {
         }
-        std::string old_name = ".";
-        old_name += final_dir.filename().string() + ".old-" + owner_tag();
-        const fs::path old = final_dir.parent_path() / old_name;
-        fs::remove_all(old, ec);
-        fs::rename(final_dir, old);
-        fs::rename(stage, final_dir);
-        fs::remove_all(old, ec);
-        return;
     }
-    fs::rename(stage, final_dir);
+    io::replace_folder(stage, final_dir);
 }
 
-/// The suffix of this process's staging folders: the host, because the folder may be shared by
-/// machines whose process ids mean nothing to each other, and the process id.
-std::string owner_tag() {
-    return io::process_tag();
-}
-
-/// `.NNNNNN.partial-HOST-PID`: member `index` being written by this process.
+/// `.NNNNNN.partial-HOST-PID`: member `index` being written by this process (io/staging.hpp).
 fs::path stage_dir(const fs::path& out, const Manifest& m, std::size_t index) {
-    std::string name = ".";
-    name += member_name(m, index);
-    name += ".partial-" + owner_tag();
-    return out / "members" / name;
+    return io::staging_path(out / "members", member_name(m, index), "partial");
 }
 
 void write_record(const fs::path& stage, const json& record, double seconds, int threads) {

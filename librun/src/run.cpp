@@ -6,6 +6,7 @@
 
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/io/file_lock.hpp"
+#include "ecoterra/io/staging.hpp"
 
 #include <H5Cpp.h>
 
@@ -24,48 +25,27 @@ using nlohmann::json;
 using namespace layout;
 
 namespace {
-/// Process id in a leftover name "...<marker><pid>[-.]..." or -1.
-long leftover_pid(const std::string& name, const std::string& marker) {
-    const auto at = name.find(marker);
-    if (at == std::string::npos) return -1;
-    const std::size_t start = at + marker.size();
-    std::size_t end = start;
-    while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
-    return end > start ? std::stol(name.substr(start, end - start)) : -1;
-}
-
 /// Removes what killed runs into `out` left behind: staging files and folders of a replacing run
 /// and the temporary files of interrupted writes, in the run's folder and its snapshot folder,
-/// when the process that made them is gone. A live process's files are left alone.
+/// when the process of this host that made them is gone (io/staging.hpp). A live process's files
+/// and another host's are left alone.
 void remove_leftovers(const fs::path& parent, const fs::path& out) {
     const std::string stem = out.stem().string();
-    auto dead = [](long pid) { return pid > 0 && !io::process_alive(pid); };
-    std::error_code ec;
-    // A leftover is a name that starts with "." + head and holds marker + the pid that wrote it.
-    struct Kind {
-        std::string head, marker;
-    };
-    std::vector<fs::path> gone;
-    auto sweep = [&](const fs::path& dir, const std::vector<Kind>& kinds) {
-        for (const auto& e : fs::directory_iterator(dir, ec)) {
-            const std::string name = e.path().filename().string();
-            for (const auto& k : kinds)
-                if (name.size() > k.head.size() && name[0] == '.' &&
-                    name.compare(1, k.head.size(), k.head) == 0 &&
-                    dead(leftover_pid(name, k.marker))) {
-                    gone.push_back(e.path());
-                    break;
-                }
-        }
-    };
-    const std::string staging = stem + ".replacing-";
-    sweep(parent, {{staging, ".replacing-"},            // a replacing run's file and folder
-                   {"." + staging, ".tmp-"},            // its file half-written
-                   {out.filename().string(), ".tmp-"},  // the run file half-written
-                   {snapshot_dir_name(out), ".old-"}}); // an earlier run's snapshots set aside
+    io::sweep_dead_staging(parent, stem, ".replacing-"); // a replacing run's file and folder
+    io::sweep_dead_staging(parent, std::string(".").append(stem), ".tmp-"); // its file half-written
+    io::sweep_dead_staging(parent, out.filename().string(), ".tmp-"); // the run file half-written
+    io::sweep_dead_staging(parent, snapshot_dir_name(out), ".old-");  // earlier snapshots aside
     const fs::path snaps = parent / snapshot_dir_name(out);
-    if (fs::is_directory(snaps, ec)) sweep(snaps, {{"", ".tmp-"}}); // snapshots half-written
-    for (const auto& p : gone) fs::remove_all(p, ec);
+    std::error_code ec;
+    if (fs::is_directory(snaps, ec)) io::sweep_dead_staging(snaps, "", ".tmp-"); // half-written
+}
+
+/// The staging name of a new run over the earlier one at `out`: ".STEM.replacing-HOST-PID" +
+/// `suffix` + the run file's extension.
+fs::path replacing_path(const fs::path& out, const std::string& suffix = "") {
+    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    return io::staging_path(parent, out.stem().string(), "replacing",
+                            suffix + out.extension().string());
 }
 
 /// Puts a complete new run (run file `work`, snapshots in `snap_dir`) in the place of the earlier
@@ -78,17 +58,9 @@ void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work
                  const std::vector<std::string>& checksums) {
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     const fs::path final_dir = parent / snapshot_dir_name(out);
-    std::string aside(".");
-    aside.append(snapshot_dir_name(out)).append(".old-").append(std::to_string(::getpid()));
-    const fs::path old_dir = parent / aside;
-    // ".STEM.replacing-PID.ready.h5": swept with the other staging files if the process dies.
-    std::string ready_name(".");
-    ready_name.append(out.stem().string())
-        .append(".replacing-")
-        .append(std::to_string(::getpid()))
-        .append(".ready")
-        .append(out.extension().string());
-    const fs::path ready = parent / ready_name;
+    const fs::path old_dir = io::staging_path(parent, snapshot_dir_name(out), "old");
+    // ".STEM.replacing-HOST-PID.ready.h5": swept with the other staging files if the process dies.
+    const fs::path ready = replacing_path(out, ".ready");
     write_main(eco, ready, prov, checksums, snapshot_dir_name(out));
     std::error_code ec;
     fs::remove_all(old_dir, ec);
@@ -221,13 +193,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
     std::error_code ec;
     remove_leftovers(parent, out);
     const bool staged = !opt.resume && fs::exists(out, ec);
-    // (Names built by append: GCC 12 warns falsely (-Wrestrict) on "." + std::string.)
-    std::string staging(".");
-    staging.append(out.stem().string())
-        .append(".replacing-")
-        .append(std::to_string(::getpid()))
-        .append(out.extension().string());
-    const fs::path work = staged ? parent / staging : out;
+    const fs::path work = staged ? replacing_path(out) : out;
     const fs::path snap_dir = parent / snapshot_dir_name(work);
     if (staged) fs::remove_all(snap_dir, ec); // left by a killed process of the same id
     io::create_folder(snap_dir, "the snapshot folder");

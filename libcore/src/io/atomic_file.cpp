@@ -1,4 +1,5 @@
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/io/staging.hpp"
 
 #include "ecoterra/error.hpp"
 
@@ -26,11 +27,8 @@ AtomicOutput::AtomicOutput(fs::path target) : m_target(std::move(target)) {
                       " does not exist");
     if (fs::is_directory(m_target, ec))
         throw IoError(m_target.string() + ": is a folder, not a file");
-    std::string name = m_target.filename().string();
-    name.insert(0, 1, '.');
-    name.append(".tmp-").append(std::to_string(::getpid())).append("-");
-    name.append(std::to_string(counter++));
-    m_temp = dir / name;
+    m_temp =
+        staging_path(dir, m_target.filename().string(), "tmp", "-" + std::to_string(counter++));
 }
 
 AtomicOutput::~AtomicOutput() {

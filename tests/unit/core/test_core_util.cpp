@@ -6,6 +6,8 @@
 #include "ecoterra/archive.hpp"
 #include "ecoterra/csv.hpp"
 #include "ecoterra/hash.hpp"
+#include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/io/staging.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/provenance.hpp"
 
@@ -15,6 +17,7 @@
 
 using namespace ecoterra;
 using nlohmann::json;
+namespace fs = std::filesystem;
 
 TEST_CASE("hash: FNV-1a 64 gives the published test vectors", "[core][hash]") {
     // Fowler, Noll & Vo's reference values (draft-eastlake-fnv, test suite of fnv-5.0.3).
@@ -112,4 +115,26 @@ TEST_CASE("csv: numbers in full, spaces allowed, the column and line named other
                               Catch::Contains("t.csv line"));
     }
     CHECK_THROWS_WITH(csv.require("c"), Catch::Contains("lacks column c"));
+}
+
+TEST_CASE("staging: names carry host and process, a folder is replaced whole", "[core][staging]") {
+    test::TempDir dir;
+    const fs::path p = io::staging_path(dir.path(), "run", "replacing", ".h5");
+    CHECK(p.filename().string() == ".run.replacing-" + io::process_tag() + ".h5");
+    // A new folder moves into place; an existing one is replaced, nothing of it left aside.
+    const fs::path target = dir / "members";
+    for (const std::string content : {"first", "second"}) {
+        const fs::path stage = io::staging_path(dir.path(), "members", "partial");
+        fs::create_directories(stage);
+        std::ofstream(stage / "f.txt") << content;
+        io::replace_folder(stage, target);
+        CHECK(io::read_text(target / "f.txt") == content);
+        CHECK_FALSE(fs::exists(stage));
+    }
+    std::size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(dir.path())) entries += e.path() != target;
+    CHECK(entries == 0);
+    // This live process's staging is not swept.
+    fs::create_directories(io::staging_path(dir.path(), "x", "partial"));
+    CHECK(io::sweep_dead_staging(dir.path(), "x", ".partial-") == 0);
 }

@@ -2,9 +2,9 @@
 // The scene exporters (`ecoterra export scene`, `ecoterra export layers`); docs/exports.md gives
 // every file, its units and axes. Each writes into an OutputFolder (folder.hpp): a new folder
 // appears whole or not at all.
-#include "ecoterra/export/folder.hpp"
 #include "ecoterra/export/scene.hpp"
 #include "ecoterra/export/user_meshes.hpp"
+#include "ecoterra/io/staging.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -12,6 +12,9 @@
 #include <vector>
 
 namespace ecoterra::exporter {
+
+/// Exports write into an OutputFolder (io/staging.hpp).
+using io::OutputFolder;
 
 enum class SceneFormat { mavs, gazebo, unreal, gltf };
 SceneFormat scene_format_from_name(const std::string& name); ///< InputError listing the names

@@ -1,4 +1,4 @@
-#include "ecoterra/export/folder.hpp"
+#include "ecoterra/io/staging.hpp"
 
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
@@ -7,9 +7,37 @@
 #include <system_error>
 #include <unistd.h>
 
-namespace ecoterra::exporter {
+namespace ecoterra::io {
 
 namespace fs = std::filesystem;
+
+fs::path staging_path(const fs::path& dir, const std::string& name, const std::string& marker,
+                      const std::string& suffix) {
+    // (Built by append: GCC 12 warns falsely (-Wrestrict) on "." + std::string.)
+    std::string n(".");
+    n.append(name).append(".").append(marker).append("-").append(process_tag()).append(suffix);
+    return dir / n;
+}
+
+void replace_folder(const fs::path& stage, const fs::path& target) {
+    std::error_code ec;
+    if (!fs::exists(target, ec)) {
+        fs::rename(stage, target, ec);
+        if (ec) throw IoError(target.string() + ": cannot move into place (" + ec.message() + ")");
+        return;
+    }
+    const fs::path old = staging_path(target.parent_path(), target.filename().string(), "old");
+    fs::remove_all(old, ec);
+    fs::rename(target, old, ec);
+    if (ec) throw IoError(target.string() + ": cannot move aside (" + ec.message() + ")");
+    fs::rename(stage, target, ec);
+    if (ec) {
+        std::error_code back;
+        fs::rename(old, target, back);
+        throw IoError(target.string() + ": cannot move into place (" + ec.message() + ")");
+    }
+    fs::remove_all(old, ec);
+}
 
 OutputFolder::OutputFolder(fs::path dir, bool force) : m_dir(std::move(dir)) {
     if (m_dir.empty()) throw InputError("-o: give an output folder");
@@ -29,11 +57,8 @@ OutputFolder::OutputFolder(fs::path dir, bool force) : m_dir(std::move(dir)) {
     const std::string name =
         (abs.has_filename() ? abs.filename() : abs.parent_path().filename()).string();
     // Staging folders of exports into the same place whose processes were killed: removed.
-    io::sweep_dead_staging(parent, name, ".partial-");
-    std::string hidden(".");
-    hidden += name;
-    hidden += ".partial-" + io::process_tag();
-    m_stage = parent / hidden;
+    sweep_dead_staging(parent, name, ".partial-");
+    m_stage = staging_path(parent, name, "partial");
     fs::remove_all(m_stage, ec);
     if (!fs::create_directories(m_stage, ec))
         throw IoError(m_stage.string() + ": cannot create the staging folder (" + ec.message() +
@@ -96,4 +121,4 @@ void OutputFolder::commit() {
     m_committed = true;
 }
 
-} // namespace ecoterra::exporter
+} // namespace ecoterra::io

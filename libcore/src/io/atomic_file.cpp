@@ -27,8 +27,9 @@ AtomicOutput::AtomicOutput(fs::path target) : m_target(std::move(target)) {
                       " does not exist");
     if (fs::is_directory(m_target, ec))
         throw IoError(m_target.string() + ": is a folder, not a file");
-    m_temp =
-        staging_path(dir, m_target.filename().string(), "tmp", "-" + std::to_string(counter++));
+    std::string suffix("-"); // (appended: GCC 12 warns falsely (-Wrestrict) on "-" + string)
+    suffix.append(std::to_string(counter++));
+    m_temp = staging_path(dir, m_target.filename().string(), "tmp", suffix);
 }
 
 AtomicOutput::~AtomicOutput() {

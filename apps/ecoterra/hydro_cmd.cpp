@@ -173,12 +173,12 @@ void run_hydro_run(const RunArgs& a) {
                 sc.options.groundwater ? ", groundwater on" : "");
     const double cells = static_cast<double>(sc.dem.size());
     const auto sum =
-        hydro::run_hydro_scene(sc, a.output, prov, a.png_dir, [&](int day, int total, double s) {
-            progress_line(static_cast<double>(day) / total, s,
-                          "  year %d day %3d  (%d of %d days, %.3g cell-days/s)  ",
-                          (day - 1) / 365 + 1, (day - 1) % 365 + 1, day, total,
-                          cells * day / std::max(s, 1e-9));
-            if (day == total) end_progress_line();
+        hydro::run_hydro_scene(sc, a.output, prov, a.png_dir, [&](const hydro::HydroProgress& p) {
+            // The weather's own calendar: observed leap years have a day 366.
+            progress_line(static_cast<double>(p.day) / p.days, p.seconds,
+                          "  year %d day %3d  (%d of %d days, %.3g cell-days/s)  ", p.year, p.doy,
+                          p.day, p.days, cells * p.day / std::max(p.seconds, 1e-9));
+            if (p.day == p.days) end_progress_line();
         });
     std::printf("%d days in %.2f s (%.3g cell-days/s)\n", sum.days, sum.seconds,
                 cells * sum.days / sum.seconds);

@@ -193,14 +193,6 @@ std::vector<SizeClass> size_classes(const Scene& s, const std::function<bool(con
     return out;
 }
 
-Mesh tree_mesh(const SpeciesLook& look, const SizeClass& c) {
-    Mesh m;
-    m.append(unit_trunk(), {c.base_diameter_m, c.base_diameter_m, c.height_m});
-    m.append(unit_crown(look.crown_shape, c.stage),
-             {c.crown_radius_m, c.crown_radius_m, c.height_m});
-    return m;
-}
-
 double stem_diameter_m(const Tree& t) {
     if (t.base_diameter_m > 0) return t.base_diameter_m;
     return t.dbh_m > 0 ? t.dbh_m : trunk_base_diameter_m(t.dbh_m, t.height_m);

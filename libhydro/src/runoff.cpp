@@ -80,13 +80,6 @@ double scs_runoff_mm(double p, double cn) {
     const double ia = 0.2 * s;
     return p > ia ? (p - ia) * (p - ia) / (p - ia + s) : 0.0;
 }
-double cn_dry(double cn) {
-    return 4.2 * cn / (10.0 - 0.058 * cn);
-}
-double cn_wet(double cn) {
-    return 23.0 * cn / (10.0 + 0.13 * cn);
-}
-
 int hydrologic_soil_group(Texture t) {
     switch (t) {
     case Texture::sand:

@@ -247,7 +247,7 @@ void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t) {
 
 HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, const json& prov,
                                 const fs::path& png_dir,
-                                const std::function<void(int, int, double)>& progress) {
+                                const std::function<void(const HydroProgress&)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
     HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
@@ -280,8 +280,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         sum.groundwater_out_mm += row.groundwater_out_mm;
         if (d % sc.snapshot_interval_days == 0 || d == total) write_snapshot(w, d);
         if (progress && (d % 30 == 0 || d == total))
-            progress(d, total,
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            progress({d, total, w.year, w.doy,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
     }
     sum.days = total;
     sum.residual_relative = std::abs(model.cumulative_residual_m3()) /

@@ -200,10 +200,6 @@ std::vector<Section> vehicle_sections() {
 
 } // namespace
 
-std::vector<std::string> describe_topics() {
-    return {"scene", "species", "terrain", "vehicle", "outputs", "all"};
-}
-
 std::string describe(const std::string& topic, bool md) {
     std::vector<Section> s;
     auto add = [&](std::vector<Section> more) {

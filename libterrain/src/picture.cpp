@@ -36,10 +36,6 @@ Rgb palette_colour(Palette p, double t) {
     return ramp(p == Palette::water ? kWater : kViridis, t);
 }
 
-Rgb nodata_colour() {
-    return kNodata;
-}
-
 Rgb class_colour(int c) {
     return c >= 0 && c < 3 ? kClassColours[c] : kNodata;
 }

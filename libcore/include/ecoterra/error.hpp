@@ -1,6 +1,8 @@
 #pragma once
-// The one exception type of ecoterra. Messages name the file, the field and the value; callers
-// add context as the error propagates ("while reading mf.h5: ...").
+// The exceptions of ecoterra: Error (an internal failure or a broken budget), and below it
+// InputError (bad input: exit code 2), IoError (a file that cannot be read or written) and
+// CheckpointError (an InputError about a checkpoint). Messages name the file, the field and the
+// value; callers add context as the error propagates ("while reading mf.h5: ...").
 #include <stdexcept>
 #include <string>
 

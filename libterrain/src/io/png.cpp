@@ -293,22 +293,3 @@ RasterD read_png16(const std::filesystem::path& path, std::vector<std::string>* 
 }
 
 } // namespace ecoterra::terrain::io
-
-namespace ecoterra::terrain {
-
-void write_png_rgb(const Image& img, const std::filesystem::path& path) {
-    ecoterra::io::AtomicOutput out(path);
-    std::vector<std::uint8_t> rows(img.pixels.size() * 3);
-    for (std::size_t k = 0; k < img.pixels.size(); ++k) {
-        rows[3 * k] = img.pixels[k].r;
-        rows[3 * k + 1] = img.pixels[k].g;
-        rows[3 * k + 2] = img.pixels[k].b;
-    }
-    const std::string e =
-        io::write_png_raw(out.temp_path().c_str(), img.width, img.height, 8, PNG_COLOR_TYPE_RGB,
-                          rows, static_cast<std::size_t>(img.width) * 3);
-    if (!e.empty()) throw IoError(path.string() + ": " + e);
-    out.commit();
-}
-
-} // namespace ecoterra::terrain

@@ -78,8 +78,6 @@ struct SizeClass {
 /// (those with a user's mesh) are left out.
 std::vector<SizeClass> size_classes(const Scene& s,
                                     const std::function<bool(const Tree&)>& skip = nullptr);
-/// A whole tree (trunk and crown) of the class's size, base at the origin.
-Mesh tree_mesh(const SpeciesLook& look, const SizeClass& c);
 /// The tree's DBH (or trunk base diameter below breast height), for the override of MAVS.
 double stem_diameter_m(const Tree& t);
 

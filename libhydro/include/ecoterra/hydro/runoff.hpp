@@ -38,8 +38,6 @@ private:
 
 /// SCS curve-number runoff (mm) for P mm of rain at curve number cn (antecedent condition II).
 double scs_runoff_mm(double p_mm, double cn);
-double cn_dry(double cn); ///< condition I
-double cn_wet(double cn); ///< condition III
 /// Hydrologic soil group A-D from texture (NEH/Rawls heuristic, reference s3.4): 0..3.
 int hydrologic_soil_group(Texture t);
 /// TR-55 curve numbers for woods (fair) and fallow bare soil, by group, interpolated by

@@ -80,9 +80,16 @@ const std::vector<RasterLayer<HydrologyModel>>& water_state_layers();
 /// Writes each column of a table as a dataset group/NAME with its units and description.
 void write_table(io::Hdf5Writer& h5, const std::string& group, const Table& t);
 
+/// Where a hydrology run is, for its progress line: the day's calendar (the weather's year and
+/// day of year: observed years have 365 or 366 days) and the seconds so far.
+struct HydroProgress {
+    int day = 0, days = 0; ///< days done, of the run's total
+    int year = 0, doy = 0; ///< the day's weather year and day of year
+    double seconds = 0;
+};
 HydroRunSummary run_hydro_scene(const HydroScene& scene, const std::filesystem::path& output,
                                 const nlohmann::json& provenance,
                                 const std::filesystem::path& png_dir = {},
-                                const std::function<void(int, int, double)>& progress = {});
+                                const std::function<void(const HydroProgress&)>& progress = {});
 
 } // namespace ecoterra::hydro

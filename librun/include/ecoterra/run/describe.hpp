@@ -6,9 +6,6 @@
 
 namespace ecoterra::run {
 
-/// The topics: "scene", "species", "terrain", "vehicle", "outputs", or "all".
-std::vector<std::string> describe_topics();
-
 /// The catalogues of a topic as text (aligned columns) or as Markdown tables. InputError for an
 /// unknown topic, naming the known ones.
 std::string describe(const std::string& topic, bool markdown);

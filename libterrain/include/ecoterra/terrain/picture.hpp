@@ -33,8 +33,6 @@ double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double m
 /// (continuous fields), otherwise each cell stays a sharp block (classes).
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
                  bool smooth = false);
-/// Writes an RGB PNG atomically; throws IoError naming the file.
-void write_png_rgb(const Image& img, const std::filesystem::path& path);
 
 /// Grey hillshade; NODATA cells are drawn in light blue.
 Image hillshade_image(const RasterD& z);
@@ -43,8 +41,6 @@ Image hillshade_image(const RasterD& z);
 enum class Palette { viridis, water };
 /// The colour at t in [0, 1] (clamped).
 Rgb palette_colour(Palette p, double t);
-/// The colour of NODATA cells (light blue-grey).
-Rgb nodata_colour();
 /// A continuous field through a colour map between vmin and vmax (NaN: auto range); values
 /// outside are drawn at the ends.
 Image colormap_image(const RasterD& v, double vmin = std::nan(""), double vmax = std::nan(""),

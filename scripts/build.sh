@@ -4,5 +4,6 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/install-deps.sh"
 jobs="$(nproc 2>/dev/null || echo 2)"
-cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release
+# ECOTERRA_WERROR=ON in the environment (CI, .ci/run) turns warnings into errors.
+cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DECOTERRA_WERROR="${ECOTERRA_WERROR:-OFF}"
 cmake --build "$root/build" -j "$jobs"

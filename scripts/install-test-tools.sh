@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Test-only tools: Debian's python3-h5py and python3-pandas (the Python readers of run files),
-# hdf5-tools (h5ls), and
+# hdf5-tools (h5ls), clang-format (the format check of CI), and
 # from the npm registry, into .tools/ in the repository (git-ignored), the Khronos glTF validator
 # that the export tests run on every .glb. Idempotent.
 set -euo pipefail
@@ -15,6 +15,11 @@ fi
 if ! command -v h5ls >/dev/null; then
   echo "install-test-tools: installing hdf5-tools"
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends hdf5-tools
+fi
+# clang-format (Debian's, version 14): CI checks that the code is formatted (scripts/check-format.sh).
+if ! command -v clang-format >/dev/null; then
+  echo "install-test-tools: installing clang-format"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends clang-format
 fi
 if [ -f .tools/node_modules/gltf-validator/package.json ] &&
    grep -q "\"version\": \"$version\"" .tools/node_modules/gltf-validator/package.json; then

@@ -280,8 +280,9 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         sum.groundwater_out_mm += row.groundwater_out_mm;
         if (d % sc.snapshot_interval_days == 0 || d == total) write_snapshot(w, d);
         if (progress && (d % 30 == 0 || d == total))
-            progress({d, total, w.year, w.doy,
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
+            progress(
+                {d, total, w.year, w.doy,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()});
     }
     sum.days = total;
     sum.residual_relative = std::abs(model.cumulative_residual_m3()) /

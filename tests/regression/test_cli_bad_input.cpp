@@ -130,7 +130,7 @@ TEST_CASE("resume refuses -o", "[cli][bad-input]") {
 }
 
 TEST_CASE("a finished run survives a new run to its path that is killed, at any moment",
-          "[cli][bad-input][kill]") {
+          "[cli][bad-input][kill][slow]") {
     test::TempDir dir;
     write(dir / "a.json", tiny_scene(3, 1).dump());
     write(dir / "b.json", tiny_scene(40, 2).dump());
@@ -418,7 +418,7 @@ TEST_CASE("a missing or malformed input file is bad input: exit 2 naming the fil
 }
 
 TEST_CASE("one rule for existing outputs: refused without --force, replaced with it and said so",
-          "[cli][bad-input][outputs]") {
+          "[cli][bad-input][outputs][slow]") {
     test::TempDir dir;
     write(dir / "s.json", tiny_scene(2, 1).dump());
     json hs = tiny_scene(1, 1);
@@ -539,7 +539,7 @@ void wait_for(long pid) {
 
 TEST_CASE("two processes never write one run: a second run or resume is refused while the first "
           "works",
-          "[cli][bad-input][lock]") {
+          "[cli][bad-input][lock][slow]") {
     test::TempDir dir;
     write(dir / "long.json", tiny_scene(60, 1).dump());
     write(dir / "other.json", tiny_scene(3, 2).dump());

@@ -391,7 +391,7 @@ TEST_CASE("raster commands read a snapshot's raster as RUN.h5:/snapshots/NNNN/NA
 }
 
 TEST_CASE("MAVS's own ecosystem files grow trees and shrubs with objects and a ground layer",
-          "[eco][cli][lifeform][mavs]") {
+          "[eco][cli][lifeform][mavs][slow]") {
     // MAVS's twelve ecosystem files (tests/data/mavs_ecosystem_files) on a 32 m terrain for 30
     // years: grasses are a cover, never plants; shrubs have no breast-height diameter; trees stop
     // at their maximum diameter; objects keep their footprint; stand counts trees only.

@@ -110,7 +110,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
 } // namespace
 
 TEST_CASE("ensemble: members are the same bytes with 1 or 2 processes and under mpirun",
-          "[ensemble][cli]") {
+          "[ensemble][cli][slow]") {
     test::TempDir d;
     write(d / "m.json", small_manifest());
     const auto one = test::run(d, "ensemble m.json -o out --jobs 1");
@@ -237,7 +237,7 @@ TEST_CASE("ensemble: a failing member is reported and the others complete", "[en
 }
 
 TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again completes it",
-          "[ensemble][cli]") {
+          "[ensemble][cli][slow]") {
     test::TempDir d;
     json m = small_manifest("slow");
     m["replicates"] = 1;                    // 4 members

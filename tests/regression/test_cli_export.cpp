@@ -198,7 +198,7 @@ TEST_CASE("export layers: basal area and stems are conserved, canopy height is t
 }
 
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",
-          "[export][cli]") {
+          "[export][cli][slow]") {
     test::TempDir dir;
     std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
     REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);

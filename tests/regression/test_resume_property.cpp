@@ -108,7 +108,7 @@ TEST_CASE("resume: the quickstart split at every snapshot ends bit for bit as on
 }
 
 TEST_CASE("resume: a groundwater scene split at every year ends bit for bit as one run",
-          "[eco][resume][property]") {
+          "[eco][resume][property][slow]") {
     std::ifstream f(test::data_dir() / "scenes/quickstart.json");
     json j = json::parse(f);
     j["terrain"]["generate"]["size"] = 24;
@@ -162,7 +162,7 @@ TEST_CASE("threads: the ground layer and shrubs give the same bytes on 1 and 3 t
 }
 
 TEST_CASE("threads: a run gives the same bytes on 1, 2, 3, 4 and 7 threads",
-          "[eco][determinism][property]") {
+          "[eco][determinism][property][slow]") {
     // Every loop goes parallel whatever its size (set_parallel_min_items(1)), so the threads
     // really share the plants, the root cells and the cell sums of a small scene; with
     // groundwater.

@@ -41,7 +41,7 @@ TEST_CASE("Multifractal parameters are checked", "[multifractal][errors]") {
 }
 
 TEST_CASE("majhor2023: rougher high-frequency layers shrink the low-roughness area",
-          "[multifractal][verification]") {
+          "[multifractal][verification][slow]") {
     // Paper 000 s3.1: as D_high rises 2.3 -> 2.45 -> 2.6 the median low-roughness area falls and
     // the semi and high areas grow. Median over 3 seeds on the paper's grid.
     const GridSpec g = majhor2023_grid();

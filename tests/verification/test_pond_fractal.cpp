@@ -118,7 +118,7 @@ TEST_CASE("Top-level overflow chains end at the domain edge, over passes that ne
 }
 
 TEST_CASE("Ponding equals the brute-force reference on fractal DEMs, padded and unpadded",
-          "[catchments][verification]") {
+          "[catchments][verification][slow]") {
     int compared = 0, filled_downstream = 0;
     for (std::uint64_t seed = 1; seed <= 24; ++seed) {
         for (const bool pad : {false, true}) {

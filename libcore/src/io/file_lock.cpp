@@ -27,8 +27,8 @@ FileLock::FileLock(const fs::path& target) : m_path(path_for(target)) {
     for (int attempt = 0; attempt < 100; ++attempt) {
         const int fd = ::open(m_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd < 0)
-            throw IoError(m_path.string() + ": cannot create the lock file of " +
-                          target.string() + " (" + std::strerror(errno) + ")");
+            throw IoError(m_path.string() + ": cannot create the lock file of " + target.string() +
+                          " (" + std::strerror(errno) + ")");
         if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
             const int err = errno;
             char pid[32] = {};
@@ -44,7 +44,8 @@ FileLock::FileLock(const fs::path& target) : m_path(path_for(target)) {
             }
             throw IoError(m_path.string() + ": cannot lock (" + std::strerror(err) + ")");
         }
-        struct stat held {}, named {};
+        struct stat held {
+        }, named{};
         if (::fstat(fd, &held) == 0 && ::stat(m_path.c_str(), &named) == 0 &&
             held.st_ino == named.st_ino && held.st_dev == named.st_dev) {
             m_fd = fd;

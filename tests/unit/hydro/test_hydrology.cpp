@@ -66,7 +66,7 @@ TEST_CASE("Evapotranspiration never takes soil below the wilting point", "[hydro
 }
 
 TEST_CASE("The water budget closes over years, with and without groundwater",
-          "[hydrology][budget]") {
+          "[hydrology][budget][slow]") {
     const RasterD dem = rough_dem(48, 2.0);
     const GridSpec& g = dem.grid();
     RandomSoilParams rs;

@@ -133,6 +133,8 @@ void run_run(const RunArgs& a) {
     print_undergrowth(sum.undergrowth, sum.species);
     std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
                 sum.water_residual_relative, sum.carbon_residual_relative);
+    std::printf("methods (cite them with the run; also in its /provenance):\n%s",
+                methods_text(sum.methods).c_str());
     std::printf("wrote %s (%d snapshots)\n", opt.output.string().c_str(), sum.snapshots);
     if (!sum.picture_dir.empty())
         std::printf("pictures: %s/{stems,dbh_histogram,stand_history,soil_moisture,"

@@ -162,7 +162,9 @@ void run_hydro_run(const RunArgs& a) {
     });
     claim_output("-o", a.output, a.force);
     claim_output("--png", a.png_dir, a.force);
-    json prov = provenance({{"scene_file", a.scene}, {"overrides", sets}});
+    json prov = provenance({{"scene_file", a.scene},
+                            {"overrides", sets},
+                            {"methods", methods_json(hydro::scene_methods(sc))}});
     if (sc.observed) {
         print_notes(hydro::fill_report(*sc.observed));
         prov["observed_weather_filled"] = sc.observed->filled;
@@ -192,6 +194,8 @@ void run_hydro_run(const RunArgs& a) {
                     "so the loss of the vegetation cover is in evaporation, at Penman's grass "
                     "rate where the density is above grass_density_threshold: docs/hydrology.md "
                     "s4)\n");
+    std::printf("methods (cite them with the run; also in its /provenance):\n%s",
+                methods_text(hydro::scene_methods(sc)).c_str());
     std::printf("wrote %s\n", a.output.c_str());
     if (!a.png_dir.empty()) std::printf("wrote pictures into %s\n", a.png_dir.c_str());
 }

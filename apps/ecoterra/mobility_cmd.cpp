@@ -139,7 +139,8 @@ void run_traverse(const TraverseArgs& a) {
     if (!a.missions.empty()) {
         missions = mobility::read_missions_csv(a.missions);
     } else {
-        // Paper 000's missions on this terrain, as `ecoterra terrain missions` plans them.
+        // Majhor & Bos (paper 000)'s missions on this terrain, as `ecoterra terrain missions` plans
+        // them.
         terrain::MissionOptions mo;
         mo.count = a.count;
         mo.seed = static_cast<std::uint64_t>(a.seed);
@@ -183,11 +184,12 @@ void add_mobility_command(CLI::App& app) {
     auto t = std::make_shared<TraverseArgs>();
     CLI::App* tr = app.get_subcommand("terrain")->add_subcommand(
         "traverse", "drive missions over a terrain: success, RMS vertical acceleration, pitch and "
-                    "roll rates (a kinematic proxy of paper 000's simulator)");
+                    "roll rates (a kinematic proxy of Majhor & Bos (paper 000)'s simulator)");
     tr->add_option("dem", t->dem, "terrain raster")->required();
     tr->add_option("--vehicle", t->vehicle, "vehicle file (data/vehicles/*.json)")->required();
     tr->add_option("--missions", t->missions,
-                   "missions CSV (ecoterra terrain missions); default: plan paper 000's missions");
+                   "missions CSV (ecoterra terrain missions); default: plan Majhor & Bos (paper "
+                   "000)'s missions");
     tr->add_option("--count", t->count, "missions to plan without --missions")
         ->capture_default_str();
     tr->add_option("--seed", t->seed, "seed of the planned missions")->capture_default_str();

@@ -145,4 +145,38 @@ const ParamCatalog<InitialPlants>& initial_random_catalog() {
     return c;
 }
 
+Methods scene_methods(const EcoScene& sc) {
+    Methods m = hydro::scene_methods(sc.hydro);
+    bool ground = false;
+    for (const auto& s : sc.ecosystem.species) ground = ground || s.life_form == LifeForm::grass;
+    if (sc.competition == Competition::light_only) {
+        m.push_back({"plants (light-only baseline)",
+                     "overlap thinning of Deussen, Hanrahan, Lintermann, Mech, Pharr & "
+                     "Prusinkiewicz (1998) SIGGRAPH, as MAVS implements it (Goodin et al.)"});
+    } else {
+        m.push_back({"plants (coupled)",
+                     "the coupled soil-moisture and carbohydrate growth model of Goodin, Hudson et "
+                     "al. (2024) SIMULATION, doi:10.1177/00375497241261412 (paper 002)"});
+        m.push_back({"allometry",
+                     "SORTIE-ND height and crown curves (Pacala et al. 1996); stem form "
+                     "factor of Husch, Beers & Kershaw (2003)"});
+        m.push_back({"respiration", "maintenance Q10 = 2 (Ryan 1991) over the pipe model "
+                                    "(Shinozaki et al. 1964); growth respiration (Penning de "
+                                    "Vries 1975)"});
+        m.push_back({"maximum diameter", "JABOWA and FORET (Botkin, Janak & Wallis 1972)"});
+        m.push_back({"growth suppression mortality", "LPJ-GUESS's greff_min (Smith, Prentice & "
+                                                     "Sykes 2001)"});
+        m.push_back({"seed production", "SORTIE-ND (Ribbens, Silander & Pacala 1994)"});
+    }
+    if (sc.shading == ShadingMode::beer_lambert)
+        m.push_back({"shading", "Beer-Lambert light extinction (Monsi & Saeki 1953)"});
+    else
+        m.push_back({"shading", "blocking crowns, Goodin, Hudson et al. 2024 (paper 002) Fig 2"});
+    if (ground)
+        m.push_back({"ground layer", "logistic cover with Beer-Lambert light extinction (Monsi & "
+                                     "Saeki 1953); transpiration against FAO-56 grass"});
+    m.push_back({"stand density index", "Reineke (1933) J. Agric. Res. 46:627"});
+    return m;
+}
+
 } // namespace ecoterra::eco

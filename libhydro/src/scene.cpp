@@ -312,4 +312,60 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     return sum;
 }
 
+Methods scene_methods(const HydroScene& sc) {
+    Methods m;
+    const nlohmann::json& t = sc.resolved.value("terrain", nlohmann::json::object());
+    const std::string gen =
+        t.contains("generate") ? t["generate"].value("method", std::string()) : std::string();
+    if (gen == "multifractal")
+        m.push_back({"terrain",
+                     "multifractal 3D Weierstrass-Mandelbrot terrain: Majhor & Bos, ASME "
+                     "J. Autonomous Vehicles and Systems 5(2) 021003 (paper 000)"});
+    else if (gen == "wm")
+        m.push_back({"terrain", "3D Weierstrass-Mandelbrot function: Ausloos & Berman (1985) Proc. "
+                                "R. Soc. Lond. A 400:331"});
+    else if (gen == "fbm")
+        m.push_back({"terrain", "spectral synthesis of fractional Brownian surfaces: Saupe (1988), "
+                                "The Science of Fractal Images ch. 2"});
+    else if (gen == "perlin" || gen == "gaussian" || gen == "variable")
+        m.push_back({"terrain", "MAVS rough surfaces (" + gen +
+                                    "): Terrain roughness in MAVS "
+                                    "(paper 003); Perlin (2002) ACM Trans. Graph. 21:681"});
+    if (sc.soil_spec.uniform.organic_matter_pct || sc.soil_spec.random.mean.organic_matter_pct)
+        m.push_back({"soil water properties", "Saxton & Rawls (2006) SSSAJ 70:1569"});
+    else
+        m.push_back(
+            {"soil water properties",
+             "Rawls, Brakensiek & Saxton (1982) Trans. ASAE 25:1316, by USDA texture class"});
+    if (sc.observed)
+        m.push_back({"weather", "an observed daily series (replayed by calendar year)"});
+    else
+        m.push_back({"weather",
+                     "WGEN daily weather generator: Richardson (1981) Water Resour. Res. "
+                     "17:182; Richardson & Wright (1984)"});
+    m.push_back({"reference evapotranspiration",
+                 "FAO-56 Penman-Monteith: Allen, Pereira, Raes & Smith (1998) FAO Irrigation and "
+                 "Drainage Paper 56"});
+    m.push_back({"open-water and surface evaporation",
+                 "Penman (1948) Proc. R. Soc. A 193:120; Shuttleworth (1993) Handbook of "
+                 "Hydrology ch. 4"});
+    if (sc.options.runoff == RunoffMethod::curve_number)
+        m.push_back({"runoff", "SCS curve number: USDA-SCS (1986) TR-55"});
+    else
+        m.push_back({"runoff", "rational-method coefficients by cover, slope and soil: Schwab, "
+                               "Frevert, Edminster & Barnes, Soil and Water Conservation "
+                               "Engineering (data/hydro/runoff_coefficients.json)"});
+    if (sc.options.routing == Routing::mfd)
+        m.push_back({"routing", "multiple flow directions: Freeman (1991) Comput. Geosci. 17:413; "
+                                "Quinn et al. (1991) Hydrol. Process. 5:59"});
+    else
+        m.push_back({"routing", "D8: O'Callaghan & Mark (1984) CVGIP 28:323"});
+    m.push_back({"standing water (fill, spill, merge)",
+                 "the depression hierarchy of Barnes, Callaghan & Wickert (2020) ESurf 8:431"});
+    if (sc.options.groundwater)
+        m.push_back({"groundwater", "Dupuit-Boussinesq flow (Bear 1972) solved by CVODE: "
+                                    "Hindmarsh et al. (2005) ACM TOMS 31:363"});
+    return m;
+}
+
 } // namespace ecoterra::hydro

@@ -174,6 +174,8 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
         years_total = scene->years;
     }
     const EcoScene& sc = eco->scene();
+    const Methods methods = scene_methods(sc);
+    prov["methods"] = methods_json(methods);
     const int to_run = opt.years ? *opt.years : years_total - eco->years_done();
     if (to_run <= 0)
         throw InputError(out.string() + ": the run already has " +
@@ -200,6 +202,7 @@ RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
 
     RunSummary sum;
     sum.picture_dir = picture_dir;
+    sum.methods = methods;
     double plant_years = 0;
     const int first_year = eco->years_done();
     auto grow = [&] {

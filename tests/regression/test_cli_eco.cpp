@@ -467,3 +467,46 @@ TEST_CASE("MAVS's own ecosystem files grow trees and shrubs with objects and a g
     }
     CHECK(files == 12);
 }
+
+TEST_CASE("a run names the published methods its options chose, in its provenance and its log",
+          "[eco][cli][methods]") {
+    // The citations follow the options: competition, shading, runoff, routing, groundwater, the
+    // soil's pedotransfer functions and the terrain generator.
+    auto cited = [](const eco::EcoScene& sc) {
+        std::string all;
+        for (const auto& m : eco::scene_methods(sc)) all += m.use + ": " + m.citation + "\n";
+        return all;
+    };
+    json j = small_scene(1);
+    const std::string base = cited(load(j));
+    CHECK_THAT(base, Catch::Contains("Goodin, Hudson et al. (2024)") &&
+                         Catch::Contains("Allen, Pereira, Raes & Smith (1998)") &&
+                         Catch::Contains("O'Callaghan & Mark (1984)") &&
+                         Catch::Contains("Rawls, Brakensiek & Saxton (1982)") &&
+                         Catch::Contains("blocking crowns") && !Catch::Contains("Deussen") &&
+                         !Catch::Contains("CVODE") && !Catch::Contains("TR-55"));
+    j["vegetation"]["competition"] = "light_only";
+    j["vegetation"]["shading"] = "beer_lambert";
+    j["hydrology"]["runoff"] = "curve_number";
+    j["hydrology"]["routing"] = "mfd";
+    j["hydrology"]["groundwater"] = true;
+    j["soil"] = {
+        {"uniform",
+         {{"sand_pct", 40}, {"silt_pct", 40}, {"clay_pct", 20}, {"organic_matter_pct", 2.5}}}};
+    const std::string other = cited(load(j));
+    CHECK_THAT(other, Catch::Contains("Deussen") && Catch::Contains("Monsi & Saeki 1953") &&
+                          Catch::Contains("TR-55") && Catch::Contains("Freeman (1991)") &&
+                          Catch::Contains("CVODE") && Catch::Contains("Saxton & Rawls (2006)") &&
+                          !Catch::Contains("Goodin, Hudson"));
+    // The run file's provenance holds the same list, and the log prints it.
+    test::TempDir dir;
+    write(dir / "s.json", small_scene(1).dump());
+    const auto r = test::run(dir, "run s.json -o run.h5 --no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("methods (cite them") &&
+                          Catch::Contains("reference evapotranspiration: FAO-56"));
+    const json stored = run::read_run_info(dir / "run.h5").provenance["methods"];
+    REQUIRE(stored.is_array());
+    CHECK(stored.size() == eco::scene_methods(load(small_scene(1))).size());
+    CHECK(stored.dump().find("Goodin, Hudson et al. (2024)") != std::string::npos);
+}

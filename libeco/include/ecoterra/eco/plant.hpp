@@ -4,7 +4,7 @@
 //   height     H(D) = h0 + (Hmax - h0) (1 - exp(-b D_cm))       m   SORTIE-ND, Chapman-Richards family;
 //                                                                   h0 = 1.3 m for trees, 0 for shrubs
 //   crown      R(D) = clamp(c1 D_cm^c2, kMinCrownRadiusM, Rmax)  m   SORTIE-ND power law
-//   roots      root radius = crown radius                            paper 002 s3
+//   roots      root radius = crown radius                            Goodin, Hudson et al. 2024 (paper 002) s3
 //   leaf area  LA = LAI_c pi R^2                                 m2
 //   stem mass  M(D) = rho F (pi/4) D^2 H(D)                      kg  F = kStemFormFactor
 // with D the trunk diameter at breast height (1.3 m) of a tree or the stem diameter at the ground of

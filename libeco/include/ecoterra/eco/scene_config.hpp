@@ -52,4 +52,8 @@ const ParamCatalog<InitialPlants>& initial_random_catalog();
 
 EcoScene load_eco_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);
 
+/// The published methods an ecosystem scene uses: its hydrology's (hydro::scene_methods) and the
+/// plant model's, for the run's provenance and log.
+Methods scene_methods(const EcoScene& scene);
+
 } // namespace ecoterra::eco

@@ -3,6 +3,7 @@
 // Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
 #include "ecoterra/hydro/hydrology.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/methods.hpp"
 
 #include "ecoterra/io/hdf5_writer.hpp"
 
@@ -55,6 +56,10 @@ struct HydroScene {
 
 /// The scene keys of section "simulation" of a hydrology scene.
 const ParamCatalog<HydroScene>& hydro_simulation_catalog();
+
+/// The published methods a hydrology scene uses (terrain, soil, weather, ET, runoff, routing,
+/// catchments, groundwater), for the run's provenance and log.
+Methods scene_methods(const HydroScene& scene);
 
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.
 HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);

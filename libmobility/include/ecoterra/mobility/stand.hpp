@@ -1,7 +1,7 @@
 #pragma once
 // Speed made good over a whole stand (docs/mobility.md s5): many straight lines (random headings
-// and positions as paper 000's missions, or parallel transects) driven by drive_line(), and their
-// distribution, beside the stand's basal area.
+// and positions as Majhor & Bos (paper 000)'s missions, or parallel transects) driven by
+// drive_line(), and their distribution, beside the stand's basal area.
 #include "ecoterra/mobility/smg.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/raster.hpp"

@@ -8,8 +8,8 @@
 // limit, whose |roll| passes the side-slope limit, or whose belly (the centre line between the
 // axles) touches the ground (terrain above the wheel-contact plane by more than the ground
 // clearance). For a successful mission: the RMS vertical acceleration (second differences of the
-// chassis height), the RMS pitch and roll rates (first differences), as paper 000 defines them at
-// its 20 Hz, and the traversal time.
+// chassis height), the RMS pitch and roll rates (first differences), as Majhor & Bos (paper 000)
+// defines them at its 20 Hz, and the traversal time.
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/raster.hpp"
 
@@ -51,8 +51,8 @@ struct TraverseResult {
 TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
                         const TraverseOptions& opt = {});
 
-/// Many missions and their summary; the medians are over the successful missions (as paper 000
-/// reports them), 0 when none succeeds.
+/// Many missions and their summary; the medians are over the successful missions (as Majhor & Bos
+/// (paper 000) reports them), 0 when none succeeds.
 struct TraverseReport {
     std::vector<TraverseResult> results;
     int successes = 0;

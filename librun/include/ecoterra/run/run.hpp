@@ -41,6 +41,7 @@ struct RunSummary {
     double seconds = 0, plant_years = 0;
     double water_residual_relative = 0, carbon_residual_relative = 0;
     std::filesystem::path picture_dir;
+    Methods methods; ///< the published methods the run used (also in its provenance)
 };
 
 /// Runs a scene from its start (opt.resume false) or continues the run in opt.output.

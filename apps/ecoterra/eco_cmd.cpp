@@ -2,10 +2,11 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
+#include "ecoterra/analyses/describe.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
-#include "ecoterra/run/describe.hpp"
 #include "ecoterra/run/run.hpp"
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
@@ -155,7 +156,7 @@ void run_stand(const StandArgs& a) {
     const auto s = run::read_snapshot_plants(a.run, a.snapshot);
     const std::vector<double> dbh = s.values("dbh_m"); // 0 below breast height
     const auto all = eco::stand_metrics(dbh, info.area_m2);
-    json out = eco::to_json(all);
+    json out = analyses::stand_json(all);
     out["run"] = a.run;
     out["snapshot"] = s.index;
     out["year"] = s.year;
@@ -178,7 +179,7 @@ void run_stand(const StandArgs& a) {
     for (std::size_t sp = 0; sp < info.species.size(); ++sp) {
         if (sp < run_species.size() && run_species[sp].life_form != eco::LifeForm::tree) continue;
         print(info.species[sp], by_species[sp]);
-        per[info.species[sp]] = eco::to_json(by_species[sp]);
+        per[info.species[sp]] = analyses::stand_json(by_species[sp]);
     }
     out["species"] = per;
     out["note"] = "trees only: shrubs, objects and the ground layer are under undergrowth";
@@ -259,7 +260,7 @@ void add_eco_commands(CLI::App& app) {
     desc->add_option("topic", d->first, "scene, species, terrain, vehicle, outputs or all")
         ->capture_default_str();
     desc->add_flag("--markdown", d->second, "Markdown tables (as docs/parameters.md)");
-    desc->callback([d] { std::fputs(run::describe(d->first, d->second).c_str(), stdout); });
+    desc->callback([d] { std::fputs(analyses::describe(d->first, d->second).c_str(), stdout); });
 
     auto e = std::make_shared<ExportArgs>();
     CLI::App* exp = app.add_subcommand("export", "export run contents");

@@ -3,6 +3,7 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
@@ -24,11 +25,12 @@ namespace {
 using nlohmann::json;
 
 struct MobilityArgs {
+    // Defaults of the mobility analysis's catalogue (analyses.hpp), as an ensemble's.
     std::string run, stems, dem, vehicle, json_out, layout = "random", pictures;
     bool no_pictures = false, force = false;
-    int snapshot = -1, lines = 200;
+    int snapshot = -1, lines = analyses::MobilityAnalysis{}.lines;
     long long seed = 1;
-    double length_m = 50;
+    double length_m = analyses::MobilityAnalysis{}.length_m;
 };
 
 /// Where pictures go: --pictures DIR, else NAME.pictures beside --json NAME.json, else nowhere.
@@ -99,7 +101,7 @@ void run_mobility(const MobilityArgs& a) {
                 100 * m.override_fraction, 100 * m.detour_fraction);
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
-        json j = mobility::to_json(m, v);
+        json j = analyses::mobility_json(m, v);
         j["source"] = source;
         j["lines_layout"] = a.layout;
         j["line_length_m"] = opt.length_m;
@@ -118,8 +120,9 @@ void run_mobility(const MobilityArgs& a) {
 struct TraverseArgs {
     std::string dem, vehicle, missions, json_out, pictures;
     bool no_pictures = false, force = false;
-    double speed = 0;
-    int count = 20;
+    // Defaults of the traverse analysis's catalogue (analyses.hpp), as an ensemble's.
+    double speed = analyses::TraverseAnalysis{}.speed_m_per_s;
+    int count = analyses::TraverseAnalysis{}.missions;
     long long seed = 1;
 };
 
@@ -164,7 +167,7 @@ void run_traverse(const TraverseArgs& a) {
     std::printf("%.3f s (%.3g missions/s)\n", seconds,
                 static_cast<double>(rep.results.size()) / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
-        json doc = mobility::to_json(rep, v);
+        json doc = analyses::traverse_json(rep, v);
         doc["dem"] = a.dem;
         doc["missions_file"] = a.missions;
         doc["provenance"] = provenance();

@@ -2,6 +2,7 @@
 #include "common.hpp"
 #include "subcommands.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/progress.hpp"
@@ -195,7 +196,7 @@ void run_analyze(AnalyzeArgs& a) {
     std::printf("%s: %d x %d cells of %.4g m\n%s", a.input.c_str(), z.nx(), z.ny(), z.cell_size(),
                 r.summary(a.opt).c_str());
     if (!a.json_out.empty()) {
-        json j = r.to_json(a.opt);
+        json j = analyses::terrain_json(r, a.opt);
         j["input"] = a.input;
         j["grid"] = {{"nx", z.nx()},
                      {"ny", z.ny()},

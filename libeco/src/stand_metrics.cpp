@@ -100,16 +100,7 @@ nlohmann::json to_json(const StandMetrics& m) {
                {"q_per_5cm", std::exp(m.rate_per_cm * 5.0)},
                {"r2", m.r2},
                {"intercept_ln_count", m.intercept}};
-    return {{"area_ha", m.area_ha},
-            {"stems", m.stems},
-            {"basal_area_m2_per_ha", m.basal_area_m2_per_ha},
-            {"basal_area_ft2_per_acre", m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa},
-            {"stems_per_ha", m.stems_per_ha},
-            {"mean_dbh_m", m.mean_dbh_m},
-            {"quadratic_mean_dbh_m", m.quadratic_mean_dbh_m},
-            {"reineke_sdi_per_ha", m.sdi_per_ha},
-            {"dbh_histogram", dbh_histogram_json(m)},
-            {"exponential_fit", fit}};
+    return {{"dbh_histogram", dbh_histogram_json(m)}, {"exponential_fit", fit}};
 }
 
 nlohmann::json to_json(const UndergrowthMetrics& m, const std::vector<std::string>& names) {

@@ -1,12 +1,13 @@
 #include "ecoterra/ensemble/manifest.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
+#include "ecoterra/analyses/describe.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/provenance.hpp"
 #include "ecoterra/random.hpp"
-#include "ecoterra/run/describe.hpp"
 #include "ecoterra/terrain/generate.hpp"
 
 #include <algorithm>
@@ -64,16 +65,6 @@ void dotted_paths(const json& j, const std::string& prefix, std::set<std::string
 }
 
 /// The keys each analysis takes, and whether it needs a vehicle.
-const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_keys() {
-    static const std::vector<std::pair<std::string, std::vector<std::string>>> k{
-        {"stand", {}},
-        {"mobility", {"vehicle", "lines", "length_m", "layout"}},
-        {"terrain", {"border_m", "closing_radius_m"}},
-        {"traverse", {"vehicle", "missions", "length_m", "speed_m_per_s"}},
-        {"export", {"formats", "layers"}},
-        {"pictures", {}}};
-    return k;
-}
 
 std::vector<std::string> analyses_for(BaseKind k) {
     switch (k) {
@@ -89,7 +80,7 @@ std::vector<std::string> analyses_for(BaseKind k) {
 
 void check_analyses(const json& a, BaseKind kind, const std::string& where) {
     require_known_keys(a, analyses_for(kind), where);
-    for (const auto& [name, keys] : analysis_keys()) {
+    for (const auto& [name, keys] : analyses::analysis_keys()) {
         if (!a.contains(name)) continue;
         const json& v = a[name];
         if (name == "pictures") {
@@ -159,13 +150,13 @@ std::set<std::string> known_keys(const Manifest& m) {
             keys.insert(prefix + "params." + p);
     };
     if (m.kind == BaseKind::run) {
-        for (const auto& k : run::scene_keys()) keys.insert(k);
+        for (const auto& k : analyses::scene_keys()) keys.insert(k);
         if (m.base.contains("terrain") && m.base["terrain"].contains("generate"))
             terrain_keys(m.base["terrain"]["generate"], "terrain.generate.");
     } else if (m.kind == BaseKind::terrain) {
         terrain_keys(m.base, "");
     }
-    for (const auto& [name, k] : analysis_keys()) {
+    for (const auto& [name, k] : analyses::analysis_keys()) {
         keys.insert("analyses." + name);
         for (const auto& s : k) keys.insert("analyses." + name + "." + s);
     }

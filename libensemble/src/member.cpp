@@ -1,5 +1,7 @@
 #include "ecoterra/ensemble/member.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
+
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/export/formats.hpp"
@@ -72,103 +74,47 @@ json member_provenance(const Manifest& m, const Member& mb) {
 }
 
 void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
-    out.push_back({"stand.stems", static_cast<double>(s.stems)});
-    out.push_back({"stand.stems_per_ha", s.stems_per_ha});
-    out.push_back({"stand.basal_area_m2_per_ha", s.basal_area_m2_per_ha});
-    out.push_back(
-        {"stand.basal_area_ft2_per_acre", s.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa});
-    out.push_back({"stand.quadratic_mean_dbh_cm", s.quadratic_mean_dbh_m * kCmPerM});
-    out.push_back({"stand.sdi_per_ha", s.sdi_per_ha});
-    out.push_back({"stand.q_per_class", s.fit_valid ? s.q_per_class : std::nan("")});
-    out.push_back({"stand.fit_r2", s.fit_valid ? s.r2 : std::nan("")});
+    analyses::add_values(out, "stand", analyses::stand_metrics(), s);
     std::vector<double> per_ha;
     for (auto c : s.histogram) per_ha.push_back(static_cast<double>(c) / s.area_ha);
     record["histogram"] = {
         {"class_width_cm", s.class_width_cm}, {"stems_per_ha", per_ha}, {"area_ha", s.area_ha}};
 }
 
-std::uint64_t seed_of(const json& a) {
-    return a.value("seed", std::uint64_t{1});
-}
-
 void analyse_mobility(const Manifest& m, const json& a,
                       const std::vector<mobility::StandStem>& stems, const RasterD& dem,
                       const fs::path& stage, Metrics& out) {
-    const auto v =
-        mobility::load_vehicle(manifest_path(m, get_string(a, "vehicle", "", "mobility")));
-    mobility::StandLinesOptions opt;
-    opt.lines = static_cast<int>(get_integer(a, "lines", 200, "analyses.mobility", 1, 1000000));
-    opt.length_m = get_number(a, "length_m", 50, "analyses.mobility", 1e-3, 1e6);
-    opt.seed = seed_of(a);
-    const std::size_t layout =
-        get_choice(a, "layout", {"random", "transects"}, 0, "analyses.mobility");
-    opt.layout = layout == 0 ? mobility::LineLayout::random : mobility::LineLayout::transects;
-    const auto r = mobility::analyse_stand(v, stems, dem, opt);
-    json j = mobility::to_json(r, v);
+    const auto opt = analyses::mobility_catalog().read(a, {});
+    const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
+    const auto r = mobility::analyse_stand(v, stems, dem, opt.lines_options());
+    json j = analyses::mobility_json(r, v);
     j["seed"] = opt.seed;
     io::write_text_atomic(stage / "mobility.json", j.dump(1) + "\n");
-    out.push_back({"mobility.trees", static_cast<double>(r.trees)});
-    out.push_back({"mobility.critical_diameter_cm", r.critical_diameter_m * kCmPerM});
-    out.push_back({"mobility.smg_mean_m_per_s", r.smg_mean_m_per_s});
-    out.push_back({"mobility.smg_median_m_per_s", r.smg_median_m_per_s});
-    out.push_back({"mobility.smg_p10_m_per_s", r.smg_p10_m_per_s});
-    out.push_back({"mobility.smg_p90_m_per_s", r.smg_p90_m_per_s});
-    out.push_back({"mobility.nogo_fraction", r.nogo_fraction});
-    out.push_back({"mobility.override_fraction", r.override_fraction});
-    out.push_back({"mobility.detour_fraction", r.detour_fraction});
-}
-
-terrain::AnalysisOptions analysis_options(const json& a) {
-    terrain::AnalysisOptions o;
-    o.border_m = get_number(a, "border_m", o.border_m, "analyses.terrain", 0, 1e6);
-    o.closing_radius_m =
-        get_number(a, "closing_radius_m", o.closing_radius_m, "analyses.terrain", 0, 1e6);
-    o.validate();
-    return o;
+    analyses::add_values(out, "mobility", analyses::mobility_metrics(), r);
 }
 
 void analyse_terrain(const json& a, const RasterD& z, const fs::path& stage, Metrics& out) {
-    const auto opt = analysis_options(a);
+    const auto opt = analyses::terrain_catalog().read(a, {}).options();
     const auto r = terrain::analyze_terrain(z, opt);
-    io::write_text_atomic(stage / "terrain.json", r.to_json(opt).dump(1) + "\n");
-    out.push_back({"terrain.low_pct", r.classes.low_pct});
-    out.push_back({"terrain.semi_pct", r.classes.semi_pct});
-    out.push_back({"terrain.high_pct", r.classes.high_pct});
-    out.push_back({"terrain.closed_low_pct", r.closed_classes.low_pct});
-    out.push_back({"terrain.closed_semi_pct", r.closed_classes.semi_pct});
-    out.push_back({"terrain.closed_high_pct", r.closed_classes.high_pct});
-    out.push_back({"terrain.rms_m", r.rms.rms_m});
-    out.push_back({"terrain.rms_detrended_m", r.rms.rms_detrended_m});
-    out.push_back({"terrain.mean_slope", r.mean_slope});
-    out.push_back({"terrain.fractal_dimension", r.fd.dimension});
-    out.push_back({"terrain.psd_dimension", r.psd.dimension});
+    const json j = analyses::terrain_json(r, opt);
+    io::write_text_atomic(stage / "terrain.json", j.dump(1) + "\n");
+    analyses::add_values(out, "terrain", analyses::terrain_metrics(), r);
 }
 
 void analyse_traverse(const Manifest& m, const json& a, const RasterD& z, const fs::path& stage,
                       Metrics& out) {
-    const auto v =
-        mobility::load_vehicle(manifest_path(m, get_string(a, "vehicle", "", "traverse")));
-    terrain::MissionOptions mo;
-    mo.count = static_cast<int>(get_integer(a, "missions", 20, "analyses.traverse", 1, 100000));
-    mo.length_m = get_number(a, "length_m", mo.length_m, "analyses.traverse", 1e-3, 1e6);
-    mo.seed = seed_of(a);
+    const auto opt = analyses::traverse_catalog().read(a, {});
+    const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
+    auto mo = opt.mission_options();
     mo.validate();
     std::vector<mobility::MissionLine> missions;
     for (const auto& p : terrain::plan_missions(z, terrain::AnalysisOptions{}, mo))
         missions.push_back({p.id, p.start_x_m, p.start_y_m, p.goal_x_m, p.goal_y_m});
-    mobility::TraverseOptions to;
-    to.speed_m_per_s = get_number(a, "speed_m_per_s", 0, "analyses.traverse", 0, 100);
-    const auto r = mobility::traverse_missions(v, z, missions, to);
-    json j = mobility::to_json(r, v);
+    const auto r = mobility::traverse_missions(v, z, missions, opt.traverse_options());
+    json j = analyses::traverse_json(r, v);
     j["seed"] = mo.seed;
     io::write_text_atomic(stage / "traverse.json", j.dump(1) + "\n");
-    out.push_back({"traverse.missions", static_cast<double>(r.results.size())});
-    out.push_back({"traverse.successes", static_cast<double>(r.successes)});
-    out.push_back({"traverse.success_rate", r.success_rate});
-    out.push_back({"traverse.median_rms_vertical_acceleration_m_per_s2",
-                   r.median_rms_vertical_acceleration_m_per_s2});
-    out.push_back({"traverse.median_rms_pitch_rate_deg_per_s", r.median_rms_pitch_rate_deg_per_s});
-    out.push_back({"traverse.median_rms_roll_rate_deg_per_s", r.median_rms_roll_rate_deg_per_s});
+    analyses::add_values(out, "traverse", analyses::traverse_metrics(), r);
 }
 
 void export_scenes(const json& a, const fs::path& run, const fs::path& stage,
@@ -210,12 +156,11 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         opt.picture_dir = stage / "pictures";
         opt.provenance = member_provenance(m, mb);
         const auto sum = run::run_ecosystem(&scene, opt);
-        metrics.push_back({"run.years", static_cast<double>(sum.years_total)});
-        metrics.push_back({"run.reached_target", sum.reached_target ? 1.0 : 0.0});
-        metrics.push_back({"run.water_residual_relative", sum.water_residual_relative});
+        analyses::add_values(metrics, "run", analyses::run_metrics(), sum);
         add_stand(sum.stand, metrics, record);
         if (an.contains("stand"))
-            io::write_text_atomic(stage / "stand.json", eco::to_json(sum.stand).dump(1) + "\n");
+            io::write_text_atomic(stage / "stand.json",
+                                  analyses::stand_json(sum.stand).dump(1) + "\n");
         RasterD dem;
         if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
             dem = terrain::io::read_hdf5(opt.output, terrain::io::kRunTerrainDataset);

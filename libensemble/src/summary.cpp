@@ -1,5 +1,7 @@
 #include "ecoterra/ensemble/summary.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
+
 #include "ecoterra/ensemble/member.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
@@ -36,24 +38,7 @@ std::string index_ranges(const std::vector<std::size_t>& v) {
 }
 
 std::string unit_of(const std::string& c) {
-    auto ends = [&](const std::string& suf) {
-        return c.size() >= suf.size() && c.compare(c.size() - suf.size(), suf.size(), suf) == 0;
-    };
-    static const std::vector<std::pair<std::string, std::string>> table{
-        {"_m_per_s2", "m/s2"},
-        {"_m_per_s", "m/s"},
-        {"_deg_per_s", "deg/s"},
-        {"_m2_per_ha", "m2/ha"},
-        {"_ft2_per_acre", "ft2/acre"},
-        {"_per_ha", "1/ha"},
-        {"_pct", "%"},
-        {"_cm", "cm"},
-        {"_m", "m"},
-        {"seconds", "s"},
-        {"years", "yr"}};
-    for (const auto& [suf, u] : table)
-        if (ends(suf)) return u;
-    return "1";
+    return analyses::column_unit(c);
 }
 
 namespace {

@@ -225,23 +225,7 @@ json to_json(const StandMobility& m, const Vehicle& v) {
         if (r.nogo) j["nogo_reason"] = r.nogo_reason;
         lines.push_back(std::move(j));
     }
-    return {{"smg_mean_m_per_s", m.smg_mean_m_per_s},
-            {"smg_median_m_per_s", m.smg_median_m_per_s},
-            {"smg_p10_m_per_s", m.smg_p10_m_per_s},
-            {"smg_p90_m_per_s", m.smg_p90_m_per_s},
-            {"smg_mean_go_m_per_s", m.smg_mean_go_m_per_s},
-            {"nogo_fraction", m.nogo_fraction},
-            {"override_fraction_of_distance", m.override_fraction},
-            {"detour_fraction_of_distance", m.detour_fraction},
-            {"basal_area_m2_per_ha", m.basal_area_m2_per_ha},
-            {"basal_area_ft2_per_acre", m.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa},
-            {"trees", m.trees},
-            {"shrubs", m.shrubs},
-            {"objects", m.objects},
-            {"area_ha", m.area_ha},
-            {"critical_diameter_m", m.critical_diameter_m},
-            {"vehicle", to_json(v)},
-            {"lines", std::move(lines)}};
+    return {{"vehicle", to_json(v)}, {"lines", std::move(lines)}};
 }
 
 } // namespace ecoterra::mobility

@@ -168,14 +168,6 @@ nlohmann::json to_json(const TraverseReport& rep, const Vehicle& v) {
     return {{"vehicle", to_json(v)},
             {"model", "kinematic proxy: quasi-static four-wheel pose on the heightmap every "
                       "0.05 s at constant speed, no dynamics"},
-            {"success_rate", rep.success_rate},
-            {"successes", rep.successes},
-            {"missions", rep.results.size()},
-            {"median_rms_vertical_acceleration_m_per_s2",
-             rep.median_rms_vertical_acceleration_m_per_s2},
-            {"median_rms_pitch_rate_deg_per_s", rep.median_rms_pitch_rate_deg_per_s},
-            {"median_rms_roll_rate_deg_per_s", rep.median_rms_roll_rate_deg_per_s},
-            {"median_time_s", rep.median_time_s},
             {"records", std::move(records)}};
 }
 

@@ -86,7 +86,7 @@ nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
               {"implied_dimension", psd.dimension},
               {"bin_ratio", opt.psd.bin_ratio},
               {"bins", bins}}},
-            {"fractal_dimension",
+            {"fractal_dimension_fit",
              {{"value", fd.dimension},
               {"hurst", fd.hurst},
               {"range_m", {fd.range_min_m, fd.range_max_m}},

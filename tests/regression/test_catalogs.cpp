@@ -5,11 +5,11 @@
 #include "support/scenes.hpp"
 #include "support/temp_dir.hpp"
 
+#include "ecoterra/analyses/describe.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
-#include "ecoterra/run/describe.hpp"
 #include "ecoterra/run/run.hpp"
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/generate.hpp"
@@ -398,7 +398,7 @@ TEST_CASE("docs/parameters.md is what the catalogues say") {
     REQUIRE(f.good());
     std::stringstream ss;
     ss << f.rdbuf();
-    const std::string expected = run::describe("all", true);
+    const std::string expected = analyses::describe("all", true);
     INFO("regenerate with: ecoterra describe all --markdown > docs/parameters.md");
     CHECK(ss.str() == expected);
 }

@@ -1,5 +1,6 @@
 // `ecoterra ensemble` as users run it: the same members whatever the number of processes (and
 // under mpirun), resuming after kill -9, failing members reported, bad input refused.
+#include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "support/run_cli.hpp"
 
@@ -165,6 +166,28 @@ TEST_CASE("ensemble: the summary is the members' figures, gathered", "[ensemble]
         CHECK(std::stod(row.at("mobility.smg_mean_m_per_s")) ==
               Approx(r["metrics"]["mobility.smg_mean_m_per_s"].get<double>()).epsilon(1e-15));
         CHECK(std::stoull(row.at("seed")) == r["seed"].get<std::uint64_t>());
+        // One name and one value everywhere: each catalogued metric of the member is the
+        // top-level key of the same name in the analysis's JSON (as the program writes it).
+        char name[16];
+        std::snprintf(name, sizeof name, "%06d", std::stoi(row.at("member")));
+        const fs::path dir = d.path() / "out/members" / name;
+        const json stand = parse_json(io::read_text(dir / "stand.json"), "stand.json");
+        const json mob = parse_json(io::read_text(dir / "mobility.json"), "mobility.json");
+        auto same = [&](const std::string& analysis, const json& doc, const auto& metrics) {
+            for (const auto& c : metrics) {
+                CAPTURE(analysis, c.name);
+                const std::string key = c.name;
+                const json& v = r["metrics"][analysis + "." + key];
+                REQUIRE(doc.contains(key));
+                const json& in_doc = doc[key];
+                if (v.is_null())
+                    CHECK(in_doc.is_null());
+                else
+                    CHECK(in_doc.get<double>() == v.get<double>());
+            }
+        };
+        same("stand", stand, analyses::stand_metrics());
+        same("mobility", mob, analyses::mobility_metrics());
     }
     // Aggregates: each combination's mean and extremes of its members.
     const auto agg = read_csv(d / "out/summary/aggregate.csv");

@@ -3,6 +3,7 @@
 #include "support/run_cli.hpp"
 #include "support/scenes.hpp"
 
+#include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
@@ -54,7 +55,7 @@ TEST_CASE("mobility: a stand's report, on any number of threads", "[mobility][st
     CHECK(m.trees == 400);
     CHECK(m.smg_mean_m_per_s < empty.smg_mean_m_per_s);
     CHECK(m.detour_fraction > 0);
-    const json j = to_json(m, v);
+    const json j = analyses::mobility_json(m, v);
     for (const char* k : {"smg_mean_m_per_s", "smg_median_m_per_s", "nogo_fraction", "lines",
                           "basal_area_m2_per_ha", "basal_area_ft2_per_acre"})
         CHECK(j.contains(k));
@@ -62,9 +63,9 @@ TEST_CASE("mobility: a stand's report, on any number of threads", "[mobility][st
     // The same on one thread as on two.
     const int threads = omp_get_max_threads();
     omp_set_num_threads(1);
-    const json one = to_json(analyse_stand(v, stems, dem, opt), v);
+    const json one = analyses::mobility_json(analyse_stand(v, stems, dem, opt), v);
     omp_set_num_threads(std::max(2, threads));
-    const json two = to_json(analyse_stand(v, stems, dem, opt), v);
+    const json two = analyses::mobility_json(analyse_stand(v, stems, dem, opt), v);
     omp_set_num_threads(threads);
     CHECK(one == two);
     CHECK(one == j);

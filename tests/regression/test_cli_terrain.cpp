@@ -53,8 +53,9 @@ TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]"
          {"rms_m", "rms_detrended_m", "classes_pct", "fractal_dimension", "psd_slope"})
         CHECK(rep.contains(k));
     for (const char* k : {"low", "semi", "high"}) CHECK(rep["classes_pct"].contains(k));
-    CHECK(rep["fractal_dimension"].contains("value"));
-    CHECK(rep["fractal_dimension"]["range_m"].size() == 2);
+    CHECK(rep["fractal_dimension_fit"]["value"] ==
+          rep["fractal_dimension"]); // the metric and its fit
+    CHECK(rep["fractal_dimension_fit"]["range_m"].size() == 2);
     const double total = rep["classes_pct"]["low"].get<double>() +
                          rep["classes_pct"]["semi"].get<double>() +
                          rep["classes_pct"]["high"].get<double>();

@@ -1,4 +1,5 @@
 // Manifest expansion: members as pure functions of (manifest, index).
+#include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/ensemble/manifest.hpp"
 #include "ecoterra/ensemble/summary.hpp"
 #include "ecoterra/error.hpp"
@@ -149,4 +150,20 @@ TEST_CASE("ensemble summaries: index ranges and units", "[ensemble]") {
     CHECK(unit_of("stand.stems_per_ha") == "1/ha");
     CHECK(unit_of("terrain.low_pct") == "%");
     CHECK(unit_of("mobility.nogo_fraction") == "1");
+    // From the catalogues, not from the name: an aggregate's statistics keep the metric's unit,
+    // scene keys of axes have the scene catalogue's, the tables' own columns theirs.
+    CHECK(unit_of("mobility.smg_mean_m_per_s.p90") == "m/s");
+    CHECK(unit_of("stand.reineke_sdi_per_ha.mean") == "1/ha");
+    CHECK(unit_of("run.years") == "yr");
+    CHECK(unit_of("hydrology.root_zone_depth_m") == "m");
+    CHECK(unit_of("terrain.generate.params.d_high") == "1");
+    CHECK(unit_of("seconds") == "s");
+    CHECK(unit_of("not.a.column") == "");
+    // Every metric has a unit, and a name unique within its analysis.
+    std::set<std::string> names;
+    for (const auto& m : analyses::describe_metrics()) {
+        CAPTURE(m.name);
+        CHECK_FALSE(m.unit.empty());
+        CHECK(names.insert(m.name).second);
+    }
 }

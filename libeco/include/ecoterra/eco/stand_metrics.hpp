@@ -40,6 +40,8 @@ std::vector<StandMetrics> stand_metrics_by_species(const std::vector<double>& db
                                                    const std::vector<int>& species,
                                                    std::size_t n_species, double area_m2,
                                                    double class_width_cm = 5.0);
+/// The details of the metrics: the diameter histogram and the exponential fit. The figures are the
+/// stand analysis's metrics (analyses::stand_json writes both).
 nlohmann::json to_json(const StandMetrics& m);
 
 /// What grows beside the trees: shrubs (individuals, measured at the ground), objects and the

@@ -72,7 +72,8 @@ struct StandMobility {
 StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
                             const RasterD& dem, const StandLinesOptions& opt);
 
-/// The report: the figures above, the vehicle, and one record per line.
+/// The report's details: the vehicle and one record per line. The figures above are the mobility
+/// analysis's metrics (analyses.hpp: analyses::mobility_json writes both).
 nlohmann::json to_json(const StandMobility& m, const Vehicle& v);
 
 } // namespace ecoterra::mobility

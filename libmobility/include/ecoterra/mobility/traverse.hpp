@@ -65,7 +65,8 @@ struct TraverseReport {
 TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
                                  const std::vector<MissionLine>& missions,
                                  const TraverseOptions& opt = {});
-/// The summary, the vehicle, the model's description and one record per mission.
+/// The report's details: the vehicle, the model's description and one record per mission. The
+/// summary figures are the traverse analysis's metrics (analyses::traverse_json writes both).
 nlohmann::json to_json(const TraverseReport& r, const Vehicle& v);
 
 } // namespace ecoterra::mobility

@@ -1,4 +1,6 @@
-#include "ecoterra/run/describe.hpp"
+#include "ecoterra/analyses/describe.hpp"
+
+#include "ecoterra/analyses/analyses.hpp"
 
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/eco/outputs.hpp"
@@ -11,9 +13,11 @@
 
 #include <algorithm>
 
-namespace ecoterra::run {
+namespace ecoterra::analyses {
 
 using namespace ecoterra::eco;
+using run::plant_columns;
+using run::stem_csv_columns;
 
 namespace {
 
@@ -91,6 +95,22 @@ std::vector<std::string> scene_keys() {
     return keys;
 }
 
+std::string scene_key_unit(const std::string& key) {
+    for (const auto& s : scene_sections())
+        for (const auto& row : s.rows)
+            if (row.front() == key) return row[1];
+    // A generator's parameter: "terrain.generate.params.NAME" or, for a terrain base,
+    // "params.NAME".
+    const auto at = key.rfind("params.");
+    if (at != std::string::npos) {
+        const std::string name = key.substr(at);
+        for (const auto& [method, info] : terrain::describe_terrain_params())
+            for (const auto& i : info)
+                if (i.key == name) return i.unit;
+    }
+    return "";
+}
+
 namespace {
 
 std::vector<Section> species_sections() {
@@ -132,6 +152,29 @@ std::vector<Section> output_sections() {
                 s.rows.push_back({c.name, c.unit, column_type_name(c.type), c.description});
             return s;
         }(),
+        [] {
+            Section s{
+                "Output: analysis metrics",
+                "The figures of each analysis, one name and one unit everywhere: the top-level "
+                "keys of `ecoterra stand --json`, `ecoterra mobility --json`, `ecoterra "
+                "terrain traverse --json` and `ecoterra terrain analyze --json` (without the "
+                "analysis's prefix), and the columns of an ensemble's tables (with it).",
+                {"name", "unit", "type", "meaning"},
+                {}};
+            for (const auto& c : describe_metrics())
+                s.rows.push_back({c.name, c.unit, c.type, c.description});
+            return s;
+        }(),
+        params("Analysis options: mobility",
+               "`ecoterra mobility` and an ensemble's `analyses.mobility` (the seed is derived per "
+               "member there).",
+               describe(mobility_catalog(), MobilityAnalysis{})),
+        params("Analysis options: traverse",
+               "`ecoterra terrain traverse` and an ensemble's `analyses.traverse`.",
+               describe(traverse_catalog(), TraverseAnalysis{})),
+        params("Analysis options: terrain",
+               "`ecoterra terrain analyze` and an ensemble's `analyses.terrain`.",
+               describe(terrain_catalog(), TerrainAnalysisOptions{})),
     };
 }
 
@@ -226,4 +269,4 @@ std::string describe(const std::string& topic, bool md) {
            markdown(s);
 }
 
-} // namespace ecoterra::run
+} // namespace ecoterra::analyses

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace ecoterra::run {
+namespace ecoterra::analyses {
 
 /// The catalogues of a topic as text (aligned columns) or as Markdown tables. InputError for an
 /// unknown topic, naming the known ones.
@@ -16,4 +16,9 @@ std::string describe(const std::string& topic, bool markdown);
 /// generator keys below terrain.generate are not listed: they depend on the method.
 std::vector<std::string> scene_keys();
 
-} // namespace ecoterra::run
+/// The unit of a scene key ("hydrology.root_zone_depth_m" -> "m") or of a terrain generator's
+/// parameter ("terrain.generate.params.d_high", "params.d_high"), from the catalogues; "" when
+/// the key has none there.
+std::string scene_key_unit(const std::string& key);
+
+} // namespace ecoterra::analyses

@@ -170,44 +170,81 @@ StemIndex::StemIndex(std::vector<Stem> stems, double bucket_m)
             .push_back(static_cast<std::int64_t>(k));
 }
 
-LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a,
-                      Point b, const SmgOptions& opt) {
-    LineResult out;
-    out.straight_m = distance(a, b);
-    if (!(out.straight_m > 0)) throw InputError("a line must have two different ends");
-    const double w = v.width_m;
-    const auto& stems = index.stems();
-    const double d_crit = critical_diameter_m(v.weight_n(), v.push_height_m);
-    // Stems to avoid: those of d >= d_crit, and those of clusters found too heavy (kept sorted).
-    // Only the stems near the line are ever looked at (through the index).
-    std::vector<std::int64_t> heavy;
-    auto avoided = [&](std::int64_t k) {
-        return stems[static_cast<std::size_t>(k)].diameter_m >= d_crit ||
-               stems[static_cast<std::size_t>(k)].rigid ||
-               std::binary_search(heavy.begin(), heavy.end(), k);
-    };
-    const double reach = 0.5 * (index.max_diameter_m() + w); // the farthest a stem blocks
-    auto elevation = [&](Point p) {
-        if (!dem) return 0.0;
-        const double z = dem->sample_bilinear(p.x_m, p.y_m);
-        if (std::isnan(z))
-            throw InputError("the line from (" + format_number(a.x_m) + ", " +
-                             format_number(a.y_m) + ") to (" + format_number(b.x_m) + ", " +
-                             format_number(b.y_m) + ") leaves the terrain at (" +
-                             format_number(p.x_m) + ", " + format_number(p.y_m) + ")");
-        return z;
-    };
-    auto side_elevation = [&](Point p, Point centre) {
-        if (!dem) return 0.0;
-        const double z = dem->sample_bilinear(p.x_m, p.y_m);
+namespace {
+
+/// One line driven: the state shared by the planning rounds (the stems to avoid grow when a
+/// cluster proves too heavy to push) and the steps of a round.
+class LineDrive {
+public:
+    LineDrive(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a, Point b,
+              const SmgOptions& opt)
+        : m_v(v), m_index(index), m_stems(index.stems()), m_dem(dem), m_a(a), m_b(b), m_opt(opt),
+          m_w(v.width_m), m_d_crit(critical_diameter_m(v.weight_n(), v.push_height_m)),
+          m_reach(0.5 * (index.max_diameter_m() + v.width_m)) {}
+
+    LineResult run();
+
+private:
+    /// A stem the vehicle goes around: d >= d_crit, rigid, or in a cluster found too heavy.
+    bool avoided(std::int64_t k) const {
+        return m_stems[static_cast<std::size_t>(k)].diameter_m >= m_d_crit ||
+               m_stems[static_cast<std::size_t>(k)].rigid ||
+               std::binary_search(m_heavy.begin(), m_heavy.end(), k);
+    }
+    double elevation(Point p) const;
+    /// The terrain beside the track; off the DEM's edge, the centre line's.
+    double side_elevation(Point p, Point centre) const {
+        if (!m_dem) return 0.0;
+        const double z = m_dem->sample_bilinear(p.x_m, p.y_m);
         return std::isnan(z) ? elevation(centre) : z;
-    };
-    Grid g;
-    g.r = std::max(opt.grid_fraction_of_width * w, kMinPlanningCell_m);
-    double x0 = std::min(a.x_m, b.x_m) - opt.margin_m, x1 = std::max(a.x_m, b.x_m) + opt.margin_m;
-    double y0 = std::min(a.y_m, b.y_m) - opt.margin_m, y1 = std::max(a.y_m, b.y_m) + opt.margin_m;
-    if (opt.bounds_m) {
-        const auto& bb = *opt.bounds_m;
+    }
+    /// The planning grid around the line (within the terrain's bounds when given).
+    void make_grid(double straight_m);
+    /// Marks the cells an avoided stem's disk, inflated by half the vehicle's width, covers.
+    void block_avoided_stems();
+    /// Drives `path` cell by cell; sets `m_replan` when a cluster is too heavy to push.
+    void drive_path(const std::vector<Point>& path, LineResult& out);
+    /// One cell of length `len` from c0 along (ux, uy); false when the drive stops there.
+    bool drive_cell(Point c0, double len, double ux, double uy, LineResult& out);
+    /// Obstacles whose inflated disk meets the straight line.
+    std::int64_t count_avoided(double straight_m) const;
+
+    const Vehicle& m_v;
+    const StemIndex& m_index;
+    const std::vector<Stem>& m_stems;
+    const RasterD* m_dem;
+    Point m_a, m_b;
+    const SmgOptions& m_opt;
+    double m_w, m_d_crit, m_reach;     ///< width; critical diameter; the farthest a stem blocks
+    std::vector<std::int64_t> m_heavy; ///< stems of clusters found too heavy (sorted)
+    Grid m_g;
+    // A round's drive: the stems pushed and those of the current cell; the cells' lengths and the
+    // speed limits at their boundaries.
+    std::vector<std::int64_t> m_pushed, m_here;
+    std::vector<double> m_cell_len, m_node_cap;
+    bool m_replan = false;
+};
+
+double LineDrive::elevation(Point p) const {
+    if (!m_dem) return 0.0;
+    const double z = m_dem->sample_bilinear(p.x_m, p.y_m);
+    if (std::isnan(z))
+        throw InputError("the line from (" + format_number(m_a.x_m) + ", " +
+                         format_number(m_a.y_m) + ") to (" + format_number(m_b.x_m) + ", " +
+                         format_number(m_b.y_m) + ") leaves the terrain at (" +
+                         format_number(p.x_m) + ", " + format_number(p.y_m) + ")");
+    return z;
+}
+
+void LineDrive::make_grid(double straight_m) {
+    const Point a = m_a, b = m_b;
+    m_g.r = std::max(m_opt.grid_fraction_of_width * m_w, kMinPlanningCell_m);
+    double x0 = std::min(a.x_m, b.x_m) - m_opt.margin_m,
+           x1 = std::max(a.x_m, b.x_m) + m_opt.margin_m;
+    double y0 = std::min(a.y_m, b.y_m) - m_opt.margin_m,
+           y1 = std::max(a.y_m, b.y_m) + m_opt.margin_m;
+    if (m_opt.bounds_m) {
+        const auto& bb = *m_opt.bounds_m;
         for (const Point p : {a, b})
             if (p.x_m < bb[0] || p.x_m > bb[2] || p.y_m < bb[1] || p.y_m > bb[3])
                 throw InputError("the line end (" + format_number(p.x_m) + ", " +
@@ -217,161 +254,189 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
         x0 = std::max(x0, bb[0]), y0 = std::max(y0, bb[1]);
         x1 = std::min(x1, bb[2]), y1 = std::min(y1, bb[3]);
     }
-    g.x0 = x0;
-    g.y0 = y0;
-    g.nx = std::max(1, static_cast<int>(std::ceil((x1 - x0) / g.r)));
-    g.ny = std::max(1, static_cast<int>(std::ceil((y1 - y0) / g.r)));
-    if (static_cast<double>(g.nx) * g.ny > kMaxPlanningCells)
-        throw InputError("a line of " + format_number(out.straight_m) +
-                         " m needs a planning grid of " + std::to_string(g.nx) + " x " +
-                         std::to_string(g.ny) + " cells; use shorter lines or a smaller margin");
-    const double straight = out.straight_m;
+    m_g.x0 = x0;
+    m_g.y0 = y0;
+    m_g.nx = std::max(1, static_cast<int>(std::ceil((x1 - x0) / m_g.r)));
+    m_g.ny = std::max(1, static_cast<int>(std::ceil((y1 - y0) / m_g.r)));
+    if (static_cast<double>(m_g.nx) * m_g.ny > kMaxPlanningCells)
+        throw InputError("a line of " + format_number(straight_m) + " m needs a planning grid of " +
+                         std::to_string(m_g.nx) + " x " + std::to_string(m_g.ny) +
+                         " cells; use shorter lines or a smaller margin");
+}
+
+void LineDrive::block_avoided_stems() {
+    Grid& g = m_g;
+    g.blocked.assign(static_cast<std::size_t>(g.nx) * g.ny, 0);
+    m_index.for_each_in_box(g.x0 - m_reach, g.y0 - m_reach, g.x0 + g.nx * g.r + m_reach,
+                            g.y0 + g.ny * g.r + m_reach, [&](std::int64_t k) {
+                                if (!avoided(k)) return;
+                                const Stem& s = m_stems[static_cast<std::size_t>(k)];
+                                const double rad = 0.5 * s.diameter_m + 0.5 * m_w;
+                                for (int j = std::max(0, g.row(s.y_m - rad));
+                                     j <= std::min(g.ny - 1, g.row(s.y_m + rad)); ++j)
+                                    for (int i = std::max(0, g.col(s.x_m - rad));
+                                         i <= std::min(g.nx - 1, g.col(s.x_m + rad)); ++i) {
+                                        const Point c =
+                                            g.centre(static_cast<std::int64_t>(j) * g.nx + i);
+                                        if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
+                                            g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
+                                    }
+                            });
+}
+
+bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResult& out) {
+    const Vehicle& v = m_v;
+    const double w = m_w;
+    const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
+    double force = 0;
+    m_here.clear();
+    m_index.for_each_in_box(std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
+                            std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,
+                            [&](std::int64_t k) {
+                                const Stem& st = m_stems[static_cast<std::size_t>(k)];
+                                const double dx = st.x_m - c0.x_m, dy = st.y_m - c0.y_m;
+                                const double t = dx * ux + dy * uy, lat = -dx * uy + dy * ux;
+                                if (avoided(k) || t < 0 || t >= len || std::abs(lat) > 0.5 * w)
+                                    return;
+                                force += override_force_n(st.diameter_m, v.push_height_m);
+                                m_here.push_back(k);
+                            });
+    const double grade = (elevation(c1) - elevation(c0)) / len;
+    if (std::atan(grade) > v.max_climb_deg * std::numbers::pi / 180) {
+        out.nogo = true;
+        out.nogo_reason = "a grade of " + format_number(grade) +
+                          " beyond the vehicle's climb limit at (" + format_number(c0.x_m) + ", " +
+                          format_number(c0.y_m) + ")";
+        return false;
+    }
+    // Side slope: the height difference across the vehicle's track at the cell's middle (a wheel
+    // off the DEM's edge falls back to the centre line).
+    const Point mid{0.5 * (c0.x_m + c1.x_m), 0.5 * (c0.y_m + c1.y_m)};
+    const double half = 0.5 * v.track_m;
+    const double zl = side_elevation({mid.x_m - half * uy, mid.y_m + half * ux}, mid);
+    const double zr = side_elevation({mid.x_m + half * uy, mid.y_m - half * ux}, mid);
+    const double side = std::abs(zl - zr) / v.track_m;
+    if (std::atan(side) > v.max_side_slope_deg * std::numbers::pi / 180) {
+        out.nogo = true;
+        out.nogo_reason = "a side slope of " + format_number(side) +
+                          " beyond the vehicle's side-slope limit at (" + format_number(mid.x_m) +
+                          ", " + format_number(mid.y_m) + ")";
+        return false;
+    }
+    const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
+    const double speed = steady_speed_m_per_s(v, base + force);
+    if (speed <= 0) {
+        if (force > 0 && steady_speed_m_per_s(v, base) > 0) {
+            m_heavy.insert(m_heavy.end(), m_here.begin(), m_here.end());
+            std::sort(m_heavy.begin(), m_heavy.end());
+            m_replan = true; // a cluster too heavy to push: go around it
+        } else {
+            out.nogo = true;
+            out.nogo_reason = "a grade of " + format_number(grade) + " it cannot climb at (" +
+                              format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
+        }
+        return false;
+    }
+    m_node_cap.back() = std::min(m_node_cap.back(), speed);
+    m_node_cap.push_back(speed);
+    m_cell_len.push_back(len);
+    out.path_m += len;
+    if (force > 0) out.override_m += len;
+    m_pushed.insert(m_pushed.end(), m_here.begin(), m_here.end());
+    return true;
+}
+
+void LineDrive::drive_path(const std::vector<Point>& path, LineResult& out) {
+    // Cells of one vehicle width along each segment; the speed limits at the cell boundaries are
+    // the steady speeds of the cells on either side and, at a turn of the path, sqrt(a_lat R)
+    // with R the largest arc that fits half the shorter leg (at least the vehicle's tightest
+    // turn).
+    m_pushed.clear();
+    m_cell_len.clear();
+    m_node_cap.assign(1, std::numeric_limits<double>::infinity());
+    m_replan = false;
+    for (std::size_t s = 0; s + 1 < path.size() && !m_replan && !out.nogo; ++s) {
+        const Point p = path[s], q = path[s + 1];
+        const double seg = distance(p, q);
+        if (!(seg > 0)) continue;
+        const double ux = (q.x_m - p.x_m) / seg, uy = (q.y_m - p.y_m) / seg;
+        if (s > 0) {
+            const Point o = path[s - 1];
+            const double prev = distance(o, p);
+            const double turn = std::acos(
+                std::clamp(((p.x_m - o.x_m) * ux + (p.y_m - o.y_m) * uy) / prev, -1.0, 1.0));
+            if (turn > kMinTurn_rad) {
+                const double radius = std::max(0.5 * std::min(prev, seg) / std::tan(0.5 * turn),
+                                               m_v.min_turn_radius_m);
+                m_node_cap.back() = std::min(
+                    m_node_cap.back(), std::sqrt(m_v.max_lateral_acceleration_m_per_s2 * radius));
+            }
+        }
+        for (double along = 0; along < seg; along += m_w) {
+            const double len = std::min(m_w, seg - along);
+            if (!drive_cell({p.x_m + along * ux, p.y_m + along * uy}, len, ux, uy, out)) break;
+        }
+    }
+}
+
+std::int64_t LineDrive::count_avoided(double straight_m) const {
+    const Point a = m_a, b = m_b;
+    std::int64_t n = 0;
+    m_index.for_each_in_box(
+        std::min(a.x_m, b.x_m) - m_reach, std::min(a.y_m, b.y_m) - m_reach,
+        std::max(a.x_m, b.x_m) + m_reach, std::max(a.y_m, b.y_m) + m_reach, [&](std::int64_t kk) {
+            if (!avoided(kk)) return;
+            const auto k = static_cast<std::size_t>(kk);
+            const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
+            const double t =
+                std::clamp(((m_stems[k].x_m - a.x_m) * dx + (m_stems[k].y_m - a.y_m) * dy) /
+                               (straight_m * straight_m),
+                           0.0, 1.0);
+            const double dist =
+                std::hypot(a.x_m + t * dx - m_stems[k].x_m, a.y_m + t * dy - m_stems[k].y_m);
+            n += dist <= 0.5 * (m_stems[k].diameter_m + m_w);
+        });
+    return n;
+}
+
+LineResult LineDrive::run() {
+    LineResult out;
+    const double straight = distance(m_a, m_b);
+    if (!(straight > 0)) throw InputError("a line must have two different ends");
+    make_grid(straight);
     bool settled = false;
     for (int round = 0; round < kMaxReplans && !settled; ++round) {
         out = LineResult{};
         out.straight_m = straight;
-        g.blocked.assign(static_cast<std::size_t>(g.nx) * g.ny, 0);
-        index.for_each_in_box(g.x0 - reach, g.y0 - reach, g.x0 + g.nx * g.r + reach,
-                              g.y0 + g.ny * g.r + reach, [&](std::int64_t k) {
-                                  if (!avoided(k)) return;
-                                  const Stem& s = stems[static_cast<std::size_t>(k)];
-                                  const double rad = 0.5 * s.diameter_m + 0.5 * w;
-                                  for (int j = std::max(0, g.row(s.y_m - rad));
-                                       j <= std::min(g.ny - 1, g.row(s.y_m + rad)); ++j)
-                                      for (int i = std::max(0, g.col(s.x_m - rad));
-                                           i <= std::min(g.nx - 1, g.col(s.x_m + rad)); ++i) {
-                                          const Point c =
-                                              g.centre(static_cast<std::int64_t>(j) * g.nx + i);
-                                          if (std::hypot(c.x_m - s.x_m, c.y_m - s.y_m) <= rad)
-                                              g.blocked[static_cast<std::size_t>(j) * g.nx + i] = 1;
-                                      }
-                              });
-        if (g.blocked_at(a.x_m, a.y_m) || g.blocked_at(b.x_m, b.y_m)) {
+        block_avoided_stems();
+        if (m_g.blocked_at(m_a.x_m, m_a.y_m) || m_g.blocked_at(m_b.x_m, m_b.y_m)) {
             out.nogo = true;
             out.nogo_reason = "the line starts or ends next to a stem it cannot override";
             settled = true;
             break;
         }
-        const std::vector<Point> path = plan(g, a, b);
+        const std::vector<Point> path = plan(m_g, m_a, m_b);
         if (path.empty()) {
             out.nogo = true;
             out.nogo_reason = "no path around the stems it cannot override";
             settled = true;
             break;
         }
-        // Drive the path cell by cell (cells of one vehicle width along each segment).
-        std::vector<std::int64_t> pushed, here; // `here`: the stems of the current cell
-        bool replan = false;
-        // Cells along the path and the speed limits at their boundaries: the steady speeds of the
-        // cells on either side and, at a turn of the path, sqrt(a_lat R) with R the largest arc
-        // that fits half the shorter leg (at least the vehicle's tightest turn).
-        std::vector<double> cell_len, node_cap{std::numeric_limits<double>::infinity()};
-        for (std::size_t s = 0; s + 1 < path.size() && !replan && !out.nogo; ++s) {
-            const Point p = path[s], q = path[s + 1];
-            const double seg = distance(p, q);
-            if (!(seg > 0)) continue;
-            const double ux = (q.x_m - p.x_m) / seg, uy = (q.y_m - p.y_m) / seg;
-            if (s > 0) {
-                const Point o = path[s - 1];
-                const double prev = distance(o, p);
-                const double turn = std::acos(
-                    std::clamp(((p.x_m - o.x_m) * ux + (p.y_m - o.y_m) * uy) / prev, -1.0, 1.0));
-                if (turn > kMinTurn_rad) {
-                    const double radius = std::max(0.5 * std::min(prev, seg) / std::tan(0.5 * turn),
-                                                   v.min_turn_radius_m);
-                    node_cap.back() = std::min(
-                        node_cap.back(), std::sqrt(v.max_lateral_acceleration_m_per_s2 * radius));
-                }
-            }
-            for (double along = 0; along < seg; along += w) {
-                const double len = std::min(w, seg - along);
-                const Point c0{p.x_m + along * ux, p.y_m + along * uy};
-                const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
-                double force = 0;
-                here.clear();
-                index.for_each_in_box(
-                    std::min(c0.x_m, c1.x_m) - w, std::min(c0.y_m, c1.y_m) - w,
-                    std::max(c0.x_m, c1.x_m) + w, std::max(c0.y_m, c1.y_m) + w,
-                    [&](std::int64_t k) {
-                        const Stem& st = stems[static_cast<std::size_t>(k)];
-                        const double dx = st.x_m - c0.x_m, dy = st.y_m - c0.y_m;
-                        const double t = dx * ux + dy * uy, lat = -dx * uy + dy * ux;
-                        if (avoided(k) || t < 0 || t >= len || std::abs(lat) > 0.5 * w) return;
-                        force += override_force_n(st.diameter_m, v.push_height_m);
-                        here.push_back(k);
-                    });
-                const double grade = (elevation(c1) - elevation(c0)) / len;
-                if (std::atan(grade) > v.max_climb_deg * std::numbers::pi / 180) {
-                    out.nogo = true;
-                    out.nogo_reason = "a grade of " + format_number(grade) +
-                                      " beyond the vehicle's climb limit at (" +
-                                      format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
-                    break;
-                }
-                // Side slope: the height difference across the vehicle's track at the cell's
-                // middle (a wheel off the DEM's edge falls back to the centre line).
-                const Point mid{0.5 * (c0.x_m + c1.x_m), 0.5 * (c0.y_m + c1.y_m)};
-                const double half = 0.5 * v.track_m;
-                const double zl = side_elevation({mid.x_m - half * uy, mid.y_m + half * ux}, mid);
-                const double zr = side_elevation({mid.x_m + half * uy, mid.y_m - half * ux}, mid);
-                const double side = std::abs(zl - zr) / v.track_m;
-                if (std::atan(side) > v.max_side_slope_deg * std::numbers::pi / 180) {
-                    out.nogo = true;
-                    out.nogo_reason = "a side slope of " + format_number(side) +
-                                      " beyond the vehicle's side-slope limit at (" +
-                                      format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
-                    break;
-                }
-                const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
-                const double speed = steady_speed_m_per_s(v, base + force);
-                if (speed <= 0) {
-                    if (force > 0 && steady_speed_m_per_s(v, base) > 0) {
-                        heavy.insert(heavy.end(), here.begin(), here.end());
-                        std::sort(heavy.begin(), heavy.end());
-                        replan = true; // a cluster too heavy to push: go around it
-                    } else {
-                        out.nogo = true;
-                        out.nogo_reason = "a grade of " + format_number(grade) +
-                                          " it cannot climb at (" + format_number(c0.x_m) + ", " +
-                                          format_number(c0.y_m) + ")";
-                    }
-                    break;
-                }
-                node_cap.back() = std::min(node_cap.back(), speed);
-                node_cap.push_back(speed);
-                cell_len.push_back(len);
-                out.path_m += len;
-                if (force > 0) out.override_m += len;
-                pushed.insert(pushed.end(), here.begin(), here.end());
-            }
-        }
-        if (replan) continue;
+        drive_path(path, out);
+        if (m_replan) continue;
         if (!out.nogo)
-            out.time_s = profile_time_s(cell_len, node_cap, v.max_acceleration_m_per_s2,
-                                        v.max_deceleration_m_per_s2);
-        std::sort(pushed.begin(), pushed.end());
-        pushed.erase(std::unique(pushed.begin(), pushed.end()), pushed.end());
-        out.overridden = static_cast<std::int64_t>(pushed.size());
-        out.pushed_stems = std::move(pushed);
+            out.time_s = profile_time_s(m_cell_len, m_node_cap, m_v.max_acceleration_m_per_s2,
+                                        m_v.max_deceleration_m_per_s2);
+        std::sort(m_pushed.begin(), m_pushed.end());
+        m_pushed.erase(std::unique(m_pushed.begin(), m_pushed.end()), m_pushed.end());
+        out.overridden = static_cast<std::int64_t>(m_pushed.size());
+        out.pushed_stems = m_pushed;
         out.path = path;
-        // Avoided: an obstacle whose inflated disk meets the straight line.
-        index.for_each_in_box(
-            std::min(a.x_m, b.x_m) - reach, std::min(a.y_m, b.y_m) - reach,
-            std::max(a.x_m, b.x_m) + reach, std::max(a.y_m, b.y_m) + reach, [&](std::int64_t kk) {
-                if (!avoided(kk)) return;
-                const auto k = static_cast<std::size_t>(kk);
-                const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
-                const double t =
-                    std::clamp(((stems[k].x_m - a.x_m) * dx + (stems[k].y_m - a.y_m) * dy) /
-                                   (out.straight_m * out.straight_m),
-                               0.0, 1.0);
-                const double dist =
-                    std::hypot(a.x_m + t * dx - stems[k].x_m, a.y_m + t * dy - stems[k].y_m);
-                out.avoided += dist <= 0.5 * (stems[k].diameter_m + w);
-            });
+        out.avoided = count_avoided(straight);
         settled = true;
     }
     if (!settled) {
+        out.straight_m = straight;
         out.nogo = true;
         out.nogo_reason = "clusters too heavy to push kept closing the path after " +
                           std::to_string(kMaxReplans) + " plans";
@@ -383,6 +448,13 @@ LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* d
         out.smg_m_per_s = out.straight_m / out.time_s;
     }
     return out;
+}
+
+} // namespace
+
+LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a,
+                      Point b, const SmgOptions& opt) {
+    return LineDrive(v, index, dem, a, b, opt).run();
 }
 
 } // namespace ecoterra::mobility

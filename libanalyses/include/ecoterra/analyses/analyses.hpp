@@ -40,13 +40,18 @@ void add_values(Values& out, const std::string& analysis, const std::vector<Colu
                 const R& r) {
     for (const auto& m : metrics) out.emplace_back(analysis + "." + m.name, m.get(r));
 }
-/// Each metric as a top-level key of an analysis's JSON (a NaN, a fit that could not be made,
-/// as null).
+/// Each metric as a top-level key of an analysis's JSON: counts as integers, a NaN (a fit that
+/// could not be made) as null.
 template <class R>
 void put_metrics(nlohmann::json& doc, const std::vector<Column<R>>& metrics, const R& r) {
     for (const auto& m : metrics) {
         const double v = m.get(r);
-        doc[m.name] = v == v ? nlohmann::json(v) : nlohmann::json(nullptr);
+        if (!(v == v))
+            doc[m.name] = nullptr;
+        else if (m.type == ColumnType::int64)
+            doc[m.name] = static_cast<std::int64_t>(v);
+        else
+            doc[m.name] = v;
     }
 }
 /// The JSON documents of the analyses: the metrics as top-level keys and the details of each

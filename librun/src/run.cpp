@@ -94,199 +94,265 @@ void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work
 }
 } // namespace
 
-RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
-                         const std::function<void(const RunProgress&)>& progress) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const fs::path out = opt.output;
-    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
-    if (!fs::is_directory(parent))
-        throw IoError(out.string() + ": the folder " + parent.string() + " does not exist");
-    // One writer per run: a second run or resume into the same path is refused while this one
-    // works (the kernel drops the lock if the process is killed).
-    const io::FileLock lock(out);
-    if (!opt.resume && !opt.replace && fs::exists(out))
-        throw InputError(out.string() + ": the file exists; give --force to replace it (nothing "
-                                        "was written)");
-    std::unique_ptr<Ecosystem> eco;
-    json prov = opt.provenance;
-    int snapshots = 0;
-    std::vector<std::string> checksums; // of the snapshot files, one each
-    int years_total = 0;
-    if (opt.resume) {
-        const RunInfo info = read_run_info(out);
-        const json& stored = info.provenance;
-        if (!stored.contains("scene") || !stored.contains("version"))
-            throw InputError(out.string() + ": /provenance lacks the scene or the version");
-        if (prov.contains("version") && stored["version"] != prov["version"])
-            throw InputError(out.string() + ": written by ecoterra " + stored["version"].dump() +
-                             ", this is " + prov["version"].dump() +
-                             "; a checkpoint resumes only with the version that wrote it");
-        json stored_scene = stored["scene"];
-        if (scene) {
-            json a = scene->resolved, b = stored_scene;
-            a["simulation"].erase("years");
-            b["simulation"].erase("years");
-            if (a != b)
-                throw InputError(out.string() + ": the run was made from another scene; resume "
-                                                "it without a scene file or with the same scene");
-        }
-        const EcoScene sc = load_eco_scene(stored_scene, "/");
-        eco = std::make_unique<Ecosystem>(sc);
-        H5::H5File f = open_run(out);
-        std::vector<std::uint8_t> bytes;
-        std::string hash, checksum;
-        try {
-            bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
-                                              H5::PredType::NATIVE_UINT8);
-            hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
-            checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
-        } catch (const H5::Exception& e) {
-            throw InputError(out.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
-        }
-        if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
-            throw InputError(out.string() +
-                             ": /checkpoint/state is damaged (its checksum_fnv1a64 " + checksum +
-                             " does not match its " + std::to_string(bytes.size()) + " bytes)");
-        if (hash != std::to_string(raster_hash(sc.hydro.dem)))
-            throw InputError(out.string() + ": the terrain rebuilt from the stored scene differs "
-                                            "from the run's (was the terrain file changed?)");
-        // Every snapshot the run file lists must be there and whole, or the resumed run would link
-        // to files that are gone.
-        for (int k = 0; k < info.snapshots; ++k)
-            open_snapshot(out, k, [&](const H5::Group& g) {
-                if (!g.nameExists("plants") || !g.attrExists("year"))
-                    throw InputError(out.string() + ": snapshot " + std::to_string(k) +
-                                     " lacks its plants or its year");
-            });
-        ArchiveReader r(bytes.data(), bytes.size(), out.string());
-        with_context(out.string() + ": /checkpoint", [&] { eco->load_state(r); });
-        snapshots = info.snapshots;
-        checksums = read_snapshot_checksums(out, snapshots);
-        prov["scene"] = stored_scene;
-        prov["resumed_from_year"] = eco->years_done();
-        if (stored.contains("resumed_from_year"))
-            prov["first_resumed_from_year"] = stored["resumed_from_year"];
-        years_total = stored_scene["simulation"]["years"].get<int>();
-    } else {
-        if (!scene) throw InputError("run: a scene is required");
-        eco = std::make_unique<Ecosystem>(*scene);
-        prov["scene"] = scene->resolved;
-        years_total = scene->years;
+namespace {
+
+/// One call of run_ecosystem: the engine, where it writes, and what it has written.
+class RunJob {
+public:
+    RunJob(const RunOptions& opt, const std::function<void(const RunProgress&)>& progress)
+        : m_opt(opt), m_progress(progress), m_out(opt.output),
+          m_parent(m_out.has_parent_path() ? m_out.parent_path() : fs::path(".")),
+          m_prov(opt.provenance) {}
+
+    RunSummary run(const EcoScene* scene);
+
+private:
+    /// A new run of `scene`.
+    void start(const EcoScene* scene);
+    /// The run in m_out continued (with `scene`, when given, checked to be its scene).
+    void resume(const EcoScene* scene);
+    /// The checkpoint bytes of m_out, checked against their checksum and the terrain of `sc`.
+    std::vector<std::uint8_t> read_checkpoint(const EcoScene& sc) const;
+    /// Where the run writes: in place, or (over an earlier run) under a staging name.
+    void prepare_output();
+    /// Runs the years with their snapshots, then the pictures.
+    void grow();
+    /// grow() under the staging name, then the swap; a failure keeps the earlier run.
+    void grow_and_replace();
+    /// Snapshot files of an earlier run into the same path that the new run did not replace.
+    void remove_stale_snapshots();
+    void report_progress(const StandMetrics& st) const;
+    RunSummary summary();
+
+    const RunOptions& m_opt;
+    const std::function<void(const RunProgress&)>& m_progress;
+    const fs::path m_out, m_parent;
+    const std::chrono::steady_clock::time_point m_t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<Ecosystem> m_eco;
+    json m_prov;
+    int m_snapshots = 0, m_years_total = 0, m_first_year = 0, m_to_run = 0;
+    std::vector<std::string> m_checksums; ///< of the snapshot files, one each
+    Methods m_methods;
+    bool m_staged = false;
+    fs::path m_work, m_snap_dir, m_picture_dir;
+    double m_plant_years = 0;
+    bool m_reached_target = false;
+};
+
+void RunJob::start(const EcoScene* scene) {
+    if (!scene) throw InputError("run: a scene is required");
+    m_eco = std::make_unique<Ecosystem>(*scene);
+    m_prov["scene"] = scene->resolved;
+    m_years_total = scene->years;
+}
+
+std::vector<std::uint8_t> RunJob::read_checkpoint(const EcoScene& sc) const {
+    H5::H5File f = open_run(m_out);
+    std::vector<std::uint8_t> bytes;
+    std::string hash, checksum;
+    try {
+        bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
+                                          H5::PredType::NATIVE_UINT8);
+        hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
+        checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
+    } catch (const H5::Exception& e) {
+        throw InputError(m_out.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
     }
-    const EcoScene& sc = eco->scene();
-    const Methods methods = scene_methods(sc);
-    prov["methods"] = methods_json(methods);
-    const int to_run = opt.years ? *opt.years : years_total - eco->years_done();
-    if (to_run <= 0)
-        throw InputError(out.string() + ": the run already has " +
-                         std::to_string(eco->years_done()) + " of its " +
-                         std::to_string(years_total) + " years; give --years N to continue");
+    if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
+        throw InputError(m_out.string() + ": /checkpoint/state is damaged (its checksum_fnv1a64 " +
+                         checksum + " does not match its " + std::to_string(bytes.size()) +
+                         " bytes)");
+    if (hash != std::to_string(raster_hash(sc.hydro.dem)))
+        throw InputError(m_out.string() + ": the terrain rebuilt from the stored scene differs "
+                                          "from the run's (was the terrain file changed?)");
+    return bytes;
+}
+
+void RunJob::resume(const EcoScene* scene) {
+    const RunInfo info = read_run_info(m_out);
+    const json& stored = info.provenance;
+    if (!stored.contains("scene") || !stored.contains("version"))
+        throw InputError(m_out.string() + ": /provenance lacks the scene or the version");
+    if (m_prov.contains("version") && stored["version"] != m_prov["version"])
+        throw InputError(m_out.string() + ": written by ecoterra " + stored["version"].dump() +
+                         ", this is " + m_prov["version"].dump() +
+                         "; a checkpoint resumes only with the version that wrote it");
+    const json& stored_scene = stored["scene"];
+    if (scene) {
+        json a = scene->resolved, b = stored_scene;
+        a["simulation"].erase("years");
+        b["simulation"].erase("years");
+        if (a != b)
+            throw InputError(m_out.string() + ": the run was made from another scene; resume it "
+                                              "without a scene file or with the same scene");
+    }
+    const EcoScene sc = load_eco_scene(stored_scene, "/");
+    m_eco = std::make_unique<Ecosystem>(sc);
+    const std::vector<std::uint8_t> bytes = read_checkpoint(sc);
+    // Every snapshot the run file lists must be there and whole, or the resumed run would link
+    // to files that are gone.
+    for (int k = 0; k < info.snapshots; ++k)
+        open_snapshot(m_out, k, [&](const H5::Group& g) {
+            if (!g.nameExists("plants") || !g.attrExists("year"))
+                throw InputError(m_out.string() + ": snapshot " + std::to_string(k) +
+                                 " lacks its plants or its year");
+        });
+    ArchiveReader r(bytes.data(), bytes.size(), m_out.string());
+    with_context(m_out.string() + ": /checkpoint", [&] { m_eco->load_state(r); });
+    m_snapshots = info.snapshots;
+    m_checksums = read_snapshot_checksums(m_out, m_snapshots);
+    m_prov["scene"] = stored_scene;
+    m_prov["resumed_from_year"] = m_eco->years_done();
+    if (stored.contains("resumed_from_year"))
+        m_prov["first_resumed_from_year"] = stored["resumed_from_year"];
+    m_years_total = stored_scene["simulation"]["years"].get<int>();
+}
+
+void RunJob::prepare_output() {
     // A new run into the path of an earlier one works under a staging name and replaces the
     // earlier run only when it is complete: killed or failed, it leaves the earlier run as it was.
     // A new run into a free path (and a resumed run) writes in place, so that a killed run can be
     // resumed from its last snapshot.
     // The picture folder is tried before the years are run, not found unwritable after them.
-    fs::path picture_dir;
-    if (opt.pictures) {
-        picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
-                                              : opt.picture_dir;
-        require_writable_folder(picture_dir, "the picture folder");
+    if (m_opt.pictures) {
+        m_picture_dir = m_opt.picture_dir.empty() ? m_parent / (m_out.stem().string() + ".pictures")
+                                                  : m_opt.picture_dir;
+        require_writable_folder(m_picture_dir, "the picture folder");
     }
     std::error_code ec;
-    remove_leftovers(parent, out);
-    const bool staged = !opt.resume && fs::exists(out, ec);
-    const fs::path work = staged ? replacing_path(out) : out;
-    const fs::path snap_dir = parent / snapshot_dir_name(work);
-    if (staged) fs::remove_all(snap_dir, ec); // left by a killed process of the same id
-    io::create_folder(snap_dir, "the snapshot folder");
+    remove_leftovers(m_parent, m_out);
+    m_staged = !m_opt.resume && fs::exists(m_out, ec);
+    m_work = m_staged ? replacing_path(m_out) : m_out;
+    m_snap_dir = m_parent / snapshot_dir_name(m_work);
+    if (m_staged) fs::remove_all(m_snap_dir, ec); // left by a killed process of the same id
+    io::create_folder(m_snap_dir, "the snapshot folder");
+}
 
-    RunSummary sum;
-    sum.picture_dir = picture_dir;
-    sum.methods = methods;
-    double plant_years = 0;
-    const int first_year = eco->years_done();
-    auto grow = [&] {
-        for (int y = 1; y <= to_run; ++y) {
-            eco->run_year();
-            plant_years += static_cast<double>(eco->plants().size());
-            const StandMetrics st = eco->stand();
-            const bool reached = sc.target_basal_area_m2_per_ha && !opt.years &&
-                                 st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
-            const bool last = y == to_run || reached;
-            if (eco->years_done() % sc.snapshot_interval_years == 0 || last) {
-                const fs::path file = snap_dir / snapshot_file_name(snapshots);
-                write_snapshot(*eco, file, snapshots);
-                checksums.push_back(file_checksum(file));
-                ++snapshots;
-                write_main(*eco, work, prov, checksums);
-            }
-            if (progress) {
-                RunProgress p;
-                p.year = eco->years_done();
-                p.years = first_year + to_run;
-                p.plants = eco->plants().size();
-                p.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
-                p.seconds =
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                p.plant_years = plant_years;
-                progress(p);
-            }
-            if (reached) {
-                sum.reached_target = true;
-                break;
-            }
+void RunJob::report_progress(const StandMetrics& st) const {
+    if (!m_progress) return;
+    RunProgress p;
+    p.year = m_eco->years_done();
+    p.years = m_first_year + m_to_run;
+    p.plants = m_eco->plants().size();
+    p.basal_area_m2_per_ha = st.basal_area_m2_per_ha;
+    p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_t0).count();
+    p.plant_years = m_plant_years;
+    m_progress(p);
+}
+
+void RunJob::grow() {
+    const EcoScene& sc = m_eco->scene();
+    for (int y = 1; y <= m_to_run; ++y) {
+        m_eco->run_year();
+        m_plant_years += static_cast<double>(m_eco->plants().size());
+        const StandMetrics st = m_eco->stand();
+        const bool reached = sc.target_basal_area_m2_per_ha && !m_opt.years &&
+                             st.basal_area_m2_per_ha >= *sc.target_basal_area_m2_per_ha;
+        const bool last = y == m_to_run || reached;
+        if (m_eco->years_done() % sc.snapshot_interval_years == 0 || last) {
+            const fs::path file = m_snap_dir / snapshot_file_name(m_snapshots);
+            write_snapshot(*m_eco, file, m_snapshots);
+            m_checksums.push_back(file_checksum(file));
+            ++m_snapshots;
+            write_main(*m_eco, m_work, m_prov, m_checksums);
         }
-        // Pictures before the swap: a picture folder that cannot be written leaves an earlier run
-        // in place.
-        if (opt.pictures) {
-            sum.picture_dir = opt.picture_dir.empty() ? parent / (out.stem().string() + ".pictures")
-                                                      : opt.picture_dir;
-            draw_run_pictures(*eco, sum.picture_dir);
+        report_progress(st);
+        if (reached) {
+            m_reached_target = true;
+            break;
         }
+    }
+    // Pictures before the swap: a picture folder that cannot be written leaves an earlier run in
+    // place.
+    if (m_opt.pictures) draw_run_pictures(*m_eco, m_picture_dir);
+}
+
+void RunJob::grow_and_replace() {
+    // A failed replacement removes its staging file and folder and names the user's path.
+    auto discard = [&] {
+        std::error_code ec;
+        fs::remove(m_work, ec);
+        fs::remove_all(m_snap_dir, ec);
     };
-    if (!staged) {
+    const std::string kept = ": the new run failed and the earlier run is kept: ";
+    try {
         grow();
-    } else {
-        // A failed replacement removes its staging file and folder and names the user's path.
-        auto discard = [&] {
-            fs::remove(work, ec);
-            fs::remove_all(snap_dir, ec);
-        };
-        const std::string kept = ": the new run failed and the earlier run is kept: ";
-        try {
-            grow();
-            replace_run(*eco, out, work, snap_dir, prov, checksums);
-        } catch (const IoError& e) {
-            discard();
-            throw IoError(out.string() + kept + e.what());
-        } catch (const InputError& e) {
-            discard();
-            throw InputError(out.string() + kept + e.what());
-        } catch (...) {
-            discard();
-            throw;
-        }
+        replace_run(*m_eco, m_out, m_work, m_snap_dir, m_prov, m_checksums);
+    } catch (const IoError& e) {
+        discard();
+        throw IoError(m_out.string() + kept + e.what());
+    } catch (const InputError& e) {
+        discard();
+        throw InputError(m_out.string() + kept + e.what());
+    } catch (...) {
+        discard();
+        throw;
     }
-    if (!staged && !opt.resume) {
-        // Snapshot files of an earlier run into the same path that the new run did not replace.
-        for (int k = snapshots;; ++k) {
-            const fs::path stale = snap_dir / snapshot_file_name(k);
-            if (!fs::exists(stale)) break;
-            fs::remove(stale, ec);
-        }
+}
+
+void RunJob::remove_stale_snapshots() {
+    std::error_code ec;
+    for (int k = m_snapshots;; ++k) {
+        const fs::path stale = m_snap_dir / snapshot_file_name(k);
+        if (!fs::exists(stale)) break;
+        fs::remove(stale, ec);
     }
-    sum.years_run = eco->years_done() - first_year;
-    sum.years_total = eco->years_done();
-    sum.snapshots = snapshots;
-    sum.stand = eco->stand();
-    sum.undergrowth = eco->undergrowth();
-    for (const auto& s : eco->scene().ecosystem.species) sum.species.push_back(s.name);
-    sum.plant_years = plant_years;
-    sum.water_residual_relative = std::abs(eco->hydrology().cumulative_residual_m3()) /
-                                  std::max(eco->hydrology().cumulative_throughput_m3(), 1e-300);
-    sum.carbon_residual_relative = eco->carbon_residual_relative();
-    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RunSummary RunJob::summary() {
+    RunSummary sum;
+    sum.picture_dir = m_picture_dir;
+    sum.methods = m_methods;
+    sum.reached_target = m_reached_target;
+    sum.years_run = m_eco->years_done() - m_first_year;
+    sum.years_total = m_eco->years_done();
+    sum.snapshots = m_snapshots;
+    sum.stand = m_eco->stand();
+    sum.undergrowth = m_eco->undergrowth();
+    for (const auto& s : m_eco->scene().ecosystem.species) sum.species.push_back(s.name);
+    sum.plant_years = m_plant_years;
+    sum.water_residual_relative = std::abs(m_eco->hydrology().cumulative_residual_m3()) /
+                                  std::max(m_eco->hydrology().cumulative_throughput_m3(), 1e-300);
+    sum.carbon_residual_relative = m_eco->carbon_residual_relative();
+    sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_t0).count();
     return sum;
+}
+
+RunSummary RunJob::run(const EcoScene* scene) {
+    if (!fs::is_directory(m_parent))
+        throw IoError(m_out.string() + ": the folder " + m_parent.string() + " does not exist");
+    // One writer per run: a second run or resume into the same path is refused while this one
+    // works (the kernel drops the lock if the process is killed).
+    const io::FileLock lock(m_out);
+    if (!m_opt.resume && !m_opt.replace && fs::exists(m_out))
+        throw InputError(m_out.string() + ": the file exists; give --force to replace it "
+                                          "(nothing was written)");
+    if (m_opt.resume)
+        resume(scene);
+    else
+        start(scene);
+    m_methods = scene_methods(m_eco->scene());
+    m_prov["methods"] = methods_json(m_methods);
+    m_first_year = m_eco->years_done();
+    m_to_run = m_opt.years ? *m_opt.years : m_years_total - m_first_year;
+    if (m_to_run <= 0)
+        throw InputError(m_out.string() + ": the run already has " + std::to_string(m_first_year) +
+                         " of its " + std::to_string(m_years_total) +
+                         " years; give --years N to continue");
+    prepare_output();
+    if (m_staged)
+        grow_and_replace();
+    else
+        grow();
+    if (!m_staged && !m_opt.resume) remove_stale_snapshots();
+    return summary();
+}
+
+} // namespace
+
+RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
+                         const std::function<void(const RunProgress&)>& progress) {
+    return RunJob(opt, progress).run(scene);
 }
 
 } // namespace ecoterra::run

@@ -128,179 +128,241 @@ private:
 
 } // namespace
 
-std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
-    GlbBuilder b;
-    b.j["asset"] = {{"version", "2.0"},
-                    {"generator", "ecoterra export scene"},
-                    {"extras",
-                     {{"run", s.source},
-                      {"snapshot", s.snapshot},
-                      {"year", s.year},
-                      {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},
-                      {"trees", s.trees.size()},
-                      {"grass_tufts", s.tufts.size()}}}};
-    std::vector<int> roots;
-    const int ground = b.material("ground", kGroundColour);
-    const int bark = b.material("bark", kBarkColour);
-    roots.push_back(b.node({{"name", "terrain"},
-                            {"mesh", b.mesh(terrain_mesh(s.terrain, opt.terrain_step), "terrain",
-                                            ground, {{"role", "ground"}})}}));
-    bool instancing = false;
-    auto rotation = [](double yaw) {
-        return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
-                                    static_cast<float>(std::cos(0.5 * yaw))};
-    };
-    auto position = [](const auto& t) { // a Tree or a Tuft
-        return to_gltf(
-            {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
-    };
-    // A scale in the run's axes (x, y, z) as glTF's (x, y up, z).
-    auto gscale = [](const std::array<double, 3>& e) {
-        return std::array<float, 3>{static_cast<float>(e[0]), static_cast<float>(e[2]),
-                                    static_cast<float>(e[1])};
-    };
-    struct Part {
-        int mesh;
-        std::function<std::array<double, 3>(const Tree&)> scale;
-        std::string suffix;
-    };
-    // Places `trees` with these parts: one node per tree (extras per tree), or per part one
-    // instanced node with per-instance attributes.
-    auto place = [&](const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+namespace {
+
+std::array<float, 4> yaw_rotation(double yaw) {
+    return std::array<float, 4>{0, static_cast<float>(std::sin(0.5 * yaw)), 0,
+                                static_cast<float>(std::cos(0.5 * yaw))};
+}
+template <class T> // a Tree or a Tuft
+std::array<float, 3> gltf_position(const T& t) {
+    return to_gltf(
+        {static_cast<float>(t.x_m), static_cast<float>(t.y_m), static_cast<float>(t.z_m)});
+}
+/// A scale in the run's axes (x, y, z) as glTF's (x, y up, z).
+std::array<float, 3> gltf_scale(const std::array<double, 3>& e) {
+    return std::array<float, 3>{static_cast<float>(e[0]), static_cast<float>(e[2]),
+                                static_cast<float>(e[1])};
+}
+
+/// A mesh of a tree and how it is scaled for each tree.
+struct Part {
+    int mesh;
+    std::function<std::array<double, 3>(const Tree&)> scale;
+    std::string suffix;
+};
+
+/// The .glb of a scene, built in the order of the buffer's contents: terrain, the user's meshes,
+/// the tree prototypes, the grass tufts.
+class GlbScene {
+public:
+    GlbScene(const Scene& s, const ExportOptions& opt) : m_s(s), m_opt(opt) {}
+    std::string build();
+
+private:
+    void add_terrain();
+    /// Places `trees` with these parts: one node per tree (extras per tree), or per part one
+    /// instanced node with per-instance attributes.
+    void place(const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+               const std::string& name, const json& common);
+    void place_nodes(const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+                     const json& common);
+    void place_instanced(const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+                         const std::string& name, const json& common);
+    void add_user_meshes();
+    void add_prototypes();
+    void add_tufts(int k, const std::vector<std::size_t>& tufts);
+
+    const Scene& m_s;
+    const ExportOptions& m_opt;
+    GlbBuilder m_b;
+    std::vector<int> m_roots;
+    int m_bark = 0;
+    bool m_instancing = false;
+};
+
+void GlbScene::add_terrain() {
+    const int ground = m_b.material("ground", kGroundColour);
+    m_bark = m_b.material("bark", kBarkColour);
+    m_roots.push_back(m_b.node({{"name", "terrain"},
+                                {"mesh", m_b.mesh(terrain_mesh(m_s.terrain, m_opt.terrain_step),
+                                                  "terrain", ground, {{"role", "ground"}})}}));
+}
+
+void GlbScene::place(const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
                      const std::string& name, const json& common) {
-        if (opt.gltf_nodes) {
-            for (const auto i : trees) {
-                const Tree& t = s.trees[i];
-                json children = json::array();
-                for (const auto& p : parts)
-                    children.push_back(b.node({{"mesh", p.mesh}, {"scale", gscale(p.scale(t))}}));
-                json extras = common;
-                extras.update({{"plant_id", t.id},
-                               {"species", s.species[static_cast<std::size_t>(t.species)].name},
-                               {"stage", stage_name(t.stage)},
-                               {"dbh_m", t.dbh_m},
-                               {"height_m", t.height_m},
-                               {"crown_radius_m", t.crown_radius_m}});
-                roots.push_back(b.node({{"name", "plant_" + std::to_string(t.id)},
-                                        {"translation", position(t)},
-                                        {"rotation", rotation(t.yaw_rad)},
-                                        {"children", children},
-                                        {"extras", extras}}));
-            }
-            return;
-        }
-        instancing = true;
-        std::vector<float> tr, ro, id, dbh, height, crown;
-        for (const auto i : trees) {
-            const Tree& t = s.trees[i];
-            for (float v : position(t)) tr.push_back(v);
-            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
-            id.push_back(static_cast<float>(t.id));
-            dbh.push_back(static_cast<float>(t.dbh_m));
-            height.push_back(static_cast<float>(t.height_m));
-            crown.push_back(static_cast<float>(t.crown_radius_m));
-        }
-        const int n = static_cast<int>(trees.size());
-        const int a_tr = b.accessor(tr, n, "VEC3", 0), a_ro = b.accessor(ro, n, "VEC4", 0);
-        const json meta = {{"_PLANT_ID", b.accessor(id, n, "SCALAR", 0)},
-                           {"_DBH_M", b.accessor(dbh, n, "SCALAR", 0)},
-                           {"_HEIGHT_M", b.accessor(height, n, "SCALAR", 0)},
-                           {"_CROWN_RADIUS_M", b.accessor(crown, n, "SCALAR", 0)}};
-        for (const auto& p : parts) {
-            std::vector<float> sc;
-            for (const auto i : trees)
-                for (float v : gscale(p.scale(s.trees[i]))) sc.push_back(v);
-            json attrs = meta;
-            attrs["TRANSLATION"] = a_tr;
-            attrs["ROTATION"] = a_ro;
-            attrs["SCALE"] = b.accessor(sc, n, "VEC3", 0);
-            json extras = common;
-            extras["instances"] = n;
-            extras["per_instance"] = "_PLANT_ID, _DBH_M (m), _HEIGHT_M (m), _CROWN_RADIUS_M (m)";
-            roots.push_back(
-                b.node({{"name", name + p.suffix},
-                        {"mesh", p.mesh},
-                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
-                        {"extras", extras}}));
-        }
-    };
-    for (const auto& g : user_groups(s, opt.user)) {
+    if (m_opt.gltf_nodes)
+        place_nodes(trees, parts, common);
+    else
+        place_instanced(trees, parts, name, common);
+}
+
+void GlbScene::place_nodes(const std::vector<std::size_t>& trees, const std::vector<Part>& parts,
+                           const json& common) {
+    for (const auto i : trees) {
+        const Tree& t = m_s.trees[i];
+        json children = json::array();
+        for (const auto& p : parts)
+            children.push_back(m_b.node({{"mesh", p.mesh}, {"scale", gltf_scale(p.scale(t))}}));
+        json extras = common;
+        extras.update({{"plant_id", t.id},
+                       {"species", m_s.species[static_cast<std::size_t>(t.species)].name},
+                       {"stage", stage_name(t.stage)},
+                       {"dbh_m", t.dbh_m},
+                       {"height_m", t.height_m},
+                       {"crown_radius_m", t.crown_radius_m}});
+        m_roots.push_back(m_b.node({{"name", "plant_" + std::to_string(t.id)},
+                                    {"translation", gltf_position(t)},
+                                    {"rotation", yaw_rotation(t.yaw_rad)},
+                                    {"children", children},
+                                    {"extras", extras}}));
+    }
+}
+
+void GlbScene::place_instanced(const std::vector<std::size_t>& trees,
+                               const std::vector<Part>& parts, const std::string& name,
+                               const json& common) {
+    m_instancing = true;
+    std::vector<float> tr, ro, id, dbh, height, crown;
+    for (const auto i : trees) {
+        const Tree& t = m_s.trees[i];
+        for (float v : gltf_position(t)) tr.push_back(v);
+        for (float v : yaw_rotation(t.yaw_rad)) ro.push_back(v);
+        id.push_back(static_cast<float>(t.id));
+        dbh.push_back(static_cast<float>(t.dbh_m));
+        height.push_back(static_cast<float>(t.height_m));
+        crown.push_back(static_cast<float>(t.crown_radius_m));
+    }
+    const int n = static_cast<int>(trees.size());
+    const int a_tr = m_b.accessor(tr, n, "VEC3", 0), a_ro = m_b.accessor(ro, n, "VEC4", 0);
+    const json meta = {{"_PLANT_ID", m_b.accessor(id, n, "SCALAR", 0)},
+                       {"_DBH_M", m_b.accessor(dbh, n, "SCALAR", 0)},
+                       {"_HEIGHT_M", m_b.accessor(height, n, "SCALAR", 0)},
+                       {"_CROWN_RADIUS_M", m_b.accessor(crown, n, "SCALAR", 0)}};
+    for (const auto& p : parts) {
+        std::vector<float> sc;
+        for (const auto i : trees)
+            for (float v : gltf_scale(p.scale(m_s.trees[i]))) sc.push_back(v);
+        json attrs = meta;
+        attrs["TRANSLATION"] = a_tr;
+        attrs["ROTATION"] = a_ro;
+        attrs["SCALE"] = m_b.accessor(sc, n, "VEC3", 0);
+        json extras = common;
+        extras["instances"] = n;
+        extras["per_instance"] = "_PLANT_ID, _DBH_M (m), _HEIGHT_M (m), _CROWN_RADIUS_M (m)";
+        m_roots.push_back(
+            m_b.node({{"name", name + p.suffix},
+                      {"mesh", p.mesh},
+                      {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
+                      {"extras", extras}}));
+    }
+}
+
+void GlbScene::add_user_meshes() {
+    for (const auto& g : user_groups(m_s, m_opt.user)) {
         const UserMesh& u = *g.mesh;
-        const SpeciesLook& sp = s.species[static_cast<std::size_t>(s.trees[g.trees[0]].species)];
-        const int mat = b.material(u.name, crown_colour(sp, s.trees[g.trees[0]].species));
+        const int k = m_s.trees[g.trees[0]].species;
+        const SpeciesLook& sp = m_s.species[static_cast<std::size_t>(k)];
+        const int mat = m_b.material(u.name, crown_colour(sp, k));
         const json extras = {{"role", "user mesh " + u.obj.filename().string() +
                                           ", scaled uniformly by height / " +
                                           std::to_string(u.height_m) + " m"}};
-        const int mesh = b.mesh(u.mesh, u.name, mat, extras);
+        const int mesh = m_b.mesh(u.mesh, u.name, mat, extras);
         const double h = u.height_m;
         place(g.trees,
               {{mesh,
                 [h](const Tree& t) {
-                    const double k = std::max(t.height_m, 1e-3) / h;
-                    return std::array<double, 3>{k, k, k};
+                    const double s = std::max(t.height_m, 1e-3) / h;
+                    return std::array<double, 3>{s, s, s};
                 },
                 "_trees"}},
               u.name, extras);
     }
+}
+
+void GlbScene::add_prototypes() {
     const Mesh trunk = unit_trunk();
-    for (const auto& proto : prototypes(s, opt.user)) {
-        const SpeciesLook& sp = s.species[static_cast<std::size_t>(proto.species)];
+    for (const auto& proto : prototypes(m_s, m_opt.user)) {
+        const SpeciesLook& sp = m_s.species[static_cast<std::size_t>(proto.species)];
         const int leaves =
-            b.material(file_safe(sp.name) + "_crown", crown_colour(sp, proto.species));
+            m_b.material(file_safe(sp.name) + "_crown", crown_colour(sp, proto.species));
         const json common = {{"species", sp.name}, {"stage", stage_name(proto.stage)}};
         json te = common, ce = common;
         te["role"] = "trunk: solid (collision, override)";
         ce["role"] = "crown: visual only (seen by cameras and lidar, passable)";
-        const int trunk_mesh = b.mesh(trunk, proto.name + "_trunk", bark, te);
+        const int trunk_mesh = m_b.mesh(trunk, proto.name + "_trunk", m_bark, te);
         const int crown_mesh =
-            b.mesh(unit_crown(sp.crown_shape, proto.stage), proto.name + "_crown", leaves, ce);
+            m_b.mesh(unit_crown(sp.crown_shape, proto.stage), proto.name + "_crown", leaves, ce);
         place(proto.trees,
               {{trunk_mesh, [](const Tree& t) { return trunk_scale(t); }, "_trunks"},
                {crown_mesh, [](const Tree& t) { return crown_scale(t); }, "_crowns"}},
               proto.name, common);
     }
-    // The ground layer: one tuft mesh per grass species, instanced (or a node per tuft).
-    for (const auto& [k, tufts] : tuft_groups(s)) {
-        const SpeciesLook& sp = s.species[static_cast<std::size_t>(k)];
-        const std::string name = tuft_mesh_name(s, k);
-        const json extras = {{"species", sp.name},
-                             {"role", "grass tufts: visual only (the ground layer's cover, "
-                                      "passable)"},
-                             {"tufts", tufts.size()}};
-        const int mesh = b.mesh(unit_trunk(), name, b.material(name, crown_colour(sp, k)), extras);
-        if (opt.gltf_nodes) {
-            for (const auto i : tufts)
-                roots.push_back(b.node({{"mesh", mesh},
-                                        {"translation", position(s.tufts[i])},
-                                        {"rotation", rotation(s.tufts[i].yaw_rad)},
-                                        {"scale", gscale(tuft_scale(s.tufts[i]))}}));
-            continue;
-        }
-        instancing = true;
-        std::vector<float> tr, ro, sc;
-        for (const auto i : tufts) {
-            const Tuft& t = s.tufts[i];
-            for (float v : position(t)) tr.push_back(v);
-            for (float v : rotation(t.yaw_rad)) ro.push_back(v);
-            for (float v : gscale(tuft_scale(t))) sc.push_back(v);
-        }
-        const int n = static_cast<int>(tufts.size());
-        const json attrs = {{"TRANSLATION", b.accessor(tr, n, "VEC3", 0)},
-                            {"ROTATION", b.accessor(ro, n, "VEC4", 0)},
-                            {"SCALE", b.accessor(sc, n, "VEC3", 0)}};
-        roots.push_back(
-            b.node({{"name", name},
-                    {"mesh", mesh},
-                    {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
-                    {"extras", extras}}));
+}
+
+void GlbScene::add_tufts(int k, const std::vector<std::size_t>& tufts) {
+    // One tuft mesh per grass species, instanced (or a node per tuft).
+    const SpeciesLook& sp = m_s.species[static_cast<std::size_t>(k)];
+    const std::string name = tuft_mesh_name(m_s, k);
+    const json extras = {{"species", sp.name},
+                         {"role", "grass tufts: visual only (the ground layer's cover, passable)"},
+                         {"tufts", tufts.size()}};
+    const int mesh = m_b.mesh(unit_trunk(), name, m_b.material(name, crown_colour(sp, k)), extras);
+    if (m_opt.gltf_nodes) {
+        for (const auto i : tufts)
+            m_roots.push_back(m_b.node({{"mesh", mesh},
+                                        {"translation", gltf_position(m_s.tufts[i])},
+                                        {"rotation", yaw_rotation(m_s.tufts[i].yaw_rad)},
+                                        {"scale", gltf_scale(tuft_scale(m_s.tufts[i]))}}));
+        return;
     }
-    if (instancing) {
-        b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
-        b.j["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+    m_instancing = true;
+    std::vector<float> tr, ro, sc;
+    for (const auto i : tufts) {
+        const Tuft& t = m_s.tufts[i];
+        for (float v : gltf_position(t)) tr.push_back(v);
+        for (float v : yaw_rotation(t.yaw_rad)) ro.push_back(v);
+        for (float v : gltf_scale(tuft_scale(t))) sc.push_back(v);
     }
-    b.j["scenes"] = {{{"name", "ecoterra"}, {"nodes", roots}}};
-    b.j["scene"] = 0;
-    return b.finish();
+    const int n = static_cast<int>(tufts.size());
+    const json attrs = {{"TRANSLATION", m_b.accessor(tr, n, "VEC3", 0)},
+                        {"ROTATION", m_b.accessor(ro, n, "VEC4", 0)},
+                        {"SCALE", m_b.accessor(sc, n, "VEC3", 0)}};
+    m_roots.push_back(
+        m_b.node({{"name", name},
+                  {"mesh", mesh},
+                  {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}},
+                  {"extras", extras}}));
+}
+
+std::string GlbScene::build() {
+    m_b.j["asset"] = {
+        {"version", "2.0"},
+        {"generator", "ecoterra export scene"},
+        {"extras",
+         {{"run", m_s.source},
+          {"snapshot", m_s.snapshot},
+          {"year", m_s.year},
+          {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},
+          {"trees", m_s.trees.size()},
+          {"grass_tufts", m_s.tufts.size()}}}};
+    add_terrain();
+    add_user_meshes();
+    add_prototypes();
+    for (const auto& [k, tufts] : tuft_groups(m_s)) add_tufts(k, tufts);
+    if (m_instancing) {
+        m_b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+        m_b.j["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+    }
+    m_b.j["scenes"] = {{{"name", "ecoterra"}, {"nodes", m_roots}}};
+    m_b.j["scene"] = 0;
+    return m_b.finish();
+}
+
+} // namespace
+
+std::string glb_bytes(const Scene& s, const ExportOptions& opt) {
+    return GlbScene(s, opt).build();
 }
 
 } // namespace ecoterra::exporter

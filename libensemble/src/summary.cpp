@@ -308,9 +308,10 @@ void draw_pictures(const Manifest& m, const std::vector<Row>& rows, const fs::pa
 
 } // namespace
 
-SummaryReport write_summary(const fs::path& out, const Manifest& m) {
-    SummaryReport rep;
-    rep.members = m.members();
+namespace {
+
+/// The records of the finished members (the missing and failed ones counted in `rep`).
+std::vector<Row> read_rows(const fs::path& out, const Manifest& m, SummaryReport& rep) {
     std::vector<Row> rows;
     for (std::size_t i = 0; i < m.members(); ++i) {
         auto r = read_member_record(out, m, i);
@@ -338,14 +339,22 @@ SummaryReport write_summary(const fs::path& out, const Manifest& m) {
     }
     rep.failed = rep.failed_members.size();
     rep.missing = rep.missing_members.size();
+    return rows;
+}
 
-    // Metric columns in the order they first appear.
+/// Metric columns in the order they first appear.
+std::vector<std::string> metric_names(const std::vector<Row>& rows) {
     std::vector<std::string> metrics;
     std::set<std::string> seen;
     for (const auto& r : rows)
         for (auto it = r.record["metrics"].begin(); it != r.record["metrics"].end(); ++it)
             if (seen.insert(it.key()).second) metrics.push_back(it.key());
+    return metrics;
+}
 
+/// One row per finished member: its axes, metrics and timing.
+Columns members_table(const Manifest& m, const std::vector<Row>& rows,
+                      const std::vector<std::string>& metrics) {
     Columns mt;
     using C = Columns;
     const auto c_member = mt.add("member", C::integer), c_comb = mt.add("combination", C::integer),
@@ -372,96 +381,132 @@ SummaryReport write_summary(const fs::path& out, const Manifest& m) {
         mt.strings[c_host].push_back(r.timing.value("host", ""));
         mt.strings[c_err].push_back(r.record.value("error", ""));
     }
+    return mt;
+}
 
-    // Aggregates per combination.
-    Columns ag;
-    const auto a_comb = ag.add("combination", C::integer);
-    std::vector<std::size_t> a_axes;
-    for (const auto& a : m.axes) a_axes.push_back(ag.add(a.key, C::text));
-    const auto a_members = ag.add("members", C::integer), a_ok = ag.add("ok", C::integer),
-               a_failed = ag.add("failed", C::integer);
+/// The aggregate table (one row per combination: statistics of each metric over its ok members
+/// and, for run bases, the fit of the mean histogram) and the mean histograms.
+class Aggregates {
+public:
+    Aggregates(const Manifest& m, const std::vector<std::string>& metrics, bool histograms);
+    /// Adds combination `c` of the members `sel`.
+    void add(std::size_t c, const std::vector<const Row*>& sel);
+    Columns ag, hg;
+
+private:
+    void add_histogram(std::size_t c, const Member& first, const std::vector<const Row*>& good);
+    const Manifest& m_m;
+    const std::vector<std::string>& m_metrics;
+    bool m_histograms;
+    std::size_t a_comb, a_members, a_ok, a_failed, a_fit_q = 0, a_fit_r2 = 0;
+    std::vector<std::size_t> a_axes, h_axes;
     std::vector<std::array<std::size_t, 5>> a_metrics;
+    std::size_t h_comb, h_lo, h_hi, h_mean, h_sd;
+};
+
+Aggregates::Aggregates(const Manifest& m, const std::vector<std::string>& metrics, bool histograms)
+    : m_m(m), m_metrics(metrics), m_histograms(histograms) {
+    using C = Columns;
+    a_comb = ag.add("combination", C::integer);
+    for (const auto& a : m.axes) a_axes.push_back(ag.add(a.key, C::text));
+    a_members = ag.add("members", C::integer);
+    a_ok = ag.add("ok", C::integer);
+    a_failed = ag.add("failed", C::integer);
     for (const auto& k : metrics)
         a_metrics.push_back({ag.add(k + ".mean", C::number), ag.add(k + ".sd", C::number),
                              ag.add(k + ".p10", C::number), ag.add(k + ".p50", C::number),
                              ag.add(k + ".p90", C::number)});
-    const bool histograms = m.kind == BaseKind::run;
-    std::size_t a_fit_q = 0, a_fit_r2 = 0;
     if (histograms) {
         a_fit_q = ag.add("histogram.fit_q_per_class", C::number);
         a_fit_r2 = ag.add("histogram.fit_r2", C::number);
     }
-    Columns hg;
-    const auto h_comb = hg.add("combination", C::integer);
-    std::vector<std::size_t> h_axes;
+    h_comb = hg.add("combination", C::integer);
     for (const auto& a : m.axes) h_axes.push_back(hg.add(a.key, C::text));
-    const auto h_lo = hg.add("class_lower_cm", C::number),
-               h_hi = hg.add("class_upper_cm", C::number),
-               h_mean = hg.add("mean_stems_per_ha", C::number),
-               h_sd = hg.add("sd_stems_per_ha", C::number);
+    h_lo = hg.add("class_lower_cm", C::number);
+    h_hi = hg.add("class_upper_cm", C::number);
+    h_mean = hg.add("mean_stems_per_ha", C::number);
+    h_sd = hg.add("sd_stems_per_ha", C::number);
+}
 
-    std::map<std::size_t, std::vector<const Row*>> by_comb;
-    for (const auto& r : rows) by_comb[r.record.value("combination", std::size_t{0})].push_back(&r);
-    for (std::size_t c = 0; c < m.combinations(); ++c) {
-        const auto& sel = by_comb[c];
-        const Member first = make_member(m, c * static_cast<std::size_t>(m.replicates));
-        std::vector<const Row*> good;
-        for (const Row* r : sel)
-            if (r->ok) good.push_back(r);
-        ag.integers[a_comb].push_back(static_cast<std::int64_t>(c));
-        for (std::size_t k = 0; k < m.axes.size(); ++k)
-            ag.strings[a_axes[k]].push_back(value_text(first.axes[k].second));
-        ag.integers[a_members].push_back(m.replicates);
-        ag.integers[a_ok].push_back(static_cast<std::int64_t>(good.size()));
-        ag.integers[a_failed].push_back(static_cast<std::int64_t>(sel.size() - good.size()));
-        for (std::size_t k = 0; k < metrics.size(); ++k) {
-            std::vector<double> v;
-            for (const Row* r : good) v.push_back(metric(r->record, metrics[k]));
-            const Stats s = stats(v);
-            const double vals[5] = {s.mean, s.sd, s.p10, s.p50, s.p90};
-            for (int q = 0; q < 5; ++q) ag.numbers[a_metrics[k][q]].push_back(vals[q]);
-        }
-        if (histograms) {
-            double width = 5;
-            const auto [mean, sd] = mean_histogram(good, width);
-            const Fit f = fit_histogram(mean, width);
-            ag.numbers[a_fit_q].push_back(f.valid ? f.q : NAN);
-            ag.numbers[a_fit_r2].push_back(f.valid ? f.r2 : NAN);
-            for (std::size_t i = 0; i < mean.size(); ++i) {
-                hg.integers[h_comb].push_back(static_cast<std::int64_t>(c));
-                for (std::size_t k = 0; k < m.axes.size(); ++k)
-                    hg.strings[h_axes[k]].push_back(value_text(first.axes[k].second));
-                hg.numbers[h_lo].push_back(static_cast<double>(i) * width);
-                hg.numbers[h_hi].push_back(static_cast<double>(i + 1) * width);
-                hg.numbers[h_mean].push_back(mean[i]);
-                hg.numbers[h_sd].push_back(sd[i]);
-            }
-        }
+void Aggregates::add(std::size_t c, const std::vector<const Row*>& sel) {
+    const Member first = make_member(m_m, c * static_cast<std::size_t>(m_m.replicates));
+    std::vector<const Row*> good;
+    for (const Row* r : sel)
+        if (r->ok) good.push_back(r);
+    ag.integers[a_comb].push_back(static_cast<std::int64_t>(c));
+    for (std::size_t k = 0; k < m_m.axes.size(); ++k)
+        ag.strings[a_axes[k]].push_back(value_text(first.axes[k].second));
+    ag.integers[a_members].push_back(m_m.replicates);
+    ag.integers[a_ok].push_back(static_cast<std::int64_t>(good.size()));
+    ag.integers[a_failed].push_back(static_cast<std::int64_t>(sel.size() - good.size()));
+    for (std::size_t k = 0; k < m_metrics.size(); ++k) {
+        std::vector<double> v;
+        for (const Row* r : good) v.push_back(metric(r->record, m_metrics[k]));
+        const Stats s = stats(v);
+        const double vals[5] = {s.mean, s.sd, s.p10, s.p50, s.p90};
+        for (int q = 0; q < 5; ++q) ag.numbers[a_metrics[k][q]].push_back(vals[q]);
     }
+    if (m_histograms) add_histogram(c, first, good);
+}
 
-    const fs::path dir = out / "summary";
+void Aggregates::add_histogram(std::size_t c, const Member& first,
+                               const std::vector<const Row*>& good) {
+    double width = 5;
+    const auto [mean, sd] = mean_histogram(good, width);
+    const Fit f = fit_histogram(mean, width);
+    ag.numbers[a_fit_q].push_back(f.valid ? f.q : NAN);
+    ag.numbers[a_fit_r2].push_back(f.valid ? f.r2 : NAN);
+    for (std::size_t i = 0; i < mean.size(); ++i) {
+        hg.integers[h_comb].push_back(static_cast<std::int64_t>(c));
+        for (std::size_t k = 0; k < m_m.axes.size(); ++k)
+            hg.strings[h_axes[k]].push_back(value_text(first.axes[k].second));
+        hg.numbers[h_lo].push_back(static_cast<double>(i) * width);
+        hg.numbers[h_hi].push_back(static_cast<double>(i + 1) * width);
+        hg.numbers[h_mean].push_back(mean[i]);
+        hg.numbers[h_sd].push_back(sd[i]);
+    }
+}
+
+/// The tables as CSV and in summary.h5; the files are added to `rep`.
+void write_tables(const fs::path& dir, const Manifest& m, const Columns& mt, const Aggregates& a,
+                  bool histograms, SummaryReport& rep) {
     io::create_folder(dir, "the summary folder");
     io::write_text_atomic(dir / "members.csv", mt.csv());
-    io::write_text_atomic(dir / "aggregate.csv", ag.csv());
+    io::write_text_atomic(dir / "aggregate.csv", a.ag.csv());
     rep.files = {dir / "members.csv", dir / "aggregate.csv"};
     if (histograms) {
-        io::write_text_atomic(dir / "histograms.csv", hg.csv());
+        io::write_text_atomic(dir / "histograms.csv", a.hg.csv());
         rep.files.push_back(dir / "histograms.csv");
     }
-    {
-        io::Hdf5Writer w(dir / "summary.h5");
-        w.attribute("/", "ensemble", m.name);
-        w.attribute("/", "description", m.description);
-        w.integer_attribute("/", "members", static_cast<std::int64_t>(m.members()));
-        w.integer_attribute("/", "ok", static_cast<std::int64_t>(rep.ok));
-        w.integer_attribute("/", "failed", static_cast<std::int64_t>(rep.failed));
-        w.integer_attribute("/", "missing", static_cast<std::int64_t>(rep.missing));
-        mt.hdf5(w, "/members", "one row per finished member");
-        ag.hdf5(w, "/aggregate", "one row per combination of axis values");
-        if (histograms) hg.hdf5(w, "/histograms", "mean diameter histogram per combination");
-        w.commit();
-        rep.files.push_back(dir / "summary.h5");
-    }
+    io::Hdf5Writer w(dir / "summary.h5");
+    w.attribute("/", "ensemble", m.name);
+    w.attribute("/", "description", m.description);
+    w.integer_attribute("/", "members", static_cast<std::int64_t>(m.members()));
+    w.integer_attribute("/", "ok", static_cast<std::int64_t>(rep.ok));
+    w.integer_attribute("/", "failed", static_cast<std::int64_t>(rep.failed));
+    w.integer_attribute("/", "missing", static_cast<std::int64_t>(rep.missing));
+    mt.hdf5(w, "/members", "one row per finished member");
+    a.ag.hdf5(w, "/aggregate", "one row per combination of axis values");
+    if (histograms) a.hg.hdf5(w, "/histograms", "mean diameter histogram per combination");
+    w.commit();
+    rep.files.push_back(dir / "summary.h5");
+}
+
+} // namespace
+
+SummaryReport write_summary(const fs::path& out, const Manifest& m) {
+    SummaryReport rep;
+    rep.members = m.members();
+    const std::vector<Row> rows = read_rows(out, m, rep);
+    const std::vector<std::string> metrics = metric_names(rows);
+    const Columns mt = members_table(m, rows, metrics);
+    const bool histograms = m.kind == BaseKind::run;
+    Aggregates a(m, metrics, histograms);
+    std::map<std::size_t, std::vector<const Row*>> by_comb;
+    for (const auto& r : rows) by_comb[r.record.value("combination", std::size_t{0})].push_back(&r);
+    for (std::size_t c = 0; c < m.combinations(); ++c) a.add(c, by_comb[c]);
+    const fs::path dir = out / "summary";
+    write_tables(dir, m, mt, a, histograms, rep);
     draw_pictures(m, rows, dir, rep);
     return rep;
 }

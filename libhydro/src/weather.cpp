@@ -259,12 +259,17 @@ std::vector<std::string> split_csv(const std::string& line) {
 
 } // namespace
 
-WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, double elev) {
-    const std::string where = path.string();
-    std::istringstream in(io::read_text(path));
-    std::string line;
-    if (!std::getline(in, line)) throw InputError(where + ": empty file");
-    const auto header = split_csv(line);
+namespace {
+
+/// A row of an observed-weather CSV: its day and its values (nullopt where missing).
+struct RawDay {
+    int year = 0, doy = 0, line = 0;
+    std::map<std::string, std::optional<double>> v;
+};
+
+/// The columns of the header by name; InputError for an unknown or a missing one.
+std::map<std::string, std::size_t> weather_columns(const std::vector<std::string>& header,
+                                                   const std::string& where) {
     const std::vector<std::string> known = {
         "date",       "tmin_c",      "tmax_c", "rain_mm",    "rh_min_pct",
         "rh_max_pct", "rh_mean_pct", "tdew_c", "u2_m_per_s", "rs_mj_per_m2_day"};
@@ -277,50 +282,44 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
     for (const char* req : {"date", "tmin_c", "tmax_c", "rain_mm"})
         if (!col.count(req))
             throw InputError(where + ": missing column '" + std::string(req) + "'");
-    WeatherSeries ws;
-    ws.source = where;
-    ws.latitude_deg = lat;
-    ws.elevation_m = elev;
-    struct Raw {
-        int year, doy, line;
-        std::map<std::string, std::optional<double>> v;
-    };
-    std::vector<Raw> rows;
-    int lineno = 1;
-    while (std::getline(in, line)) {
-        ++lineno;
-        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-        const auto f = split_csv(line);
-        const std::string at = where + " line " + std::to_string(lineno);
-        if (f.size() != header.size())
-            throw InputError(at + ": " + std::to_string(f.size()) + " fields, header has " +
-                             std::to_string(header.size()));
-        Raw r{};
-        r.line = lineno;
-        std::tie(r.year, r.doy) = parse_date(f[col["date"]], at);
-        for (const auto& [name, k] : col) {
-            if (name == "date") continue;
-            const std::string& s = f[k];
-            if (s.empty() || s == "NA" || s == "NaN" || s == "nan") {
-                r.v[name] = std::nullopt;
-                continue;
-            }
-            try {
-                std::size_t used = 0;
-                r.v[name] = std::stod(s, &used);
-                if (used != s.size()) throw std::invalid_argument(s);
-            } catch (const std::exception&) {
-                throw InputError(at + ": " + name + " is not a number: '" + s + "'");
-            }
-            if (!std::isfinite(*r.v[name]))
-                throw InputError(at + ": " + name + " is not a finite number: '" + s + "'");
+    return col;
+}
+
+/// One data line: its date and values ("", NA and NaN are missing), named by line and column.
+RawDay parse_weather_line(const std::vector<std::string>& f,
+                          const std::map<std::string, std::size_t>& col, std::size_t fields,
+                          int lineno, const std::string& where) {
+    const std::string at = where + " line " + std::to_string(lineno);
+    if (f.size() != fields)
+        throw InputError(at + ": " + std::to_string(f.size()) + " fields, header has " +
+                         std::to_string(fields));
+    RawDay r{};
+    r.line = lineno;
+    std::tie(r.year, r.doy) = parse_date(f[col.at("date")], at);
+    for (const auto& [name, k] : col) {
+        if (name == "date") continue;
+        const std::string& s = f[k];
+        if (s.empty() || s == "NA" || s == "NaN" || s == "nan") {
+            r.v[name] = std::nullopt;
+            continue;
         }
-        rows.push_back(std::move(r));
+        try {
+            std::size_t used = 0;
+            r.v[name] = std::stod(s, &used);
+            if (used != s.size()) throw std::invalid_argument(s);
+        } catch (const std::exception&) {
+            throw InputError(at + ": " + name + " is not a number: '" + s + "'");
+        }
+        if (!std::isfinite(*r.v[name]))
+            throw InputError(at + ": " + name + " is not a finite number: '" + s + "'");
     }
-    if (rows.empty()) throw InputError(where + ": no data rows");
-    // One row per day, in order, none missing: a model year is a calendar year.
+    return r;
+}
+
+/// One row per day, in order, none missing: a model year is a calendar year.
+void check_consecutive(const std::vector<RawDay>& rows, const std::string& where) {
     for (std::size_t k = 1; k < rows.size(); ++k) {
-        const Raw &a = rows[k - 1], &b = rows[k];
+        const RawDay &a = rows[k - 1], &b = rows[k];
         const bool next =
             (b.year == a.year && b.doy == a.doy + 1) ||
             (b.year == a.year + 1 && b.doy == 1 && a.doy == days_in_calendar_year(a.year));
@@ -336,12 +335,15 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
         throw InputError(at + "days must follow one another; " + iso_date(next_year, next_doy) +
                          " is missing (give it a row with empty fields to have it filled)");
     }
-    // Temperatures: linear interpolation between the nearest observed days.
+}
+
+/// Temperatures: linear interpolation between the nearest observed days.
+void interpolate_temperatures(std::vector<RawDay>& rows, WeatherSeries& ws) {
     for (const char* t : {"tmin_c", "tmax_c"}) {
         std::vector<int> have;
         for (int k = 0; k < static_cast<int>(rows.size()); ++k)
             if (rows[k].v[t]) have.push_back(k);
-        if (have.empty()) throw InputError(where + ": column " + t + " has no value at all");
+        if (have.empty()) throw InputError(ws.source + ": column " + t + " has no value at all");
         for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
             if (rows[k].v[t]) continue;
             auto hi = std::lower_bound(have.begin(), have.end(), k);
@@ -358,57 +360,91 @@ WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, do
             ++ws.filled[std::string(t) + ": interpolated"];
         }
     }
-    for (auto& r : rows) {
-        DayWeather d;
-        d.year = r.year;
-        d.doy = r.doy;
-        d.tmin_c = *r.v["tmin_c"];
-        d.tmax_c = *r.v["tmax_c"];
-        if (d.tmax_c < d.tmin_c)
-            throw InputError(where + ": tmax below tmin on " + std::to_string(r.year) + " day " +
-                             std::to_string(r.doy));
-        if (r.v["rain_mm"]) {
-            d.rain_mm = *r.v["rain_mm"];
-            if (d.rain_mm < 0)
-                throw InputError(where + ": negative rain on day " + std::to_string(r.doy));
-        } else {
-            d.rain_mm = 0;
-            ++ws.filled["rain_mm: missing, taken as 0"];
-        }
-        auto get = [&](const char* k) { return r.v.count(k) ? r.v[k] : std::nullopt; };
-        if (auto td = get("tdew_c"))
-            d.tdew_c = *td;
-        else if (get("rh_min_pct") && get("rh_max_pct")) {
-            const double ea = (et::svp_water_kpa(d.tmin_c) * *get("rh_max_pct") +
-                               et::svp_water_kpa(d.tmax_c) * *get("rh_min_pct")) /
-                              200.0;
-            // Invert improved Magnus for the dew point.
-            const double x = std::log(ea / 0.61094);
-            d.tdew_c = 243.04 * x / (17.625 - x);
-        } else if (auto rh = get("rh_mean_pct")) {
-            const double es = 0.5 * (et::svp_water_kpa(d.tmin_c) + et::svp_water_kpa(d.tmax_c));
-            const double x = std::log(*rh / 100.0 * es / 0.61094);
-            d.tdew_c = 243.04 * x / (17.625 - x);
-        } else {
-            d.tdew_c = d.tmin_c;
-            ++ws.filled["humidity: Tdew = Tmin (FAO-56)"];
-        }
-        if (auto u = get("u2_m_per_s"))
-            d.u2_m_per_s = *u;
-        else {
-            d.u2_m_per_s = kDefaultWindMPerS;
-            ++ws.filled["u2: 2 m/s (FAO-56)"];
-        }
-        const double ra =
-            et::extraterrestrial_radiation_daily(lat * std::numbers::pi / 180.0, d.doy);
-        if (auto rs = get("rs_mj_per_m2_day"))
-            d.rs_mj = *rs;
-        else {
-            d.rs_mj = et::solar_from_temperature(d.tmax_c, d.tmin_c, ra, kHargreavesKrs);
-            ++ws.filled["rs: Hargreaves 0.16 sqrt(Tmax - Tmin) Ra (FAO-56 eq. 50)"];
-        }
-        ws.days.push_back(d);
+}
+
+/// The dew point of a day: observed, from the humidity extremes or mean, or Tmin (FAO-56).
+void fill_dew_point(RawDay& r, DayWeather& d, WeatherSeries& ws) {
+    auto get = [&](const char* k) { return r.v.count(k) ? r.v[k] : std::nullopt; };
+    if (auto td = get("tdew_c"))
+        d.tdew_c = *td;
+    else if (get("rh_min_pct") && get("rh_max_pct")) {
+        const double ea = (et::svp_water_kpa(d.tmin_c) * *get("rh_max_pct") +
+                           et::svp_water_kpa(d.tmax_c) * *get("rh_min_pct")) /
+                          200.0;
+        // Invert improved Magnus for the dew point.
+        const double x = std::log(ea / 0.61094);
+        d.tdew_c = 243.04 * x / (17.625 - x);
+    } else if (auto rh = get("rh_mean_pct")) {
+        const double es = 0.5 * (et::svp_water_kpa(d.tmin_c) + et::svp_water_kpa(d.tmax_c));
+        const double x = std::log(*rh / 100.0 * es / 0.61094);
+        d.tdew_c = 243.04 * x / (17.625 - x);
+    } else {
+        d.tdew_c = d.tmin_c;
+        ++ws.filled["humidity: Tdew = Tmin (FAO-56)"];
     }
+}
+
+/// A day with every value, the missing ones filled as FAO-56 recommends (counted in ws.filled).
+DayWeather observed_day(RawDay& r, double lat, WeatherSeries& ws) {
+    const std::string& where = ws.source;
+    DayWeather d;
+    d.year = r.year;
+    d.doy = r.doy;
+    d.tmin_c = *r.v["tmin_c"];
+    d.tmax_c = *r.v["tmax_c"];
+    if (d.tmax_c < d.tmin_c)
+        throw InputError(where + ": tmax below tmin on " + std::to_string(r.year) + " day " +
+                         std::to_string(r.doy));
+    if (r.v["rain_mm"]) {
+        d.rain_mm = *r.v["rain_mm"];
+        if (d.rain_mm < 0)
+            throw InputError(where + ": negative rain on day " + std::to_string(r.doy));
+    } else {
+        d.rain_mm = 0;
+        ++ws.filled["rain_mm: missing, taken as 0"];
+    }
+    fill_dew_point(r, d, ws);
+    auto get = [&](const char* k) { return r.v.count(k) ? r.v[k] : std::nullopt; };
+    if (auto u = get("u2_m_per_s"))
+        d.u2_m_per_s = *u;
+    else {
+        d.u2_m_per_s = kDefaultWindMPerS;
+        ++ws.filled["u2: 2 m/s (FAO-56)"];
+    }
+    const double ra = et::extraterrestrial_radiation_daily(lat * std::numbers::pi / 180.0, d.doy);
+    if (auto rs = get("rs_mj_per_m2_day"))
+        d.rs_mj = *rs;
+    else {
+        d.rs_mj = et::solar_from_temperature(d.tmax_c, d.tmin_c, ra, kHargreavesKrs);
+        ++ws.filled["rs: Hargreaves 0.16 sqrt(Tmax - Tmin) Ra (FAO-56 eq. 50)"];
+    }
+    return d;
+}
+
+} // namespace
+
+WeatherSeries read_weather_csv(const std::filesystem::path& path, double lat, double elev) {
+    const std::string where = path.string();
+    std::istringstream in(io::read_text(path));
+    std::string line;
+    if (!std::getline(in, line)) throw InputError(where + ": empty file");
+    const auto header = split_csv(line);
+    const auto col = weather_columns(header, where);
+    WeatherSeries ws;
+    ws.source = where;
+    ws.latitude_deg = lat;
+    ws.elevation_m = elev;
+    std::vector<RawDay> rows;
+    int lineno = 1;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        rows.push_back(parse_weather_line(split_csv(line), col, header.size(), lineno, where));
+    }
+    if (rows.empty()) throw InputError(where + ": no data rows");
+    check_consecutive(rows, where);
+    interpolate_temperatures(rows, ws);
+    for (auto& r : rows) ws.days.push_back(observed_day(r, lat, ws));
     return ws;
 }
 

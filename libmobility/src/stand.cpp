@@ -68,19 +68,12 @@ std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
     return out;
 }
 
-StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
-                            const RasterD& dem, const StandLinesOptions& opt) {
-    if (opt.lines < 1) throw InputError("--lines must be >= 1, got " + std::to_string(opt.lines));
-    if (!(opt.length_m > 0))
-        throw InputError("--length must be > 0 m, got " + format_number(opt.length_m));
-    const GridSpec& g = dem.grid();
-    const double c = g.cell_size_m; // lines keep a cell from the edge (bilinear elevations)
-    const std::array<double, 4> bounds{g.origin_x_m + c, g.origin_y_m + c,
-                                       g.origin_x_m + g.width_m() - c,
-                                       g.origin_y_m + g.height_m() - c};
-    StandMobility m;
-    m.area_ha = g.width_m() * g.height_m() / kM2PerHa;
-    m.critical_diameter_m = critical_diameter_m(v.weight_n(), v.push_height_m);
+namespace {
+
+/// The stems as the vehicle meets them (a tree's or shrub's diameter at the push height, an
+/// object's footprint); counts the trees, shrubs and objects and the basal area into `m`.
+std::vector<Stem> stems_at_push_height(const Vehicle& v, const std::vector<StandStem>& stems,
+                                       const GridSpec& g, StandMobility& m) {
     std::vector<Stem> pushable;
     double basal_m2 = 0;
     std::int64_t inside = 0;
@@ -120,9 +113,13 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
                          format_number(g.origin_y_m) + ", " +
                          format_number(g.origin_y_m + g.height_m()) + "] m");
     m.basal_area_m2_per_ha = basal_m2 / m.area_ha;
-    const StemIndex index(pushable, std::max(v.width_m, 1.0));
-    m.stems = std::move(pushable);
-    // A vehicle stands at a line's end: clear of every stem it cannot override.
+    return pushable;
+}
+
+/// The lines, drawn from the seed; random lines are drawn again while an end is not clear of the
+/// stems the vehicle cannot override (a vehicle stands there).
+void draw_lines(const Vehicle& v, const StemIndex& index, const std::array<double, 4>& bounds,
+                const StandLinesOptions& opt, StandMobility& m) {
     auto clear = [&](Point p) {
         bool ok = true;
         const double reach = 0.5 * v.width_m + 0.5 * kMaxObstacleDiameter_m;
@@ -135,7 +132,6 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
             });
         return ok;
     };
-    // The lines, drawn from the seed; random lines are drawn again while an end is not clear.
     const double w = bounds[2] - bounds[0], h = bounds[3] - bounds[1];
     m.lines.resize(static_cast<std::size_t>(opt.lines));
     if (opt.layout == LineLayout::transects) {
@@ -148,34 +144,36 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
             m.lines[static_cast<std::size_t>(k)].a = {x, y};
             m.lines[static_cast<std::size_t>(k)].b = {x + opt.length_m, y};
         }
-    } else {
-        Rng rng(opt.seed, "mobility.lines");
-        for (auto& l : m.lines) {
-            int draws = 0;
-            for (;; ++draws) {
-                if (draws == kMaxDraws)
-                    throw InputError(
-                        "lines of " + format_number(opt.length_m) +
-                        " m with both ends clear of stems do not fit in the terrain (" +
-                        format_number(w) + " x " + format_number(h) +
-                        " m inside a cell of the edge)");
-                const double x = bounds[0] + rng.uniform() * w, y = bounds[1] + rng.uniform() * h;
-                const double t = 2 * std::numbers::pi * rng.uniform();
-                const Point b{x + opt.length_m * std::cos(t), y + opt.length_m * std::sin(t)};
-                if (b.x_m >= bounds[0] && b.x_m <= bounds[2] && b.y_m >= bounds[1] &&
-                    b.y_m <= bounds[3] && clear({x, y}) && clear(b)) {
-                    l.a = {x, y};
-                    l.b = b;
-                    break;
-                }
+        return;
+    }
+    Rng rng(opt.seed, "mobility.lines");
+    for (auto& l : m.lines) {
+        for (int draws = 0;; ++draws) {
+            if (draws == kMaxDraws)
+                throw InputError("lines of " + format_number(opt.length_m) +
+                                 " m with both ends clear of stems do not fit in the terrain (" +
+                                 format_number(w) + " x " + format_number(h) +
+                                 " m inside a cell of the edge)");
+            const double x = bounds[0] + rng.uniform() * w, y = bounds[1] + rng.uniform() * h;
+            const double t = 2 * std::numbers::pi * rng.uniform();
+            const Point b{x + opt.length_m * std::cos(t), y + opt.length_m * std::sin(t)};
+            if (b.x_m >= bounds[0] && b.x_m <= bounds[2] && b.y_m >= bounds[1] &&
+                b.y_m <= bounds[3] && clear({x, y}) && clear(b)) {
+                l.a = {x, y};
+                l.b = b;
+                break;
             }
         }
     }
-    SmgOptions smg = opt.smg;
-    smg.bounds_m = bounds;
+}
+
+/// Each line driven (in parallel; each line's result depends on its line only).
+void drive_lines(const Vehicle& v, const StemIndex& index, const RasterD& dem,
+                 const SmgOptions& smg, StandMobility& m) {
     std::exception_ptr failure;
+    const int n = static_cast<int>(m.lines.size());
 #pragma omp parallel for schedule(dynamic)
-    for (int k = 0; k < opt.lines; ++k) {
+    for (int k = 0; k < n; ++k) {
         try {
             auto& l = m.lines[static_cast<std::size_t>(k)];
             l.result = drive_line(v, index, &dem, l.a, l.b, smg);
@@ -185,6 +183,10 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
         }
     }
     if (failure) std::rethrow_exception(failure);
+}
+
+/// The figures over the lines: SMG statistics, NOGO share, override and detour shares.
+void summarise_lines(StandMobility& m) {
     std::vector<double> smg_all, smg_go;
     double driven = 0, straight = 0, pushed = 0;
     for (const auto& l : m.lines) {
@@ -200,9 +202,35 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
     m.smg_median_m_per_s = quantile(smg_all, 0.5);
     m.smg_p10_m_per_s = quantile(smg_all, 0.1);
     m.smg_p90_m_per_s = quantile(smg_all, 0.9);
-    m.nogo_fraction = 1.0 - static_cast<double>(smg_go.size()) / static_cast<double>(opt.lines);
+    m.nogo_fraction =
+        1.0 - static_cast<double>(smg_go.size()) / static_cast<double>(m.lines.size());
     m.override_fraction = driven > 0 ? pushed / driven : 0.0;
     m.detour_fraction = driven > 0 ? (driven - straight) / driven : 0.0;
+}
+
+} // namespace
+
+StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
+                            const RasterD& dem, const StandLinesOptions& opt) {
+    if (opt.lines < 1) throw InputError("--lines must be >= 1, got " + std::to_string(opt.lines));
+    if (!(opt.length_m > 0))
+        throw InputError("--length must be > 0 m, got " + format_number(opt.length_m));
+    const GridSpec& g = dem.grid();
+    const double c = g.cell_size_m; // lines keep a cell from the edge (bilinear elevations)
+    const std::array<double, 4> bounds{g.origin_x_m + c, g.origin_y_m + c,
+                                       g.origin_x_m + g.width_m() - c,
+                                       g.origin_y_m + g.height_m() - c};
+    StandMobility m;
+    m.area_ha = g.width_m() * g.height_m() / kM2PerHa;
+    m.critical_diameter_m = critical_diameter_m(v.weight_n(), v.push_height_m);
+    std::vector<Stem> pushable = stems_at_push_height(v, stems, g, m);
+    const StemIndex index(pushable, std::max(v.width_m, 1.0));
+    m.stems = std::move(pushable);
+    draw_lines(v, index, bounds, opt, m);
+    SmgOptions smg = opt.smg;
+    smg.bounds_m = bounds;
+    drive_lines(v, index, dem, smg, m);
+    summarise_lines(m);
     return m;
 }
 

@@ -184,9 +184,12 @@ std::vector<Prototype> prototypes(const Scene& s, const UserMeshes* user) {
     return out;
 }
 
-void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
-    // MAVS derives an instance's stem diameter from the sum of its world z-bounds (mavs.md s1.2
-    // item 5): shift the scene so that the stems stand near z = 0.
+namespace {
+
+/// MAVS derives an instance's stem diameter from the sum of its world z-bounds (mavs.md s1.2
+/// item 5): the scene is shifted so that the stems stand near z = 0. Returns the shift, m, and
+/// notes how large MAVS's inflation of the override diameter remains.
+double mavs_height_offset(const Scene& s, OutputFolder& folder) {
     double offset = 0;
     if (!s.trees.empty()) {
         for (const auto& t : s.trees) offset += t.z_m;
@@ -203,16 +206,17 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                 "(2 z0 + H) / H for a base at z0); the largest such factor among stems with a DBH "
                 "here is " +
                 num(worst) + (worst > 1.05 ? " (hilly: MAVS will overstate override forces)" : ""));
-    const Mesh ground = terrain_mesh(s.terrain, opt.terrain_step, offset);
-    folder.write("terrain.mtl", to_mtl({{"ground", kGroundColour}}));
-    folder.write("terrain.obj",
-                 to_obj({{&ground, "ground"}},
-                        "ecoterra terrain: ENU (x east, y north, z up), metres, z shifted by " +
-                            num(-offset) + " m",
-                        "terrain.mtl"));
-    folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
+    return offset;
+}
+
+/// The `Objects` of a MAVS scene, its vegetation override entries and its truth file.
+struct MavsObjects {
     json objects = json::array(), veg = json::array();
     std::string truth;
+};
+
+void add_mavs_user_meshes(const Scene& s, OutputFolder& folder, const ExportOptions& opt,
+                          double offset, MavsObjects& o) {
     for (const auto& g : user_groups(s, opt.user)) {
         const UserMesh& u = *g.mesh;
         copy_user_mesh(folder, "meshes/", u);
@@ -226,14 +230,18 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                             {"Position", {t.x_m, t.y_m, t.z_m - offset}},
                             {"Scale", {k, k, k}}});
             ratio += stem_diameter_m(t) / std::max(t.height_m, 1e-3);
-            truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
-                     std::to_string(t.species + 1) + " " + mesh + "\n";
+            o.truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
+                       std::to_string(t.species + 1) + " " + mesh + "\n";
         }
         ratio /= static_cast<double>(g.trees.size());
-        objects.push_back(
+        o.objects.push_back(
             {{"Mesh", mesh}, {"Rotate Y to Z", u.rotate_y_to_z}, {"Instances", inst}});
-        veg.push_back({{"mesh", mesh}, {"height", u.height_m}, {"diameter", ratio * u.height_m}});
+        o.veg.push_back({{"mesh", mesh}, {"height", u.height_m}, {"diameter", ratio * u.height_m}});
     }
+}
+
+void add_mavs_size_classes(const Scene& s, OutputFolder& folder, const ExportOptions& opt,
+                           double offset, MavsObjects& o) {
     for (const auto& c : size_classes(s, has_user_mesh(opt))) {
         const std::string mesh = "meshes/" + c.name + ".obj";
         folder.write(mesh, tree_obj(s, c, "trees.mtl"));
@@ -245,16 +253,19 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                             {"Position", {t.x_m, t.y_m, t.z_m - offset}},
                             {"Scale", {1.0, 1.0, std::max(t.height_m, 1e-3) / c.height_m}}});
             ratio += stem_diameter_m(t) / std::max(t.height_m, 1e-3);
-            truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
-                     std::to_string(c.species + 1) + " " + mesh + "\n";
+            o.truth += num(t.x_m) + " " + num(t.y_m) + " " + num(t.height_m) + " " +
+                       std::to_string(c.species + 1) + " " + mesh + "\n";
         }
         ratio /= static_cast<double>(c.trees.size());
-        objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
+        o.objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
         // MAVS: d = diameter * (instance height) / height, so d follows each tree's height.
-        veg.push_back({{"mesh", mesh}, {"height", c.height_m}, {"diameter", ratio * c.height_m}});
+        o.veg.push_back({{"mesh", mesh}, {"height", c.height_m}, {"diameter", ratio * c.height_m}});
     }
-    // The ground layer's tufts: one mesh per grass species; MAVS's own oat grass has a 1 cm
-    // stem in its override file (reference mobility.md s1.2), and so do these.
+}
+
+/// The ground layer's tufts: one mesh per grass species; MAVS's own oat grass has a 1 cm stem in
+/// its override file (reference mobility.md s1.2), and so do these.
+void add_mavs_tufts(const Scene& s, OutputFolder& folder, double offset, MavsObjects& o) {
     for (const auto& [k, tufts] : tuft_groups(s)) {
         const std::string mesh = "meshes/" + tuft_mesh_name(s, k) + ".obj";
         folder.write(mesh, tuft_obj(s, s.tufts[tufts[0]], "trees.mtl"));
@@ -265,30 +276,14 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
                             {"Position", {t.x_m, t.y_m, t.z_m - offset}},
                             {"Scale", {1.0, 1.0, 1.0}}});
         }
-        objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
-        veg.push_back({{"mesh", mesh},
-                       {"height", s.tufts[tufts[0]].height_m},
-                       {"diameter", kTuftStemDiameterM}});
+        o.objects.push_back({{"Mesh", mesh}, {"Rotate Y to Z", false}, {"Instances", inst}});
+        o.veg.push_back({{"mesh", mesh},
+                         {"height", s.tufts[tufts[0]].height_m},
+                         {"diameter", kTuftStemDiameterM}});
     }
-    // One separator between the folder and the names MAVS appends ("out/" given as -o must not
-    // become "out//").
-    const fs::path abs =
-        fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal() / "";
-    json scene = {{"PathToMeshes", abs.string()},
-                  {"UseFullPaths", false},
-                  {"Surface Mesh",
-                   {{{"Mesh", "terrain.obj"},
-                     {"Rotate Y to Z", false},
-                     {"YawPitchRoll", {0.0, 0.0, 0.0}},
-                     {"Position", {0.0, 0.0, 0.0}},
-                     {"Scale", {1.0, 1.0, 1.0}},
-                     {"Material", "dry"},
-                     {"Cone Index", 250.0}}}},
-                  {"Objects", objects},
-                  {"VegOverrideFile", (abs / "veg_override.json").string()}};
-    folder.write("scene.json", scene.dump(1) + "\n");
-    folder.write("veg_override.json", json({{"veg_models", veg}}).dump(1) + "\n");
-    folder.write("truth.txt", truth);
+}
+
+void write_mavs_readme(const Scene& s, OutputFolder& folder, double offset) {
     folder.write(
         "README.md",
         "# MAVS scene from ecoterra\n\n" + header_lines(s) +
@@ -320,21 +315,85 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
             notes_text(folder));
 }
 
-void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
-    require_square(s.terrain, "gazebo");
+} // namespace
+
+void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
+    const double offset = mavs_height_offset(s, folder);
+    const Mesh ground = terrain_mesh(s.terrain, opt.terrain_step, offset);
+    folder.write("terrain.mtl", to_mtl({{"ground", kGroundColour}}));
+    folder.write("terrain.obj",
+                 to_obj({{&ground, "ground"}},
+                        "ecoterra terrain: ENU (x east, y north, z up), metres, z shifted by " +
+                            num(-offset) + " m",
+                        "terrain.mtl"));
+    folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
+    MavsObjects o;
+    add_mavs_user_meshes(s, folder, opt, offset, o);
+    add_mavs_size_classes(s, folder, opt, offset, o);
+    add_mavs_tufts(s, folder, offset, o);
+    // One separator between the folder and the names MAVS appends ("out/" given as -o must not
+    // become "out//").
+    const fs::path abs =
+        fs::absolute(opt.final_dir.empty() ? folder.dir() : opt.final_dir).lexically_normal() / "";
+    json scene = {{"PathToMeshes", abs.string()},
+                  {"UseFullPaths", false},
+                  {"Surface Mesh",
+                   {{{"Mesh", "terrain.obj"},
+                     {"Rotate Y to Z", false},
+                     {"YawPitchRoll", {0.0, 0.0, 0.0}},
+                     {"Position", {0.0, 0.0, 0.0}},
+                     {"Scale", {1.0, 1.0, 1.0}},
+                     {"Material", "dry"},
+                     {"Cone Index", 250.0}}}},
+                  {"Objects", o.objects},
+                  {"VegOverrideFile", (abs / "veg_override.json").string()}};
+    folder.write("scene.json", scene.dump(1) + "\n");
+    folder.write("veg_override.json", json({{"veg_models", o.veg}}).dump(1) + "\n");
+    folder.write("truth.txt", o.truth);
+    write_mavs_readme(s, folder, offset);
+}
+
+namespace {
+
+/// A Gazebo world being written: the SDF text, the models and their includes.
+class GazeboWorld {
+public:
+    GazeboWorld(const Scene& s, OutputFolder& folder) : m_s(s), m_folder(folder) {}
+    /// The heightmap PNG and the world's terrain model; notes a resampling and left-out tufts.
+    void add_terrain();
+    /// A user's mesh: one model per 5 % height class (an include cannot scale its model).
+    void add_user_meshes(const ExportOptions& opt);
+    void add_size_classes(const ExportOptions& opt);
+    void finish();
+
+private:
+    void include(const std::string& model, const Tree& t) {
+        m_world += "    <include><uri>model://" + model + "</uri><name>plant_" +
+                   std::to_string(t.id) + "</name><pose>" + num(t.x_m) + " " + num(t.y_m) + " " +
+                   num(t.z_m) + " 0 0 " + num(t.yaw_rad) +
+                   "</pose><static>true</static></include>\n";
+    }
+    void model_files(const std::string& name, const std::string& description,
+                     const std::string& collision, const std::string& visual);
+    const Scene& m_s;
+    OutputFolder& m_folder;
+    std::string m_world;
+};
+
+void GazeboWorld::add_terrain() {
     std::vector<std::string> warnings;
     terrain::io::WriteOptions wo;
     wo.warnings = &warnings;
-    const fs::path png = folder.staged_path("terrain.png");
-    folder.staged_path("terrain.png.json");
-    terrain::io::write_gazebo_png(s.terrain, png, wo);
+    const fs::path png = m_folder.staged_path("terrain.png");
+    m_folder.staged_path("terrain.png.json");
+    terrain::io::write_gazebo_png(m_s.terrain, png, wo);
     for (const auto& w : warnings)
-        if (w.find("resampled") != std::string::npos) folder.note(w.substr(w.find(": ") + 2));
-    if (!s.tufts.empty())
-        folder.note("the ground layer's " + std::to_string(s.tufts.size()) +
-                    " grass tufts are left out: a Gazebo world includes a model per object, "
-                    "and thousands of includes make the world slow to load (glTF, MAVS and "
-                    "Unreal exports hold them)");
+        if (w.find("resampled") != std::string::npos) m_folder.note(w.substr(w.find(": ") + 2));
+    if (!m_s.tufts.empty())
+        m_folder.note("the ground layer's " + std::to_string(m_s.tufts.size()) +
+                      " grass tufts are left out: a Gazebo world includes a model per object, "
+                      "and thousands of includes make the world slow to load (glTF, MAVS and "
+                      "Unreal exports hold them)");
     const json side = read_json_file(terrain::io::png_sidecar_path(png));
     const auto& gz = side.at("gazebo");
     auto v3 = [&](const json& a) {
@@ -343,77 +402,82 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     };
     const std::string heightmap = "<heightmap><uri>terrain.png</uri><size>" + v3(gz.at("size_m")) +
                                   "</size><pos>" + v3(gz.at("pos_m")) + "</pos></heightmap>";
-    std::string world =
-        "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <world name=\"ecoterra\">\n"
-        "    <light type=\"directional\" name=\"sun\">\n"
-        "      <direction>-0.5 0.1 -0.9</direction>\n    </light>\n"
-        "    <model name=\"terrain\">\n      <static>true</static>\n"
-        "      <link name=\"link\">\n        <collision name=\"collision\">"
-        "<geometry>" +
-        heightmap + "</geometry></collision>\n        <visual name=\"visual\"><geometry>" +
-        heightmap + "</geometry></visual>\n      </link>\n    </model>\n";
-    auto include = [&](const std::string& model, const Tree& t) {
-        world += "    <include><uri>model://" + model + "</uri><name>plant_" +
-                 std::to_string(t.id) + "</name><pose>" + num(t.x_m) + " " + num(t.y_m) + " " +
-                 num(t.z_m) + " 0 0 " + num(t.yaw_rad) + "</pose><static>true</static></include>\n";
-    };
-    auto model_files = [&](const std::string& name, const std::string& description,
-                           const std::string& collision, const std::string& visual) {
-        const std::string dir = "models/" + name + "/";
-        folder.write(dir + "model.config",
-                     "<?xml version=\"1.0\"?>\n<model>\n  <name>" + name +
-                         "</name>\n  <version>1.0</version>\n  <sdf version=\"1.9\">model.sdf</sdf>"
-                         "\n  <description>" +
-                         description + "</description>\n</model>\n");
-        folder.write(dir + "model.sdf",
-                     "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <model name=\"" + name +
-                         "\">\n    <static>true</static>\n    <link name=\"link\">\n" + collision +
-                         visual + "    </link>\n  </model>\n</sdf>\n");
-    };
-    // A user's mesh: one model per 5 % height class (an include cannot scale its model).
+    m_world = "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <world name=\"ecoterra\">\n"
+              "    <light type=\"directional\" name=\"sun\">\n"
+              "      <direction>-0.5 0.1 -0.9</direction>\n    </light>\n"
+              "    <model name=\"terrain\">\n      <static>true</static>\n"
+              "      <link name=\"link\">\n        <collision name=\"collision\">"
+              "<geometry>" +
+              heightmap + "</geometry></collision>\n        <visual name=\"visual\"><geometry>" +
+              heightmap + "</geometry></visual>\n      </link>\n    </model>\n";
+}
+
+void GazeboWorld::model_files(const std::string& name, const std::string& description,
+                              const std::string& collision, const std::string& visual) {
+    const std::string dir = "models/" + name + "/";
+    m_folder.write(dir + "model.config",
+                   "<?xml version=\"1.0\"?>\n<model>\n  <name>" + name +
+                       "</name>\n  <version>1.0</version>\n  <sdf version=\"1.9\">model.sdf</sdf>"
+                       "\n  <description>" +
+                       description + "</description>\n</model>\n");
+    m_folder.write(dir + "model.sdf",
+                   "<?xml version=\"1.0\"?>\n<sdf version=\"1.9\">\n  <model name=\"" + name +
+                       "\">\n    <static>true</static>\n    <link name=\"link\">\n" + collision +
+                       visual + "    </link>\n  </model>\n</sdf>\n");
+}
+
+void GazeboWorld::add_user_meshes(const ExportOptions& opt) {
     const double lq = std::log(kSizeClassRatio);
-    for (const auto& g : user_groups(s, opt.user)) {
+    for (const auto& g : user_groups(m_s, opt.user)) {
         const UserMesh& u = *g.mesh;
         std::map<int, std::vector<std::size_t>> by_height;
         for (const auto i : g.trees)
             by_height[static_cast<int>(
-                          std::lround(std::log(std::max(s.trees[i].height_m, 1e-3)) / lq))]
+                          std::lround(std::log(std::max(m_s.trees[i].height_m, 1e-3)) / lq))]
                 .push_back(i);
         for (const auto& [kh, trees] : by_height) {
             const std::string name =
                 u.name + "_h" + (kh < 0 ? "m" : "") + std::to_string(std::abs(kh));
             const double k = std::pow(kSizeClassRatio, kh) / u.height_m;
-            copy_user_mesh(folder, "models/" + name + "/meshes/", u);
+            copy_user_mesh(m_folder, "models/" + name + "/meshes/", u);
             model_files(name, "user mesh " + u.obj.filename().string() + ", scaled " + num(k), "",
                         "      <visual name=\"tree\">\n        <pose>0 0 0 " +
                             std::string(u.rotate_y_to_z ? "1.5707963267948966" : "0") +
                             " 0 0</pose>\n        <geometry><mesh><uri>model://" + name +
                             "/meshes/" + u.name + ".obj</uri><scale>" + num(k) + " " + num(k) +
                             " " + num(k) + "</scale></mesh></geometry>\n      </visual>\n");
-            for (const auto i : trees) include(name, s.trees[i]);
+            for (const auto i : trees) include(name, m_s.trees[i]);
         }
     }
-    const std::string mtl = to_mtl(tree_materials(s));
-    for (const auto& c : size_classes(s, has_user_mesh(opt))) {
+}
+
+void GazeboWorld::add_size_classes(const ExportOptions& opt) {
+    const std::string mtl = to_mtl(tree_materials(m_s));
+    for (const auto& c : size_classes(m_s, has_user_mesh(opt))) {
         const std::string dir = "models/" + c.name + "/";
-        folder.write(dir + "meshes/tree.mtl", mtl);
-        folder.write(dir + "meshes/tree.obj", tree_obj(s, c, "tree.mtl"));
+        m_folder.write(dir + "meshes/tree.mtl", mtl);
+        m_folder.write(dir + "meshes/tree.obj", tree_obj(m_s, c, "tree.mtl"));
         // Collision: the trunk only, a cylinder of the trunk's mean diameter; the crown is visual
         // (cameras and lidar see it, vehicles pass through).
         const double r = 0.5 * c.base_diameter_m * (1 + kTopDiameterFraction) / 2;
         model_files(c.name,
-                    "ecoterra tree: " + s.species[static_cast<std::size_t>(c.species)].name + ", " +
-                        stage_name(c.stage),
+                    "ecoterra tree: " + m_s.species[static_cast<std::size_t>(c.species)].name +
+                        ", " + stage_name(c.stage),
                     "      <collision name=\"trunk\">\n        <pose>0 0 " + num(0.5 * c.height_m) +
                         " 0 0 0</pose>\n        <geometry><cylinder><radius>" + num(r) +
                         "</radius><length>" + num(c.height_m) +
                         "</length></cylinder></geometry>\n      </collision>\n",
                     "      <visual name=\"tree\">\n        <geometry><mesh><uri>model://" + c.name +
                         "/meshes/tree.obj</uri></mesh></geometry>\n      </visual>\n");
-        for (const auto i : c.trees) include(c.name, s.trees[i]);
+        for (const auto i : c.trees) include(c.name, m_s.trees[i]);
     }
-    world += "  </world>\n</sdf>\n";
-    folder.write("world.sdf", world);
+}
+
+void GazeboWorld::finish() {
+    const Scene& s = m_s;
+    OutputFolder& folder = m_folder;
+    m_world += "  </world>\n</sdf>\n";
+    folder.write("world.sdf", m_world);
     folder.write(
         "README.md",
         "# Gazebo world from ecoterra\n\n" + header_lines(s) +
@@ -433,13 +497,21 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             notes_text(folder));
 }
 
-void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
-    require_square(s.terrain, "unreal");
-    RasterD land = s.terrain;
-    if (!terrain::io::is_unreal_landscape_size(land.nx())) {
-        int side = land.nx();
+/// The Unreal landscape: the terrain resampled to a size Unreal accepts, as a 16-bit PNG, and
+/// where its import puts it.
+struct UnrealLandscape {
+    RasterD land;
+    double scale_m = 0, offset_m = 0; ///< elevation = offset + scale x count
+    double z_scale = 0, xy_scale = 0, loc_x = 0, loc_y = 0, loc_z = 0;
+};
+
+UnrealLandscape write_unreal_landscape(const Scene& s, OutputFolder& folder) {
+    UnrealLandscape l;
+    l.land = s.terrain;
+    if (!terrain::io::is_unreal_landscape_size(l.land.nx())) {
+        int side = l.land.nx();
         while (!terrain::io::is_unreal_landscape_size(side)) ++side;
-        land = resample_square(s.terrain, side);
+        l.land = resample_square(s.terrain, side);
         folder.note("the terrain (" + std::to_string(s.terrain.nx()) + " x " +
                     std::to_string(s.terrain.ny()) + ") was resampled to " + std::to_string(side) +
                     " x " + std::to_string(side) +
@@ -447,18 +519,21 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     }
     const fs::path png = folder.staged_path("landscape.png");
     folder.staged_path("landscape.png.json");
-    terrain::io::write_png16(land, png, {});
+    terrain::io::write_png16(l.land, png, {});
     const json side = read_json_file(terrain::io::png_sidecar_path(png));
-    const double scale_m = side.at("vertical_scale_m").get<double>();
-    const double offset_m = side.at("vertical_offset_m").get<double>();
-    const double z_scale = scale_m * kCmPerM * kUnrealZCountsPerPercent;
-    const double xy_scale = land.cell_size() * kCmPerM;
+    l.scale_m = side.at("vertical_scale_m").get<double>();
+    l.offset_m = side.at("vertical_offset_m").get<double>();
+    l.z_scale = l.scale_m * kCmPerM * kUnrealZCountsPerPercent;
+    l.xy_scale = l.land.cell_size() * kCmPerM;
     // The PNG's first pixel is the north-west cell centre; Unreal's Y points south.
-    const double loc_x = land.grid().x_of(0) * kCmPerM;
-    const double loc_y = -land.grid().y_of(land.ny() - 1) * kCmPerM;
-    const double loc_z = (offset_m + scale_m * kUnrealZeroCount) * kCmPerM;
-    const std::string mtl = to_mtl(tree_materials(s));
-    folder.write("meshes/trees.mtl", mtl);
+    l.loc_x = l.land.grid().x_of(0) * kCmPerM;
+    l.loc_y = -l.land.grid().y_of(l.land.ny() - 1) * kCmPerM;
+    l.loc_z = (l.offset_m + l.scale_m * kUnrealZeroCount) * kCmPerM;
+    return l;
+}
+
+/// trees.csv (a DataTable for PCG) and the tree meshes.
+void write_unreal_trees(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
     std::string csv = "Name,species,stage,mesh,x_cm,y_cm,z_cm,yaw_deg,scale_x,scale_y,scale_z,"
                       "dbh_cm,height_m,crown_radius_m,collision_radius_cm\n";
     auto row = [&](const Tree& t, const std::string& mesh, std::array<double, 3> scale) {
@@ -483,6 +558,10 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             row(s.trees[i], c.name, {1, 1, std::max(s.trees[i].height_m, 1e-3) / c.height_m});
     }
     folder.write("trees.csv", csv);
+}
+
+/// grass.csv and the tuft meshes of the ground layer (nothing without one).
+void write_unreal_grass(const Scene& s, OutputFolder& folder) {
     std::string grass = "Name,species,mesh,x_cm,y_cm,z_cm,yaw_deg,height_m,base_radius_m\n";
     for (const auto& [k, tufts] : tuft_groups(s)) {
         folder.write("meshes/" + tuft_mesh_name(s, k) + ".obj",
@@ -497,6 +576,12 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
         }
     }
     if (!s.tufts.empty()) folder.write("grass.csv", grass);
+}
+
+void write_unreal_readme(const Scene& s, OutputFolder& folder, const UnrealLandscape& l) {
+    const RasterD& land = l.land;
+    const double offset_m = l.offset_m, scale_m = l.scale_m, loc_x = l.loc_x, loc_y = l.loc_y,
+                 loc_z = l.loc_z, xy_scale = l.xy_scale, z_scale = l.z_scale;
     folder.write(
         "README.md",
         "# Unreal Engine scene from ecoterra\n\n" + header_lines(s) +
@@ -525,6 +610,26 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
             num(xy_scale) + ", Y " + num(xy_scale) + ", Z " + num(z_scale) +
             " (Unreal puts count 32768 at the actor's Z, 1/128 cm per count at Z scale 100).\n" +
             notes_text(folder));
+}
+
+} // namespace
+
+void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
+    require_square(s.terrain, "gazebo");
+    GazeboWorld w(s, folder);
+    w.add_terrain();
+    w.add_user_meshes(opt);
+    w.add_size_classes(opt);
+    w.finish();
+}
+
+void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt) {
+    require_square(s.terrain, "unreal");
+    const UnrealLandscape l = write_unreal_landscape(s, folder);
+    folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
+    write_unreal_trees(s, folder, opt);
+    write_unreal_grass(s, folder);
+    write_unreal_readme(s, folder, l);
 }
 
 void write_scene(const Scene& s, SceneFormat format, OutputFolder& folder,

@@ -235,6 +235,112 @@ Manifest load_manifest(const fs::path& file) {
                                   fs::absolute(file).parent_path(), nullptr);
 }
 
+namespace {
+
+/// The base: its kind and its scene, terrain or stems (a file beside the manifest, or inline).
+void read_base(const json& d, const json* base_copy, Manifest& m) {
+    if (!d.contains("base") || !d["base"].is_object() || d["base"].size() != 1)
+        throw InputError("base must be an object with one key: run (a scene file or object), "
+                         "terrain (a terrain specification) or mobility ({stems, dem})");
+    // (Not a structured binding of items(): it would refer into a temporary.)
+    const auto first = d["base"].begin();
+    const std::string kind_name = first.key();
+    const json& base = first.value();
+    if (kind_name == "run")
+        m.kind = BaseKind::run;
+    else if (kind_name == "terrain")
+        m.kind = BaseKind::terrain;
+    else if (kind_name == "mobility")
+        m.kind = BaseKind::mobility;
+    else
+        throw InputError("base." + kind_name + ": the base is run, terrain or mobility");
+    if (base.is_string() && base_copy) {
+        m.base = *base_copy;
+        m.base_dir = fs::absolute(m.dir / base.get<std::string>()).parent_path();
+    } else if (base.is_string()) {
+        const fs::path p = m.dir / base.get<std::string>();
+        m.base = with_context("base." + kind_name,
+                              [&] { return parse_json(io::read_text(p), p.string()); });
+        m.base_dir = fs::absolute(p).parent_path();
+    } else if (base.is_object()) {
+        m.base = base;
+        m.base_dir = m.dir;
+    } else {
+        throw InputError("base." + kind_name + " must be a file name or an object, got " +
+                         base.dump());
+    }
+    if (m.kind == BaseKind::mobility) require_known_keys(m.base, {"stems", "dem"}, "base.mobility");
+}
+
+/// The axes: each a known key, given once, with at least one value.
+void read_axes(const json& d, const std::set<std::string>& known, Manifest& m) {
+    if (!d.contains("axes")) return;
+    if (!d["axes"].is_array()) throw InputError("axes must be an array of {key, values}");
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < d["axes"].size(); ++i) {
+        const json& a = d["axes"][i];
+        const std::string w = "axes[" + std::to_string(i) + "]";
+        require_known_keys(a, {"key", "values"}, w);
+        Axis ax;
+        ax.key = get_string(a, "key", "", w);
+        if (ax.key.empty()) throw InputError(w + ": missing key 'key'");
+        check_key(m, known, ax.key, w + ".key");
+        if (!seen.insert(ax.key).second)
+            throw InputError(w + ".key '" + ax.key + "' is already an axis");
+        if (!a.contains("values") || !a["values"].is_array())
+            throw InputError(w + " (" + ax.key + "): values must be an array");
+        if (a["values"].empty())
+            throw InputError(w + " (" + ax.key +
+                             "): values is empty; an axis needs at least one value");
+        for (const auto& v : a["values"]) ax.values.push_back(v);
+        m.axes.push_back(std::move(ax));
+        // Checked as it grows, so that a product past the limit cannot wrap around.
+        if (m.combinations() > kMaxMembers)
+            throw InputError("the axes make more than 10 000 000 combinations");
+    }
+}
+
+/// One picture of the summary: a line over an axis, or the mean histograms.
+PictureSpec read_picture(const json& p, const std::string& w,
+                         const std::set<std::string>& axis_keys, BaseKind kind) {
+    require_known_keys(
+        p, {"name", "title", "x", "y", "series", "histogram", "x_label", "y_label", "x_scale"}, w);
+    PictureSpec s;
+    s.name = get_string(p, "name", "", w);
+    s.title = get_string(p, "title", "", w);
+    s.x = get_string(p, "x", "", w);
+    s.y = get_string(p, "y", "", w);
+    s.series = get_string(p, "series", "", w);
+    s.histogram = get_bool(p, "histogram", false, w);
+    s.x_label = get_string(p, "x_label", "", w);
+    s.y_label = get_string(p, "y_label", "", w);
+    s.x_scale = get_number(p, "x_scale", 1, w, 1e-300, 1e300);
+    if (s.name.empty() || s.name.find('/') != std::string::npos)
+        throw InputError(w + ".name must be a file name (without .png)");
+    if (!s.x.empty() && !axis_keys.count(s.x))
+        throw InputError(w + ".x = '" + s.x + "' is not an axis of this manifest");
+    if (!s.series.empty() && !axis_keys.count(s.series))
+        throw InputError(w + ".series = '" + s.series + "' is not an axis of this manifest");
+    if (!s.histogram && (s.x.empty() || s.y.empty()))
+        throw InputError(w + ": a line picture needs x (an axis) and y (a metric)");
+    if (s.histogram && !(kind == BaseKind::run))
+        throw InputError(w + ": histograms need a run base");
+    return s;
+}
+
+void read_pictures(const json& d, Manifest& m) {
+    if (!d.contains("pictures")) return;
+    if (!d["pictures"].is_array())
+        throw InputError("pictures must be an array of {name, x, y, series, title}");
+    std::set<std::string> axis_keys;
+    for (const auto& a : m.axes) axis_keys.insert(a.key);
+    for (std::size_t i = 0; i < d["pictures"].size(); ++i)
+        m.pictures.push_back(read_picture(d["pictures"][i], "pictures[" + std::to_string(i) + "]",
+                                          axis_keys, m.kind));
+}
+
+} // namespace
+
 Manifest manifest_from_document(const json& doc, const fs::path& file, const fs::path& dir,
                                 const json* base_copy) {
     const std::string f = file.string();
@@ -250,38 +356,7 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
                            "");
         m.name = name_of(d, f);
         m.description = get_string(d, "description", "", "");
-        if (!d.contains("base") || !d["base"].is_object() || d["base"].size() != 1)
-            throw InputError("base must be an object with one key: run (a scene file or object), "
-                             "terrain (a terrain specification) or mobility ({stems, dem})");
-        // (Not a structured binding of items(): it would refer into a temporary.)
-        const auto first = d["base"].begin();
-        const std::string kind_name = first.key();
-        const json& base = first.value();
-        if (kind_name == "run")
-            m.kind = BaseKind::run;
-        else if (kind_name == "terrain")
-            m.kind = BaseKind::terrain;
-        else if (kind_name == "mobility")
-            m.kind = BaseKind::mobility;
-        else
-            throw InputError("base." + kind_name + ": the base is run, terrain or mobility");
-        if (base.is_string() && base_copy) {
-            m.base = *base_copy;
-            m.base_dir = fs::absolute(m.dir / base.get<std::string>()).parent_path();
-        } else if (base.is_string()) {
-            const fs::path p = m.dir / base.get<std::string>();
-            m.base = with_context("base." + kind_name,
-                                  [&] { return parse_json(io::read_text(p), p.string()); });
-            m.base_dir = fs::absolute(p).parent_path();
-        } else if (base.is_object()) {
-            m.base = base;
-            m.base_dir = m.dir;
-        } else {
-            throw InputError("base." + kind_name + " must be a file name or an object, got " +
-                             base.dump());
-        }
-        if (m.kind == BaseKind::mobility)
-            require_known_keys(m.base, {"stems", "dem"}, "base.mobility");
+        read_base(d, base_copy, m);
         m.seed = static_cast<std::uint64_t>(get_integer(d, "seed", 1, "", 0, 1LL << 53));
         const std::size_t per = get_choice(d, "seeds", {"per_replicate", "per_member"}, 0, "");
         m.seed_per_member = per == 1;
@@ -298,70 +373,11 @@ Manifest manifest_from_document(const json& doc, const fs::path& file, const fs:
                 m.set.emplace_back(it.key(), it.value());
             }
         }
-        if (d.contains("axes")) {
-            if (!d["axes"].is_array()) throw InputError("axes must be an array of {key, values}");
-            std::set<std::string> seen;
-            for (std::size_t i = 0; i < d["axes"].size(); ++i) {
-                const json& a = d["axes"][i];
-                const std::string w = "axes[" + std::to_string(i) + "]";
-                require_known_keys(a, {"key", "values"}, w);
-                Axis ax;
-                ax.key = get_string(a, "key", "", w);
-                if (ax.key.empty()) throw InputError(w + ": missing key 'key'");
-                check_key(m, known, ax.key, w + ".key");
-                if (!seen.insert(ax.key).second)
-                    throw InputError(w + ".key '" + ax.key + "' is already an axis");
-                if (!a.contains("values") || !a["values"].is_array())
-                    throw InputError(w + " (" + ax.key + "): values must be an array");
-                if (a["values"].empty())
-                    throw InputError(w + " (" + ax.key +
-                                     "): values is empty; an axis needs at least one value");
-                for (const auto& v : a["values"]) ax.values.push_back(v);
-                m.axes.push_back(std::move(ax));
-                // Checked as it grows, so that a product past the limit cannot wrap around.
-                if (m.combinations() > kMaxMembers)
-                    throw InputError("the axes make more than 10 000 000 combinations");
-            }
-        }
+        read_axes(d, known, m);
         if (m.members() > kMaxMembers)
             throw InputError("the axes and replicates make " + std::to_string(m.members()) +
                              " members; at most 10 000 000");
-        if (d.contains("pictures")) {
-            if (!d["pictures"].is_array())
-                throw InputError("pictures must be an array of {name, x, y, series, title}");
-            std::set<std::string> axis_keys;
-            for (const auto& a : m.axes) axis_keys.insert(a.key);
-            for (std::size_t i = 0; i < d["pictures"].size(); ++i) {
-                const json& p = d["pictures"][i];
-                const std::string w = "pictures[" + std::to_string(i) + "]";
-                require_known_keys(p,
-                                   {"name", "title", "x", "y", "series", "histogram", "x_label",
-                                    "y_label", "x_scale"},
-                                   w);
-                PictureSpec s;
-                s.name = get_string(p, "name", "", w);
-                s.title = get_string(p, "title", "", w);
-                s.x = get_string(p, "x", "", w);
-                s.y = get_string(p, "y", "", w);
-                s.series = get_string(p, "series", "", w);
-                s.histogram = get_bool(p, "histogram", false, w);
-                s.x_label = get_string(p, "x_label", "", w);
-                s.y_label = get_string(p, "y_label", "", w);
-                s.x_scale = get_number(p, "x_scale", 1, w, 1e-300, 1e300);
-                if (s.name.empty() || s.name.find('/') != std::string::npos)
-                    throw InputError(w + ".name must be a file name (without .png)");
-                if (!s.x.empty() && !axis_keys.count(s.x))
-                    throw InputError(w + ".x = '" + s.x + "' is not an axis of this manifest");
-                if (!s.series.empty() && !axis_keys.count(s.series))
-                    throw InputError(w + ".series = '" + s.series +
-                                     "' is not an axis of this manifest");
-                if (!s.histogram && (s.x.empty() || s.y.empty()))
-                    throw InputError(w + ": a line picture needs x (an axis) and y (a metric)");
-                if (s.histogram && !(m.kind == BaseKind::run))
-                    throw InputError(w + ": histograms need a run base");
-                m.pictures.push_back(std::move(s));
-            }
-        }
+        read_pictures(d, m);
         check_vehicle_files(m);
         return m;
     });

@@ -298,113 +298,135 @@ void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
                                 "year " + std::to_string(eco.years_done()), dir);
 }
 
+namespace {
+
+/// Stems: obstacles dark red, stems pushed over orange, the rest grey; true size, at least a
+/// pixel.
+void draw_smg_stems(cairo_t* cr, const MapFrame& f, const mobility::StandMobility& m) {
+    std::vector<char> pushed(m.stems.size(), 0);
+    for (const auto& l : m.lines)
+        for (const auto k : l.result.pushed_stems) pushed[static_cast<std::size_t>(k)] = 1;
+    for (std::size_t k = 0; k < m.stems.size(); ++k) {
+        const auto& st = m.stems[k];
+        const bool obstacle = st.diameter_m >= m.critical_diameter_m;
+        cairo_arc(cr, f.x(st.x_m), f.y(st.y_m), std::max(1.0, 0.5 * st.diameter_m * f.scale), 0,
+                  2 * M_PI);
+        if (obstacle)
+            cairo_set_source_rgb(cr, 0.55, 0.05, 0.05);
+        else if (pushed[k])
+            cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+        else
+            cairo_set_source_rgba(cr, 0.3, 0.3, 0.3, 0.6);
+        cairo_fill(cr);
+    }
+}
+
+/// Lines: the straight line thin and dashed, the path driven coloured by its SMG; NOGO lines
+/// black.
+void draw_smg_lines(cairo_t* cr, const MapFrame& f, const mobility::StandMobility& m,
+                    const mobility::Vehicle& v) {
+    for (const auto& l : m.lines) {
+        const auto& r = l.result;
+        cairo_set_line_width(cr, 0.8);
+        const double dash[] = {3.0, 3.0};
+        cairo_set_dash(cr, dash, 2, 0);
+        cairo_set_source_rgba(cr, 0, 0, 0, r.nogo ? 0.9 : 0.35);
+        cairo_move_to(cr, f.x(l.a.x_m), f.y(l.a.y_m));
+        cairo_line_to(cr, f.x(l.b.x_m), f.y(l.b.y_m));
+        cairo_stroke(cr);
+        cairo_set_dash(cr, nullptr, 0, 0);
+        if (r.nogo || r.path.empty()) continue;
+        cairo_set_line_width(cr, 2);
+        speed_colour(cr, r.smg_m_per_s / v.top_speed_m_per_s);
+        cairo_move_to(cr, f.x(r.path.front().x_m), f.y(r.path.front().y_m));
+        for (const auto& p : r.path) cairo_line_to(cr, f.x(p.x_m), f.y(p.y_m));
+        cairo_stroke(cr);
+    }
+}
+
+void draw_smg_legend(cairo_t* cr, const MapFrame& f, const mobility::StandMobility& m,
+                     const mobility::Vehicle& v) {
+    const double lx = f.w + 14;
+    double ly = 56;
+    auto legend = [&](double r, double g, double b, const std::string& label) {
+        cairo_set_source_rgb(cr, r, g, b);
+        cairo_arc(cr, lx + 6, ly - 4, 6, 0, 2 * M_PI);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, lx + 18, ly, label, 12);
+        ly += 22;
+    };
+    legend(0.55, 0.05, 0.05, "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
+    legend(0.95, 0.55, 0.0, "stem pushed over");
+    legend(0.3, 0.3, 0.3, "other stem");
+    for (const double frac : {1.0, 0.5, 0.0}) {
+        cairo_set_line_width(cr, 3);
+        speed_colour(cr, frac);
+        cairo_move_to(cr, lx, ly - 4);
+        cairo_line_to(cr, lx + 14, ly - 4);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        text(cr, lx + 18, ly, "path at SMG " + fmt(frac * v.top_speed_m_per_s) + " m/s", 12);
+        ly += 22;
+    }
+    text(cr, lx, ly, "dashed: the straight line", 12);
+    terrain::draw_scale_bar(cr, lx, ly + 30, f.scale, 150);
+}
+
+void draw_smg_map(const mobility::StandMobility& m, const mobility::Vehicle& v, const RasterD& dem,
+                  const fs::path& file) {
+    const MapFrame f(dem.grid());
+    SurfaceOwner s(f.w + 230, f.h + 40);
+    cairo_t* cr = s.cr;
+    white(cr);
+    terrain::paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h, true);
+    draw_smg_stems(cr, f, m);
+    draw_smg_lines(cr, f, m, v);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, 10, 20,
+         v.name + ": " + std::to_string(m.lines.size()) + " lines, SMG mean " +
+             fmt(m.smg_mean_m_per_s, 2) + " m/s, NOGO " + fmt(100 * m.nogo_fraction) + " %, BA " +
+             fmt(m.basal_area_m2_per_ha) + " m2/ha",
+         14);
+    draw_smg_legend(cr, f, m, v);
+    s.save(file);
+}
+
+void draw_smg_histogram(const mobility::StandMobility& m, const mobility::Vehicle& v,
+                        const fs::path& file) {
+    SurfaceOwner s(720, 460);
+    cairo_t* cr = s.cr;
+    white(cr);
+    constexpr int kBins = 20;
+    const double top = v.top_speed_m_per_s;
+    std::vector<double> count(kBins, 0);
+    for (const auto& l : m.lines) {
+        const int b = std::min(kBins - 1, static_cast<int>(l.result.smg_m_per_s / top * kBins));
+        count[static_cast<std::size_t>(std::max(b, 0))] += 1;
+    }
+    double ymax = 1;
+    for (const double c : count) ymax = std::max(ymax, c);
+    Frame f{80, 40, 600, 340, 0, top, 0, ymax * 1.1};
+    for (int b = 0; b < kBins; ++b) {
+        const double c = count[static_cast<std::size_t>(b)];
+        cairo_rectangle(cr, f.px(b * top / kBins) + 1, f.py(c), f.px(top / kBins) - f.px(0) - 2,
+                        f.py(0) - f.py(c));
+        speed_colour(cr, (b + 0.5) / kBins);
+        cairo_fill(cr);
+    }
+    f.draw(cr, "speed made good (m/s); NOGO lines at 0", "lines",
+           "SMG of " + std::to_string(m.lines.size()) + " lines: mean " +
+               fmt(m.smg_mean_m_per_s, 2) + ", median " + fmt(m.smg_median_m_per_s, 2) + " m/s");
+    s.save(file);
+}
+
+} // namespace
+
 void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
                             const RasterD& dem, const fs::path& dir) {
     io::create_folder(dir, "the picture folder");
-    {
-        const MapFrame f(dem.grid());
-        SurfaceOwner s(f.w + 230, f.h + 40);
-        cairo_t* cr = s.cr;
-        white(cr);
-        terrain::paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h, true);
-        std::vector<char> pushed(m.stems.size(), 0);
-        for (const auto& l : m.lines)
-            for (const auto k : l.result.pushed_stems) pushed[static_cast<std::size_t>(k)] = 1;
-        // Stems: obstacles dark red, stems pushed over orange, the rest grey; true size, at
-        // least a pixel.
-        for (std::size_t k = 0; k < m.stems.size(); ++k) {
-            const auto& st = m.stems[k];
-            const bool obstacle = st.diameter_m >= m.critical_diameter_m;
-            cairo_arc(cr, f.x(st.x_m), f.y(st.y_m), std::max(1.0, 0.5 * st.diameter_m * f.scale), 0,
-                      2 * M_PI);
-            if (obstacle)
-                cairo_set_source_rgb(cr, 0.55, 0.05, 0.05);
-            else if (pushed[k])
-                cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
-            else
-                cairo_set_source_rgba(cr, 0.3, 0.3, 0.3, 0.6);
-            cairo_fill(cr);
-        }
-        // Lines: the straight line thin and dashed, the path driven coloured by its SMG; NOGO
-        // lines black.
-        for (const auto& l : m.lines) {
-            const auto& r = l.result;
-            cairo_set_line_width(cr, 0.8);
-            const double dash[] = {3.0, 3.0};
-            cairo_set_dash(cr, dash, 2, 0);
-            cairo_set_source_rgba(cr, 0, 0, 0, r.nogo ? 0.9 : 0.35);
-            cairo_move_to(cr, f.x(l.a.x_m), f.y(l.a.y_m));
-            cairo_line_to(cr, f.x(l.b.x_m), f.y(l.b.y_m));
-            cairo_stroke(cr);
-            cairo_set_dash(cr, nullptr, 0, 0);
-            if (r.nogo || r.path.empty()) continue;
-            cairo_set_line_width(cr, 2);
-            speed_colour(cr, r.smg_m_per_s / v.top_speed_m_per_s);
-            cairo_move_to(cr, f.x(r.path.front().x_m), f.y(r.path.front().y_m));
-            for (const auto& p : r.path) cairo_line_to(cr, f.x(p.x_m), f.y(p.y_m));
-            cairo_stroke(cr);
-        }
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        text(cr, 10, 20,
-             v.name + ": " + std::to_string(m.lines.size()) + " lines, SMG mean " +
-                 fmt(m.smg_mean_m_per_s, 2) + " m/s, NOGO " + fmt(100 * m.nogo_fraction) +
-                 " %, BA " + fmt(m.basal_area_m2_per_ha) + " m2/ha",
-             14);
-        const double lx = f.w + 14;
-        double ly = 56;
-        auto legend = [&](double r, double g, double b, const std::string& label) {
-            cairo_set_source_rgb(cr, r, g, b);
-            cairo_arc(cr, lx + 6, ly - 4, 6, 0, 2 * M_PI);
-            cairo_fill(cr);
-            cairo_set_source_rgb(cr, 0, 0, 0);
-            text(cr, lx + 18, ly, label, 12);
-            ly += 22;
-        };
-        legend(0.55, 0.05, 0.05,
-               "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
-        legend(0.95, 0.55, 0.0, "stem pushed over");
-        legend(0.3, 0.3, 0.3, "other stem");
-        for (const double frac : {1.0, 0.5, 0.0}) {
-            cairo_set_line_width(cr, 3);
-            speed_colour(cr, frac);
-            cairo_move_to(cr, lx, ly - 4);
-            cairo_line_to(cr, lx + 14, ly - 4);
-            cairo_stroke(cr);
-            cairo_set_source_rgb(cr, 0, 0, 0);
-            text(cr, lx + 18, ly, "path at SMG " + fmt(frac * v.top_speed_m_per_s) + " m/s", 12);
-            ly += 22;
-        }
-        text(cr, lx, ly, "dashed: the straight line", 12);
-        terrain::draw_scale_bar(cr, lx, ly + 30, f.scale, 150);
-        s.save(dir / "smg_lines.png");
-    }
-    {
-        SurfaceOwner s(720, 460);
-        cairo_t* cr = s.cr;
-        white(cr);
-        constexpr int kBins = 20;
-        const double top = v.top_speed_m_per_s;
-        std::vector<double> count(kBins, 0);
-        for (const auto& l : m.lines) {
-            const int b = std::min(kBins - 1, static_cast<int>(l.result.smg_m_per_s / top * kBins));
-            count[static_cast<std::size_t>(std::max(b, 0))] += 1;
-        }
-        double ymax = 1;
-        for (const double c : count) ymax = std::max(ymax, c);
-        Frame f{80, 40, 600, 340, 0, top, 0, ymax * 1.1};
-        for (int b = 0; b < kBins; ++b) {
-            const double c = count[static_cast<std::size_t>(b)];
-            cairo_rectangle(cr, f.px(b * top / kBins) + 1, f.py(c), f.px(top / kBins) - f.px(0) - 2,
-                            f.py(0) - f.py(c));
-            speed_colour(cr, (b + 0.5) / kBins);
-            cairo_fill(cr);
-        }
-        f.draw(cr, "speed made good (m/s); NOGO lines at 0", "lines",
-               "SMG of " + std::to_string(m.lines.size()) + " lines: mean " +
-                   fmt(m.smg_mean_m_per_s, 2) + ", median " + fmt(m.smg_median_m_per_s, 2) +
-                   " m/s");
-        s.save(dir / "smg_histogram.png");
-    }
+    draw_smg_map(m, v, dem, dir / "smg_lines.png");
+    draw_smg_histogram(m, v, dir / "smg_histogram.png");
 }
 
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,

@@ -101,6 +101,82 @@ void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, do
     cairo_surface_destroy(raster);
 }
 
+namespace {
+
+/// Each legend entry: a swatch, and its label's lines ('\n') beside and under it.
+void draw_legend(cairo_t* cr, const MapFigure& f, double bx) {
+    double y = kTop + 4;
+    for (const auto& e : f.legend) {
+        set(cr, e.colour);
+        cairo_rectangle(cr, bx, y, 18, 14);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_rectangle(cr, bx - 0.5, y - 0.5, 19, 15);
+        cairo_stroke(cr);
+        std::size_t start = 0;
+        double ly = y + 12;
+        for (;;) {
+            const auto nl = e.label.find('\n', start);
+            text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12);
+            if (nl == std::string::npos) break;
+            start = nl + 1;
+            ly += 16;
+        }
+        y = ly + 16;
+    }
+}
+
+/// The colour bar of a continuous field, with round ticks.
+void draw_colour_bar(cairo_t* cr, const MapFigure& f, double bx, double mh) {
+    const double bh = std::min(mh, 360.0), bw = 20;
+    text(cr, bx, kTop - 8, f.bar_label, 12);
+    const int steps = 200;
+    for (int k = 0; k < steps; ++k) {
+        set(cr, palette_colour(f.palette, (k + 0.5) / steps));
+        const double y0 = kTop + bh * (1 - static_cast<double>(k + 1) / steps);
+        cairo_rectangle(cr, bx, y0, bw, bh / steps + 0.6);
+        cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_rectangle(cr, bx - 0.5, kTop - 0.5, bw + 1, bh + 1);
+    cairo_stroke(cr);
+    const double span = f.vmax - f.vmin;
+    if (!(span > 0 && std::isfinite(span))) return;
+    const double raw = span / 5;
+    const double p = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = p;
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * p >= raw) {
+            step = m * p;
+            break;
+        }
+    for (double v = std::ceil(f.vmin / step - 1e-9) * step; v <= f.vmax + 1e-9 * span; v += step) {
+        const double y = kTop + bh * (1 - (v - f.vmin) / span);
+        cairo_move_to(cr, bx + bw, y);
+        cairo_line_to(cr, bx + bw + 5, y);
+        cairo_stroke(cr);
+        text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12);
+    }
+}
+
+/// The scale bar under the map (a round length up to a quarter of its width) and the notes.
+void draw_map_footer(cairo_t* cr, const GridSpec& g, const MapFigure& f, double mw, double mh) {
+    if (g.width_m() > 0) {
+        const double y = kTop + mh + 24;
+        const double len_m = draw_scale_bar(cr, kLeft, y, mw / g.width_m(), mw / 4);
+        const double px = len_m * mw / g.width_m();
+        text(cr, kLeft + px + 60, y + 5,
+             "(map " + number(g.width_m(), 0.01) + " x " + number(g.height_m(), 0.01) + " m, " +
+                 std::to_string(g.nx) + " x " + std::to_string(g.ny) + " cells of " +
+                 number(g.cell_size_m, 0.001) + " m)",
+             12);
+    }
+    for (std::size_t k = 0; k < f.notes.size(); ++k)
+        text(cr, kLeft, kTop + mh + 56 + 20.0 * static_cast<double>(k), f.notes[k], 12);
+}
+
+} // namespace
+
 void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
                       const std::filesystem::path& path) {
     if (img.width < 1 || img.height < 1) throw Error("map figure: empty image");
@@ -119,81 +195,15 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
     cairo_set_line_width(cr, 1);
     cairo_rectangle(cr, kLeft - 0.5, kTop - 0.5, mw + 1, mh + 1);
     cairo_stroke(cr);
-
-    // Title and north.
+    // Title and north; the colour bar or legend right of the map; the footer under it.
     text(cr, kLeft, 30, f.title, 17);
     text(cr, kLeft + mw, 30, "north up", 12, 1.0);
-
-    // Colour bar or legend, right of the map.
     const double bx = kLeft + mw + 40;
-    if (!f.legend.empty()) {
-        // Each entry: a swatch, and its label's lines ('\n') beside and under it.
-        double y = kTop + 4;
-        for (const auto& e : f.legend) {
-            set(cr, e.colour);
-            cairo_rectangle(cr, bx, y, 18, 14);
-            cairo_fill(cr);
-            cairo_set_source_rgb(cr, 0, 0, 0);
-            cairo_rectangle(cr, bx - 0.5, y - 0.5, 19, 15);
-            cairo_stroke(cr);
-            std::size_t start = 0;
-            double ly = y + 12;
-            for (;;) {
-                const auto nl = e.label.find('\n', start);
-                text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12);
-                if (nl == std::string::npos) break;
-                start = nl + 1;
-                ly += 16;
-            }
-            y = ly + 16;
-        }
-    } else if (f.colour_bar) {
-        const double bh = std::min(mh, 360.0), bw = 20;
-        text(cr, bx, kTop - 8, f.bar_label, 12);
-        const int steps = 200;
-        for (int k = 0; k < steps; ++k) {
-            set(cr, palette_colour(f.palette, (k + 0.5) / steps));
-            const double y0 = kTop + bh * (1 - static_cast<double>(k + 1) / steps);
-            cairo_rectangle(cr, bx, y0, bw, bh / steps + 0.6);
-            cairo_fill(cr);
-        }
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        cairo_rectangle(cr, bx - 0.5, kTop - 0.5, bw + 1, bh + 1);
-        cairo_stroke(cr);
-        const double span = f.vmax - f.vmin;
-        if (span > 0 && std::isfinite(span)) {
-            const double raw = span / 5;
-            const double p = std::pow(10.0, std::floor(std::log10(raw)));
-            double step = p;
-            for (double m : {1.0, 2.0, 5.0, 10.0})
-                if (m * p >= raw) {
-                    step = m * p;
-                    break;
-                }
-            for (double v = std::ceil(f.vmin / step - 1e-9) * step; v <= f.vmax + 1e-9 * span;
-                 v += step) {
-                const double y = kTop + bh * (1 - (v - f.vmin) / span);
-                cairo_move_to(cr, bx + bw, y);
-                cairo_line_to(cr, bx + bw + 5, y);
-                cairo_stroke(cr);
-                text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12);
-            }
-        }
-    }
-
-    // Scale bar under the map: a round length up to a quarter of the map's width.
-    if (g.width_m() > 0) {
-        const double y = kTop + mh + 24;
-        const double len_m = draw_scale_bar(cr, kLeft, y, mw / g.width_m(), mw / 4);
-        const double px = len_m * mw / g.width_m();
-        text(cr, kLeft + px + 60, y + 5,
-             "(map " + number(g.width_m(), 0.01) + " x " + number(g.height_m(), 0.01) + " m, " +
-                 std::to_string(g.nx) + " x " + std::to_string(g.ny) + " cells of " +
-                 number(g.cell_size_m, 0.001) + " m)",
-             12);
-    }
-    for (std::size_t k = 0; k < f.notes.size(); ++k)
-        text(cr, kLeft, kTop + mh + 56 + 20.0 * static_cast<double>(k), f.notes[k], 12);
+    if (!f.legend.empty())
+        draw_legend(cr, f, bx);
+    else if (f.colour_bar)
+        draw_colour_bar(cr, f, bx, mh);
+    draw_map_footer(cr, g, f, mw, mh);
 
     cairo_destroy(cr);
     cairo_surface_flush(surface);

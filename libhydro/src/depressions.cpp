@@ -27,24 +27,21 @@ struct UnionFind {
         return x;
     }
 };
-
-struct Pass {
-    double z;
-    std::int32_t a, b; // a < b; b == leaves for the ocean
-    bool operator<(const Pass& o) const {
-        if (z != o.z) return z < o.z;
-        if (a != o.a) return a < o.a;
-        return b < o.b;
-    }
-};
 } // namespace
 
 DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
+    find_leaves(fd);
+    label_cells(fd);
+    join_over_passes(fd, lowest_passes(fd));
+    assign_bands(fd);
+    subtree_totals();
+}
+
+void DepressionHierarchy::find_leaves(const FlowDirections& fd) {
     const auto& g = fd.grid();
     const std::int64_t n_cells = g.size();
     m_leaf.assign(static_cast<std::size_t>(n_cells), kUnknown);
 
-    // 1. Leaves: pits, with adjacent pits of equal elevation grouped.
     std::vector<std::int64_t> queue;
     m_pit_begin.push_back(0);
     for (std::int64_t c = 0; c < n_cells; ++c) {
@@ -72,7 +69,10 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
         }
         m_pit_begin.push_back(static_cast<std::int64_t>(m_pits.size()));
     }
-    // 2. Every other cell takes the leaf its D8 path ends in.
+}
+
+void DepressionHierarchy::label_cells(const FlowDirections& fd) {
+    const std::int64_t n_cells = fd.grid().size();
     std::vector<std::int64_t> path;
     for (std::int64_t c = 0; c < n_cells; ++c) {
         std::int64_t x = c;
@@ -83,7 +83,11 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
         for (const auto p : path) m_leaf[p] = m_leaf[x];
         path.clear();
     }
-    // 3. The lowest pass between each pair of neighbouring depressions (the ocean is label L).
+}
+
+std::vector<DepressionHierarchy::Pass>
+DepressionHierarchy::lowest_passes(const FlowDirections& fd) const {
+    const auto& g = fd.grid();
     const std::int32_t ocean = m_leaves;
     std::vector<std::vector<std::pair<std::int32_t, double>>> adj(
         static_cast<std::size_t>(m_leaves));
@@ -111,11 +115,13 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
     std::vector<Pass> passes;
     for (std::int32_t a = 0; a < m_leaves; ++a)
         for (const auto& [b, z] : adj[a]) passes.push_back({z, a, b});
-    adj.clear();
-    adj.shrink_to_fit();
     std::sort(passes.begin(), passes.end());
+    return passes;
+}
 
-    // 4. Kruskal over the passes builds the hierarchy.
+void DepressionHierarchy::join_over_passes(const FlowDirections& fd,
+                                           const std::vector<Pass>& passes) {
+    const std::int32_t ocean = m_leaves; // the ocean is label L
     const std::size_t max_nodes = 2 * static_cast<std::size_t>(m_leaves);
     m_parent.reserve(max_nodes);
     m_parent.assign(static_cast<std::size_t>(m_leaves), -1);
@@ -157,10 +163,11 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
         uf.up[rb] = ra;
         top[ra] = node;
     }
-    const auto n_nodes = static_cast<std::int32_t>(m_parent.size());
+}
 
-    // 5. Each cell's band: the lowest ancestor of its leaf whose outlet is above it (outlets never
-    //    fall going up, so binary lifting finds it).
+void DepressionHierarchy::assign_bands(const FlowDirections& fd) {
+    const std::int64_t n_cells = fd.grid().size();
+    const auto n_nodes = static_cast<std::int32_t>(m_parent.size());
     const int levels =
         std::max(1, static_cast<int>(std::bit_width(static_cast<unsigned>(n_nodes))));
     std::vector<std::vector<std::int32_t>> up(static_cast<std::size_t>(levels));
@@ -204,8 +211,10 @@ DepressionHierarchy::DepressionHierarchy(const FlowDirections& fd) {
     // resumed run must see the same order as an unbroken one).
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::int32_t n = 0; n < n_nodes; ++n) sort_band(n, fd);
+}
 
-    // 6. Totals over each subtree (children come before their parent) and capacities.
+void DepressionHierarchy::subtree_totals() {
+    const auto n_nodes = static_cast<std::int32_t>(m_parent.size());
     m_cum_n = m_own_n;
     m_cum_z = m_own_z;
     m_capacity.resize(static_cast<std::size_t>(n_nodes));

@@ -92,6 +92,29 @@ public:
     }
 
 private:
+    /// The lowest pass between two neighbouring depressions (b == the leaf count: the ocean).
+    struct Pass {
+        double z;
+        std::int32_t a, b; // a < b
+        bool operator<(const Pass& o) const {
+            if (z != o.z) return z < o.z;
+            if (a != o.a) return a < o.a;
+            return b < o.b;
+        }
+    };
+    // The constructor's steps, in order.
+    /// 1. Leaves: pits, with adjacent pits of equal elevation grouped.
+    void find_leaves(const FlowDirections& fd);
+    /// 2. Every other cell takes the leaf its D8 path ends in.
+    void label_cells(const FlowDirections& fd);
+    /// 3. The lowest pass between each pair of neighbouring depressions, sorted.
+    std::vector<Pass> lowest_passes(const FlowDirections& fd) const;
+    /// 4. Kruskal over the passes builds the hierarchy.
+    void join_over_passes(const FlowDirections& fd, const std::vector<Pass>& passes);
+    /// 5. Each cell's band: the lowest ancestor of its leaf whose outlet is above it.
+    void assign_bands(const FlowDirections& fd);
+    /// 6. Totals over each subtree (children come before their parent) and capacities.
+    void subtree_totals();
     /// Puts a node's band in rising elevation (ties by cell index) with running sums.
     void sort_band(std::int32_t n, const FlowDirections& fd);
 

@@ -260,98 +260,114 @@ void quiet_barrier() {
 
 constexpr int kTagReady = 1, kTagAssign = 2;
 
+/// Rank 0 prepares the output and tells the workers whether to go on; throws when it cannot.
+void mpi_prepare(const fs::path& out, const en::Manifest& m) {
+    std::string error;
+    try {
+        en::prepare_output(out, m);
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    int bad = error.empty() ? 0 : 1;
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (bad) {
+        MPI_Finalize();
+        throw InputError(error);
+    }
+}
+
+/// Rank 0 hands out the members one at a time to the worker that asks, sleeping (not spinning)
+/// between requests; returns the exit code.
+int mpi_lead(const EnsembleArgs& a, const en::Manifest& m, int size) {
+    const fs::path out = a.output;
+    mpi_prepare(out, m);
+    en::sweep_stale_stages(out);
+    const auto todo = todo_list(out, m);
+    const int threads = a.threads > 0 ? a.threads : 1;
+    print_plan(m, todo.size(),
+               std::to_string(size - 1) + " worker ranks of " + std::to_string(threads) +
+                   (threads == 1 ? " thread" : " threads") + " (rank 0 hands out members)");
+    Stopwatch sw;
+    std::size_t next = 0, done = 0, failed = 0, handed = 0;
+    int active = size - 1;
+    double handing_s = 0;
+    useconds_t nap = 200;
+    while (active > 0) {
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, kTagReady, MPI_COMM_WORLD, &flag, &st);
+        if (!flag) {
+            usleep(nap); // sleep, not spin, while the workers run
+            nap = std::min<useconds_t>(nap * 2, 20000);
+            continue;
+        }
+        nap = 200;
+        Stopwatch hand;
+        long long msg[2];
+        MPI_Recv(msg, 2, MPI_LONG_LONG, st.MPI_SOURCE, kTagReady, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+        if (msg[0] >= 0) {
+            ++done;
+            failed += msg[1] != 0;
+        }
+        long long assign = next < todo.size() ? static_cast<long long>(todo[next++]) : -1;
+        if (assign < 0) --active;
+        MPI_Send(&assign, 1, MPI_LONG_LONG, st.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD);
+        if (assign >= 0) {
+            handing_s += hand.seconds();
+            ++handed;
+        }
+        if (msg[0] >= 0)
+            progress_line(static_cast<double>(done) / static_cast<double>(todo.size()),
+                          sw.seconds(), "  %zu of %zu members, %zu failed  ", done, todo.size(),
+                          failed);
+    }
+    end_progress_line();
+    if (handed > 0)
+        std::printf("rank 0 spent %.1f us per member handing out work (%zu members)\n",
+                    1e6 * handing_s / static_cast<double>(handed), handed);
+    return finish(out, m, sw.seconds(), todo.size());
+}
+
+/// A worker rank asks rank 0 for a member, runs it as a child process, reports, and asks again
+/// until told to stop; returns false when rank 0 could not prepare the output.
+bool mpi_work(const EnsembleArgs& a, const en::Manifest& m) {
+    int bad = 0;
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (bad) return false;
+    const fs::path out = a.output;
+    const int threads = a.threads > 0 ? a.threads : 1;
+    long long last[2] = {-1, 0};
+    for (;;) {
+        MPI_Send(last, 2, MPI_LONG_LONG, 0, kTagReady, MPI_COMM_WORLD);
+        long long assign = -1;
+        MPI_Request req;
+        MPI_Irecv(&assign, 1, MPI_LONG_LONG, 0, kTagAssign, MPI_COMM_WORLD, &req);
+        wait_quietly(req);
+        if (assign < 0) break;
+        const auto i = static_cast<std::size_t>(assign);
+        const fs::path log = log_path(out, m, i);
+        const pid_t pid = spawn_member(m.file, out, i, threads, log);
+        int status = 0;
+        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        last[0] = assign;
+        last[1] = settle(out, m, i, status, log, nullptr) ? 0 : 1;
+    }
+    return true;
+}
+
 int run_mpi(const EnsembleArgs& a, const en::Manifest& m) {
     MPI_Init(nullptr, nullptr);
     int rank = 0, size = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
-    const fs::path out = a.output;
     int code = 0;
     if (rank == 0) {
-        std::string error;
-        try {
-            en::prepare_output(out, m);
-        } catch (const std::exception& e) {
-            error = e.what();
-        }
-        int bad = error.empty() ? 0 : 1;
-        MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (bad) {
-            MPI_Finalize();
-            throw InputError(error);
-        }
-        en::sweep_stale_stages(out);
-        const auto todo = todo_list(out, m);
-        const int threads = a.threads > 0 ? a.threads : 1;
-        print_plan(m, todo.size(),
-                   std::to_string(size - 1) + " worker ranks of " + std::to_string(threads) +
-                       (threads == 1 ? " thread" : " threads") + " (rank 0 hands out members)");
-        Stopwatch sw;
-        std::size_t next = 0, done = 0, failed = 0;
-        int active = size - 1;
-        double handing_s = 0;
-        std::size_t handed = 0;
-        useconds_t nap = 200;
-        while (active > 0) {
-            int flag = 0;
-            MPI_Status st;
-            MPI_Iprobe(MPI_ANY_SOURCE, kTagReady, MPI_COMM_WORLD, &flag, &st);
-            if (!flag) {
-                usleep(nap); // sleep, not spin, while the workers run
-                nap = std::min<useconds_t>(nap * 2, 20000);
-                continue;
-            }
-            nap = 200;
-            Stopwatch hand;
-            long long msg[2];
-            MPI_Recv(msg, 2, MPI_LONG_LONG, st.MPI_SOURCE, kTagReady, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE);
-            if (msg[0] >= 0) {
-                ++done;
-                failed += msg[1] != 0;
-            }
-            long long assign = next < todo.size() ? static_cast<long long>(todo[next++]) : -1;
-            if (assign < 0) --active;
-            MPI_Send(&assign, 1, MPI_LONG_LONG, st.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD);
-            if (assign >= 0) {
-                handing_s += hand.seconds();
-                ++handed;
-            }
-            if (msg[0] >= 0)
-                progress_line(static_cast<double>(done) / static_cast<double>(todo.size()),
-                              sw.seconds(), "  %zu of %zu members, %zu failed  ", done, todo.size(),
-                              failed);
-        }
-        end_progress_line();
-        if (handed > 0)
-            std::printf("rank 0 spent %.1f us per member handing out work (%zu members)\n",
-                        1e6 * handing_s / static_cast<double>(handed), handed);
-        code = finish(out, m, sw.seconds(), todo.size());
-    } else {
-        int bad = 0;
-        MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (bad) {
-            MPI_Finalize();
-            return 2;
-        }
-        const int threads = a.threads > 0 ? a.threads : 1;
-        long long last[2] = {-1, 0};
-        for (;;) {
-            MPI_Send(last, 2, MPI_LONG_LONG, 0, kTagReady, MPI_COMM_WORLD);
-            long long assign = -1;
-            MPI_Request req;
-            MPI_Irecv(&assign, 1, MPI_LONG_LONG, 0, kTagAssign, MPI_COMM_WORLD, &req);
-            wait_quietly(req);
-            if (assign < 0) break;
-            const auto i = static_cast<std::size_t>(assign);
-            const fs::path log = log_path(out, m, i);
-            const pid_t pid = spawn_member(m.file, out, i, threads, log);
-            int status = 0;
-            while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-            }
-            last[0] = assign;
-            last[1] = settle(out, m, i, status, log, nullptr) ? 0 : 1;
-        }
+        code = mpi_lead(a, m, size);
+    } else if (!mpi_work(a, m)) {
+        MPI_Finalize();
+        return 2;
     }
     quiet_barrier();
     MPI_Finalize();

@@ -75,14 +75,18 @@ VegetationLayers vegetation_layers(const Scene& s, const LayerOptions& opt) {
     return v;
 }
 
-void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt) {
+namespace {
+
+struct Layer {
+    std::string file, unit, what;
+    RasterD r;
+};
+
+/// The vegetation layers: elevation, canopy height, stems and basal area, dominant species, leaf
+/// area.
+std::vector<Layer> vegetation_layer_list(const Scene& s, const LayerOptions& opt) {
     const auto veg = vegetation_layers(s, opt);
-    const GridSpec full = run::read_run_terrain(s.run).grid();
-    struct Layer {
-        std::string file, unit, what;
-        RasterD r;
-    };
-    std::vector<Layer> layers = {
+    return {
         {"elevation_m.tif", "m", "terrain elevation", s.terrain},
         {"canopy_height_m.tif", "m",
          "height of the tallest tree whose crown covers the cell centre (0: open)",
@@ -102,10 +106,11 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
          "the cell area",
          veg.leaf_area_m2},
     };
-    const std::vector<std::pair<std::string, std::string>> water = {
-        {"surface_water_depth_m", "standing water depth, m"},
-        {"water_table_depth_m", "depth of the water table below the surface, m"},
-        {"catchment_id", "catchment the cell drains to (id)"}};
+}
+
+/// The snapshot's ground cover, soil water and surface water, cut to the scene's region.
+void add_water_layers(const Scene& s, std::vector<Layer>& layers) {
+    const GridSpec full = run::read_run_terrain(s.run).grid();
     auto cut = [&](RasterD r) {
         return s.region ? r.crop(s.cut_i0, s.cut_j0, s.terrain.nx(), s.terrain.ny()) : r;
     };
@@ -132,15 +137,16 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
                       "capacity - wilting point), 0 at the wilting point, 1 at field capacity, "
                       "above 1 wetter (nodata: a soil with field capacity at the wilting point)",
                       relative});
+    const std::vector<std::pair<std::string, std::string>> water = {
+        {"surface_water_depth_m", "standing water depth, m"},
+        {"water_table_depth_m", "depth of the water table below the surface, m"},
+        {"catchment_id", "catchment the cell drains to (id)"}};
     for (const auto& [name, what] : water)
         layers.push_back({name + ".tif", name == "catchment_id" ? "id" : "m", what,
                           cut(run::read_snapshot_raster(s.run, s.snapshot, name, full))});
-    std::string table = "| file | unit | what |\n|---|---|---|\n";
-    for (auto& l : layers) {
-        l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain
-        terrain::io::write_geotiff(l.r, folder.staged_path(l.file), l.unit);
-        table += "| " + l.file + " | " + l.unit + " | " + l.what + " |\n";
-    }
+}
+
+void write_layers_readme(const Scene& s, OutputFolder& folder, const std::string& table) {
     std::string species;
     for (std::size_t k = 0; k < s.species.size(); ++k)
         species += "- " + std::to_string(k) + ": " + s.species[k].name + "\n";
@@ -166,6 +172,20 @@ void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt)
                                   "\nSpecies indices:\n\n" + species +
                                   "\nLoad: `gdalinfo FILE.tif`; in Python `rasterio.open(FILE)` or "
                                   "`gdal.Open(FILE)`; in QGIS drag the files in.\n");
+}
+
+} // namespace
+
+void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt) {
+    std::vector<Layer> layers = vegetation_layer_list(s, opt);
+    add_water_layers(s, layers);
+    std::string table = "| file | unit | what |\n|---|---|---|\n";
+    for (auto& l : layers) {
+        l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain
+        terrain::io::write_geotiff(l.r, folder.staged_path(l.file), l.unit);
+        table += "| " + l.file + " | " + l.unit + " | " + l.what + " |\n";
+    }
+    write_layers_readme(s, folder, table);
 }
 
 } // namespace ecoterra::exporter

@@ -53,30 +53,29 @@ struct RunArgs {
     bool output_given = false; ///< -o was on the command line (even with its default value)
 };
 
-void run_run(const RunArgs& a) {
-    if (a.scene.empty() && a.resume.empty())
-        throw InputError("run: give a scene file, or --resume RUN.h5");
-    if (a.resume.empty()) refuse_output_over_input("-o", a.output, {a.scene});
-    if (!a.resume.empty() && a.output_given)
-        throw InputError("-o " + a.output + ": --resume " + a.resume +
-                         " continues that run file in place; -o is not used with --resume");
-    std::optional<eco::EcoScene> scene;
-    std::vector<std::string> sets = a.sets;
+/// The scene of `run`, with its --set, --seed and --years overrides (none with --resume alone).
+std::optional<eco::EcoScene> run_scene(const RunArgs& a, std::vector<std::string>& sets) {
     if (a.seed) sets.push_back("simulation.seed=" + std::to_string(*a.seed));
-    if (!a.scene.empty()) {
-        json j = parse_json(io::read_text(a.scene), a.scene);
-        if (a.years && a.resume.empty())
-            sets.push_back("simulation.years=" + std::to_string(*a.years));
-        apply_overrides(j, sets);
-        const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
-        scene = with_context(a.scene, [&] { return eco::load_eco_scene(j, base); });
-        for (const auto& n : scene->ecosystem.notes)
-            std::fprintf(stderr, "note: %s: %s\n", scene->ecosystem.source.c_str(), n.c_str());
-        if (scene->hydro.observed) print_notes(hydro::fill_report(*scene->hydro.observed));
-    } else if (!sets.empty()) {
-        throw InputError("run --resume: --set and --seed need the scene file too (and then must "
-                         "not change it)");
+    if (a.scene.empty()) {
+        if (!sets.empty())
+            throw InputError("run --resume: --set and --seed need the scene file too (and then "
+                             "must not change it)");
+        return std::nullopt;
     }
+    json j = parse_json(io::read_text(a.scene), a.scene);
+    if (a.years && a.resume.empty()) sets.push_back("simulation.years=" + std::to_string(*a.years));
+    apply_overrides(j, sets);
+    const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
+    auto scene = with_context(a.scene, [&] { return eco::load_eco_scene(j, base); });
+    for (const auto& n : scene.ecosystem.notes)
+        std::fprintf(stderr, "note: %s: %s\n", scene.ecosystem.source.c_str(), n.c_str());
+    if (scene.hydro.observed) print_notes(hydro::fill_report(*scene.hydro.observed));
+    return scene;
+}
+
+/// Where and how `run` writes; a new run claims its outputs (--force to replace them).
+run::RunOptions run_options(const RunArgs& a, const std::optional<eco::EcoScene>& scene,
+                            const std::vector<std::string>& sets) {
     run::RunOptions opt;
     opt.resume = !a.resume.empty();
     opt.output = opt.resume ? fs::path(a.resume) : fs::path(a.output);
@@ -99,6 +98,43 @@ void run_run(const RunArgs& a) {
     if (scene && scene->hydro.observed)
         opt.provenance["observed_weather_filled"] = scene->hydro.observed->filled;
     if (opt.resume) opt.years = a.years;
+    return opt;
+}
+
+void print_run_summary(const run::RunSummary& sum, const fs::path& output) {
+    const auto& st = sum.stand;
+    std::printf("%d years run (%d in total)%s in %.2f s: %.3g plant-years/s, %.3g simulated "
+                "years/s\n",
+                sum.years_run, sum.years_total,
+                sum.reached_target ? ", stopped at the target basal area" : "", sum.seconds,
+                sum.plant_years / sum.seconds, sum.years_run / sum.seconds);
+    std::printf("stand: %lld stems, %.1f stems/ha, basal area %.2f m2/ha (%.1f ft2/acre), Dq "
+                "%.1f cm, SDI %.0f per ha\n",
+                static_cast<long long>(st.stems), st.stems_per_ha, st.basal_area_m2_per_ha,
+                st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * kCmPerM,
+                st.sdi_per_ha);
+    print_undergrowth(sum.undergrowth, sum.species);
+    std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
+                sum.water_residual_relative, sum.carbon_residual_relative);
+    std::printf("methods (cite them with the run; also in its /provenance):\n%s",
+                methods_text(sum.methods).c_str());
+    std::printf("wrote %s (%d snapshots)\n", output.string().c_str(), sum.snapshots);
+    if (!sum.picture_dir.empty())
+        std::printf("pictures: %s/{stems,dbh_histogram,stand_history,soil_moisture,"
+                    "surface_water_depth}.png\n",
+                    sum.picture_dir.string().c_str());
+}
+
+void run_run(const RunArgs& a) {
+    if (a.scene.empty() && a.resume.empty())
+        throw InputError("run: give a scene file, or --resume RUN.h5");
+    if (a.resume.empty()) refuse_output_over_input("-o", a.output, {a.scene});
+    if (!a.resume.empty() && a.output_given)
+        throw InputError("-o " + a.output + ": --resume " + a.resume +
+                         " continues that run file in place; -o is not used with --resume");
+    std::vector<std::string> sets = a.sets;
+    const std::optional<eco::EcoScene> scene = run_scene(a, sets);
+    const run::RunOptions opt = run_options(a, scene, sets);
     if (scene) {
         const auto& g = scene->hydro.dem.grid();
         std::printf("ecosystem: %s, %zu species, %s competition, %.4g x %.4g m (terrain %d x %d "
@@ -120,27 +156,7 @@ void run_run(const RunArgs& a) {
                           p.plant_years / std::max(p.seconds, 1e-9));
         });
     end_progress_line();
-    const auto& st = sum.stand;
-    std::printf("%d years run (%d in total)%s in %.2f s: %.3g plant-years/s, %.3g simulated "
-                "years/s\n",
-                sum.years_run, sum.years_total,
-                sum.reached_target ? ", stopped at the target basal area" : "", sum.seconds,
-                sum.plant_years / sum.seconds, sum.years_run / sum.seconds);
-    std::printf("stand: %lld stems, %.1f stems/ha, basal area %.2f m2/ha (%.1f ft2/acre), Dq "
-                "%.1f cm, SDI %.0f per ha\n",
-                static_cast<long long>(st.stems), st.stems_per_ha, st.basal_area_m2_per_ha,
-                st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * kCmPerM,
-                st.sdi_per_ha);
-    print_undergrowth(sum.undergrowth, sum.species);
-    std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
-                sum.water_residual_relative, sum.carbon_residual_relative);
-    std::printf("methods (cite them with the run; also in its /provenance):\n%s",
-                methods_text(sum.methods).c_str());
-    std::printf("wrote %s (%d snapshots)\n", opt.output.string().c_str(), sum.snapshots);
-    if (!sum.picture_dir.empty())
-        std::printf("pictures: %s/{stems,dbh_histogram,stand_history,soil_moisture,"
-                    "surface_water_depth}.png\n",
-                    sum.picture_dir.string().c_str());
+    print_run_summary(sum, opt.output);
 }
 
 struct StandArgs {

@@ -37,72 +37,64 @@ std::vector<MissionLine> read_missions_csv(const std::filesystem::path& path) {
     return out;
 }
 
-TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
-                        const TraverseOptions& opt) {
-    TraverseResult r;
-    r.id = m.id;
-    const double dx = m.goal_x_m - m.start_x_m, dy = m.goal_y_m - m.start_y_m;
-    const double length = std::hypot(dx, dy);
-    if (!(length > 0)) throw InputError("mission " + std::to_string(m.id) + " has no length");
-    const double speed = opt.speed_m_per_s > 0 ? opt.speed_m_per_s : v.top_speed_m_per_s;
-    if (!(opt.dt_s > 0)) throw InputError("the pose interval must be > 0 s");
-    const double ux = dx / length, uy = dy / length; // forward
-    const double nx = -uy, ny = ux;                  // left
-    const double half_l = 0.5 * v.wheelbase_m, half_t = 0.5 * v.track_m;
-    auto height = [&](double x, double y) {
-        const double z = dem.sample_bilinear(x, y);
+namespace {
+
+/// The quasi-static pose of the vehicle along a mission: four wheel contacts on the heightmap.
+class PoseSampler {
+public:
+    PoseSampler(const Vehicle& v, const RasterD& dem, const MissionLine& m, double length)
+        : m_v(v), m_dem(dem), m_m(m), m_ux((m.goal_x_m - m.start_x_m) / length),
+          m_uy((m.goal_y_m - m.start_y_m) / length) {}
+    /// The pose with the vehicle's centre `s` m along the mission.
+    Pose at(double s) const;
+
+private:
+    double height(double x, double y) const {
+        const double z = m_dem.sample_bilinear(x, y);
         if (std::isnan(z))
-            throw InputError("mission " + std::to_string(m.id) + " leaves the terrain at (" +
+            throw InputError("mission " + std::to_string(m_m.id) + " leaves the terrain at (" +
                              format_number(x) + ", " + format_number(y) + ")");
         return z;
-    };
-    auto pose = [&](double s) {
-        const double cx = m.start_x_m + s * ux, cy = m.start_y_m + s * uy;
-        const double fl = height(cx + half_l * ux + half_t * nx, cy + half_l * uy + half_t * ny);
-        const double fr = height(cx + half_l * ux - half_t * nx, cy + half_l * uy - half_t * ny);
-        const double rl = height(cx - half_l * ux + half_t * nx, cy - half_l * uy + half_t * ny);
-        const double rr = height(cx - half_l * ux - half_t * nx, cy - half_l * uy - half_t * ny);
-        Pose p;
-        p.z_m = 0.25 * (fl + fr + rl + rr);
-        p.pitch_rad = std::atan2(0.5 * (fl + fr - rl - rr), v.wheelbase_m);
-        p.roll_rad = std::atan2(0.5 * (fl + rl - fr - rr), v.track_m);
-        // The belly: the centre line between the axles against the contact plane there.
-        for (int k = 0; k < kBellySamples && !p.belly_touches; ++k) {
-            const double t = -half_l + (k + 0.5) * v.wheelbase_m / kBellySamples;
-            const double plane = p.z_m + t * 0.5 * (fl + fr - rl - rr) / v.wheelbase_m;
-            p.belly_touches = height(cx + t * ux, cy + t * uy) > plane + v.ground_clearance_m;
-        }
-        return p;
-    };
-    const double step = speed * opt.dt_s;
-    const int n = static_cast<int>(std::floor(length / step + 1e-9));
-    const double tip = std::min(v.tip_over_deg, opt.tip_over_limit_deg) / kDegPerRad;
-    std::vector<Pose> poses;
-    for (int k = 0; k <= n; ++k) {
-        const double s = std::min(k * step, length);
-        const Pose p = pose(s);
-        r.max_abs_pitch_deg = std::max(r.max_abs_pitch_deg, std::abs(p.pitch_rad) * kDegPerRad);
-        r.max_abs_roll_deg = std::max(r.max_abs_roll_deg, std::abs(p.roll_rad) * kDegPerRad);
-        const char* why = nullptr;
-        if (std::abs(p.pitch_rad) > tip || std::abs(p.roll_rad) > tip)
-            why = "tip-over";
-        else if (p.pitch_rad > v.max_climb_deg / kDegPerRad)
-            why = "climb limit";
-        else if (std::abs(p.roll_rad) > v.max_side_slope_deg / kDegPerRad)
-            why = "side-slope limit";
-        else if (p.belly_touches)
-            why = "high-centred";
-        if (why) {
-            r.failure = why;
-            r.failed_at_m = s;
-            return r;
-        }
-        poses.push_back(p);
     }
-    r.success = true;
-    r.distance_m = length;
-    r.time_s = length / speed;
-    const double dt = opt.dt_s;
+    const Vehicle& m_v;
+    const RasterD& m_dem;
+    const MissionLine& m_m;
+    double m_ux, m_uy; ///< forward; left is (-uy, ux)
+};
+
+Pose PoseSampler::at(double s) const {
+    const double ux = m_ux, uy = m_uy, nx = -uy, ny = ux;
+    const double half_l = 0.5 * m_v.wheelbase_m, half_t = 0.5 * m_v.track_m;
+    const double cx = m_m.start_x_m + s * ux, cy = m_m.start_y_m + s * uy;
+    const double fl = height(cx + half_l * ux + half_t * nx, cy + half_l * uy + half_t * ny);
+    const double fr = height(cx + half_l * ux - half_t * nx, cy + half_l * uy - half_t * ny);
+    const double rl = height(cx - half_l * ux + half_t * nx, cy - half_l * uy + half_t * ny);
+    const double rr = height(cx - half_l * ux - half_t * nx, cy - half_l * uy - half_t * ny);
+    Pose p;
+    p.z_m = 0.25 * (fl + fr + rl + rr);
+    p.pitch_rad = std::atan2(0.5 * (fl + fr - rl - rr), m_v.wheelbase_m);
+    p.roll_rad = std::atan2(0.5 * (fl + rl - fr - rr), m_v.track_m);
+    // The belly: the centre line between the axles against the contact plane there.
+    for (int k = 0; k < kBellySamples && !p.belly_touches; ++k) {
+        const double t = -half_l + (k + 0.5) * m_v.wheelbase_m / kBellySamples;
+        const double plane = p.z_m + t * 0.5 * (fl + fr - rl - rr) / m_v.wheelbase_m;
+        p.belly_touches = height(cx + t * ux, cy + t * uy) > plane + m_v.ground_clearance_m;
+    }
+    return p;
+}
+
+/// Why a pose ends the mission (nullptr: it does not).
+const char* failure_of(const Pose& p, const Vehicle& v, double tip_rad) {
+    if (std::abs(p.pitch_rad) > tip_rad || std::abs(p.roll_rad) > tip_rad) return "tip-over";
+    if (p.pitch_rad > v.max_climb_deg / kDegPerRad) return "climb limit";
+    if (std::abs(p.roll_rad) > v.max_side_slope_deg / kDegPerRad) return "side-slope limit";
+    if (p.belly_touches) return "high-centred";
+    return nullptr;
+}
+
+/// RMS vertical acceleration (second differences of z) and pitch and roll rates of the poses,
+/// `dt` s apart.
+void pose_statistics(const std::vector<Pose>& poses, double dt, TraverseResult& r) {
     double az2 = 0, pr2 = 0, rr2 = 0;
     std::size_t na = 0, nr = 0;
     for (std::size_t k = 1; k < poses.size(); ++k) {
@@ -120,6 +112,40 @@ TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine&
     r.rms_vertical_acceleration_m_per_s2 = na ? std::sqrt(az2 / static_cast<double>(na)) : 0.0;
     r.rms_pitch_rate_deg_per_s = nr ? std::sqrt(pr2 / static_cast<double>(nr)) : 0.0;
     r.rms_roll_rate_deg_per_s = nr ? std::sqrt(rr2 / static_cast<double>(nr)) : 0.0;
+}
+
+} // namespace
+
+TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine& m,
+                        const TraverseOptions& opt) {
+    TraverseResult r;
+    r.id = m.id;
+    const double dx = m.goal_x_m - m.start_x_m, dy = m.goal_y_m - m.start_y_m;
+    const double length = std::hypot(dx, dy);
+    if (!(length > 0)) throw InputError("mission " + std::to_string(m.id) + " has no length");
+    const double speed = opt.speed_m_per_s > 0 ? opt.speed_m_per_s : v.top_speed_m_per_s;
+    if (!(opt.dt_s > 0)) throw InputError("the pose interval must be > 0 s");
+    const PoseSampler pose(v, dem, m, length);
+    const double step = speed * opt.dt_s;
+    const int n = static_cast<int>(std::floor(length / step + 1e-9));
+    const double tip = std::min(v.tip_over_deg, opt.tip_over_limit_deg) / kDegPerRad;
+    std::vector<Pose> poses;
+    for (int k = 0; k <= n; ++k) {
+        const double s = std::min(k * step, length);
+        const Pose p = pose.at(s);
+        r.max_abs_pitch_deg = std::max(r.max_abs_pitch_deg, std::abs(p.pitch_rad) * kDegPerRad);
+        r.max_abs_roll_deg = std::max(r.max_abs_roll_deg, std::abs(p.roll_rad) * kDegPerRad);
+        if (const char* why = failure_of(p, v, tip)) {
+            r.failure = why;
+            r.failed_at_m = s;
+            return r;
+        }
+        poses.push_back(p);
+    }
+    r.success = true;
+    r.distance_m = length;
+    r.time_s = length / speed;
+    pose_statistics(poses, opt.dt_s, r);
     return r;
 }
 

@@ -157,9 +157,10 @@ void FractalDimensionOptions::validate() const {
     if (min_points < 3) throw InputError("fractal dimension: min points must be >= 3");
 }
 
-FractalDimensionResult fractal_dimension(const RasterD& z, const FractalDimensionOptions& opt) {
-    opt.validate();
-    require_valid_cells(z, "fractal dimension");
+namespace {
+
+/// Lags in cells, growing by the lag ratio up to the longest allowed.
+std::vector<int> dimension_lags(const RasterD& z, const FractalDimensionOptions& opt) {
     const int max_lag = static_cast<int>(opt.max_lag_fraction * std::min(z.nx(), z.ny()));
     std::vector<int> lags;
     for (double l = 1.0; l <= max_lag; l *= opt.lag_ratio) {
@@ -170,10 +171,15 @@ FractalDimensionResult fractal_dimension(const RasterD& z, const FractalDimensio
         throw InputError("fractal dimension: the raster is too small for " +
                          std::to_string(opt.min_points) + " lags (longest lag " +
                          std::to_string(max_lag) + " cells)");
-    FractalDimensionResult res;
+    return lags;
+}
+
+/// The structure function at each lag over the x and y pairs: the root mean square difference
+/// (variogram) or the mean absolute difference (madogram).
+std::vector<double> structure_function(const RasterD& z, const std::vector<int>& lags,
+                                       bool absolute) {
     const int nl = static_cast<int>(lags.size());
     std::vector<double> E(nl, 0.0);
-    const bool absolute = opt.estimator == DimensionEstimator::madogram;
 #pragma omp parallel for schedule(dynamic, 1)
     for (int q = 0; q < nl; ++q) {
         const int L = lags[q];
@@ -196,17 +202,14 @@ FractalDimensionResult fractal_dimension(const RasterD& z, const FractalDimensio
         const double mean = n ? s / static_cast<double>(n) : std::nan("");
         E[q] = absolute ? mean : std::sqrt(mean);
     }
-    std::vector<double> lx, ly;
-    for (int q = 0; q < nl; ++q) {
-        res.lag_m.push_back(lags[q] * z.cell_size());
-        res.structure_m.push_back(E[q]);
-        if (!(E[q] > 0))
-            throw InputError("fractal dimension: the surface is flat at lag " +
-                             std::to_string(lags[q]) + " cells");
-        lx.push_back(std::log10(res.lag_m.back()));
-        ly.push_back(std::log10(E[q]));
-    }
-    // Longest run (in log distance) of consecutive lags within tolerance of its own LS line.
+    return E;
+}
+
+/// The longest run (in log distance) of consecutive lags within tolerance of its own least-
+/// squares line; without one, the fit over the shortest lags (flagged by its r2).
+void fit_scaling_range(const std::vector<double>& lx, const std::vector<double>& ly,
+                       const FractalDimensionOptions& opt, FractalDimensionResult& res) {
+    const int nl = static_cast<int>(lx.size());
     double best_span = -1;
     for (int a = 0; a + opt.min_points <= nl; ++a)
         for (int b = a + opt.min_points - 1; b < nl; ++b) {
@@ -226,17 +229,37 @@ FractalDimensionResult fractal_dimension(const RasterD& z, const FractalDimensio
                 res.r2 = r2;
             }
         }
-    if (best_span < 0) {
-        // No run is straight enough: report the fit over the shortest lags, flagged by r2.
-        res.first = 0;
-        res.last = opt.min_points - 1;
-        std::vector<double> x(lx.begin(), lx.begin() + opt.min_points);
-        std::vector<double> y(ly.begin(), ly.begin() + opt.min_points);
-        const auto [c0, c1, r2] = fit_line(x, y);
-        (void)c0;
-        res.hurst = c1;
-        res.r2 = r2;
+    if (best_span >= 0) return;
+    res.first = 0;
+    res.last = opt.min_points - 1;
+    std::vector<double> x(lx.begin(), lx.begin() + opt.min_points);
+    std::vector<double> y(ly.begin(), ly.begin() + opt.min_points);
+    const auto [c0, c1, r2] = fit_line(x, y);
+    (void)c0;
+    res.hurst = c1;
+    res.r2 = r2;
+}
+
+} // namespace
+
+FractalDimensionResult fractal_dimension(const RasterD& z, const FractalDimensionOptions& opt) {
+    opt.validate();
+    require_valid_cells(z, "fractal dimension");
+    const std::vector<int> lags = dimension_lags(z, opt);
+    const std::vector<double> E =
+        structure_function(z, lags, opt.estimator == DimensionEstimator::madogram);
+    FractalDimensionResult res;
+    std::vector<double> lx, ly;
+    for (std::size_t q = 0; q < lags.size(); ++q) {
+        res.lag_m.push_back(lags[q] * z.cell_size());
+        res.structure_m.push_back(E[q]);
+        if (!(E[q] > 0))
+            throw InputError("fractal dimension: the surface is flat at lag " +
+                             std::to_string(lags[q]) + " cells");
+        lx.push_back(std::log10(res.lag_m.back()));
+        ly.push_back(std::log10(E[q]));
     }
+    fit_scaling_range(lx, ly, opt, res);
     res.range_min_m = res.lag_m[res.first];
     res.range_max_m = res.lag_m[res.last];
     res.dimension = 3.0 - res.hurst;

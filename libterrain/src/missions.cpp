@@ -26,22 +26,21 @@ void MissionOptions::validate() const {
     if (max_attempts_per_mission < 1) throw InputError("missions: attempts must be >= 1");
 }
 
-std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& classes,
-                                   const MissionOptions& opt) {
-    opt.validate();
-    if (!(closed.grid() == classes.grid()))
-        throw InputError("missions: the closed and raw class maps differ in grid");
+namespace {
+
+/// Low-roughness cells inside the border: where missions start.
+std::vector<std::int64_t> mission_starts(const RasterU8& closed, const MissionOptions& opt) {
     const GridSpec& g = closed.grid();
     const double x0 = g.origin_x_m + opt.border_m, x1 = g.origin_x_m + g.width_m() - opt.border_m;
     const double y0 = g.origin_y_m + opt.border_m, y1 = g.origin_y_m + g.height_m() - opt.border_m;
-    auto inside = [&](double x, double y) { return x >= x0 && x <= x1 && y >= y0 && y <= y1; };
-
     std::vector<std::int64_t> starts;
     for (int j = 0; j < g.ny; ++j)
-        for (int i = 0; i < g.nx; ++i)
-            if (closed(i, j) == static_cast<std::uint8_t>(RoughnessClass::low) &&
-                inside(g.x_of(i), g.y_of(j)))
+        for (int i = 0; i < g.nx; ++i) {
+            const double x = g.x_of(i), y = g.y_of(j);
+            if (closed(i, j) == static_cast<std::uint8_t>(RoughnessClass::low) && x >= x0 &&
+                x <= x1 && y >= y0 && y <= y1)
                 starts.push_back(static_cast<std::int64_t>(j) * g.nx + i);
+        }
     if (starts.empty())
         throw InputError("missions: no low-roughness cell lies inside the " +
                          format_number(opt.border_m) + " m border");
@@ -50,7 +49,45 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
                          " m mission does not fit in this " + format_number(g.width_m()) + " x " +
                          format_number(g.height_m()) + " m terrain less its " +
                          format_number(opt.border_m) + " m border");
+    return starts;
+}
 
+/// The classes a mission's straight line crosses (sampled every kPathStepCells cells); false
+/// when it crosses no-data (a DEM's hole or outer no-data: not a place to drive).
+bool classes_along(const RasterU8& classes, const MissionOptions& opt, Mission& m) {
+    const double sx = m.start_x_m, sy = m.start_y_m, gx = m.goal_x_m, gy = m.goal_y_m;
+    const int steps = std::max(
+        1, static_cast<int>(std::ceil(opt.length_m / (kPathStepCells * classes.cell_size()))));
+    std::array<int, 3> n{0, 0, 0};
+    for (int k = 0; k <= steps; ++k) {
+        const double t = static_cast<double>(k) / steps;
+        const auto c = classes.cell_at(sx + t * (gx - sx), sy + t * (gy - sy));
+        if (c[0] < 0) continue;
+        const std::uint8_t v = classes(c[0], c[1]);
+        if (v >= 3) return false;
+        ++n[v];
+    }
+    const int tot = n[0] + n[1] + n[2];
+    for (int q = 0; q < 3; ++q) {
+        m.class_fraction[q] = tot ? static_cast<double>(n[q]) / tot : 0.0;
+        if (n[q] == 0) continue;
+        if (!m.classes_crossed.empty()) m.classes_crossed.push_back('|');
+        m.classes_crossed.append(kClassNames[q]);
+    }
+    return true;
+}
+
+} // namespace
+
+std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& classes,
+                                   const MissionOptions& opt) {
+    opt.validate();
+    if (!(closed.grid() == classes.grid()))
+        throw InputError("missions: the closed and raw class maps differ in grid");
+    const GridSpec& g = closed.grid();
+    const double x0 = g.origin_x_m + opt.border_m, x1 = g.origin_x_m + g.width_m() - opt.border_m;
+    const double y0 = g.origin_y_m + opt.border_m, y1 = g.origin_y_m + g.height_m() - opt.border_m;
+    const std::vector<std::int64_t> starts = mission_starts(closed, opt);
     Rng rng(opt.seed, "terrain.missions");
     std::vector<Mission> out;
     const std::int64_t max_attempts =
@@ -69,7 +106,7 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
         const double th = heading * std::numbers::pi / 180.0;
         const double sx = g.x_of(si), sy = g.y_of(sj);
         const double gx = sx + opt.length_m * std::cos(th), gy = sy + opt.length_m * std::sin(th);
-        if (!inside(gx, gy)) continue;
+        if (!(gx >= x0 && gx <= x1 && gy >= y0 && gy <= y1)) continue;
         const auto gc = closed.cell_at(gx, gy);
         if (gc[0] < 0) continue;
         const std::uint8_t goal_class = closed(gc[0], gc[1]);
@@ -84,29 +121,7 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
         m.goal_y_m = gy;
         m.heading_deg = heading;
         m.length_m = opt.length_m;
-        const int steps = std::max(
-            1, static_cast<int>(std::ceil(opt.length_m / (kPathStepCells * g.cell_size_m))));
-        std::array<int, 3> n{0, 0, 0};
-        bool through_nodata = false; // a DEM's hole or outer no-data: not a place to drive
-        for (int k = 0; k <= steps && !through_nodata; ++k) {
-            const double t = static_cast<double>(k) / steps;
-            const auto c = classes.cell_at(sx + t * (gx - sx), sy + t * (gy - sy));
-            if (c[0] < 0) continue;
-            const std::uint8_t v = classes(c[0], c[1]);
-            if (v < 3)
-                ++n[v];
-            else
-                through_nodata = true;
-        }
-        if (through_nodata) continue;
-        const int tot = n[0] + n[1] + n[2];
-        for (int q = 0; q < 3; ++q) {
-            m.class_fraction[q] = tot ? static_cast<double>(n[q]) / tot : 0.0;
-            if (n[q] == 0) continue;
-            if (!m.classes_crossed.empty()) m.classes_crossed.push_back('|');
-            m.classes_crossed.append(kClassNames[q]);
-        }
-        out.push_back(m);
+        if (classes_along(classes, opt, m)) out.push_back(m);
     }
     return out;
 }

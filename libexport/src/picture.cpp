@@ -62,21 +62,22 @@ void label(cairo_t* cr, double x, double y, const std::string& s) {
 
 } // namespace
 
-void draw_export_picture(const Scene& s, const std::filesystem::path& png, const UserMeshes* user) {
-    const GridSpec& g = s.terrain.grid();
-    const double scale = kPanelPx / std::max(g.width_m(), g.height_m());
-    const double w = g.width_m() * scale, h = g.height_m() * scale;
-    const int W = static_cast<int>(std::ceil(2 * w + kGapPx)),
-              H = static_cast<int>(std::ceil(h + kTitlePx + 54));
-    cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
-    cairo_t* cr = cairo_create(surf);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    auto px = [&](double x, double off) { return off + (x - g.origin_x_m) * scale; };
-    auto py = [&](double y) { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; };
+namespace {
 
-    // Left: the run's records, crowns as circles over the hillshade.
-    terrain::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, w, h, true);
+/// Two panels of the terrain side by side: world metres to pixels.
+struct PanelFrame {
+    GridSpec g;
+    double scale, w, h;
+    explicit PanelFrame(const GridSpec& grid)
+        : g(grid), scale(kPanelPx / std::max(grid.width_m(), grid.height_m())),
+          w(grid.width_m() * scale), h(grid.height_m() * scale) {}
+    double px(double x, double off) const { return off + (x - g.origin_x_m) * scale; }
+    double py(double y) const { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; }
+};
+
+/// Left: the run's records, crowns as circles over the hillshade.
+void draw_records_panel(cairo_t* cr, const Scene& s, const PanelFrame& f) {
+    terrain::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, f.w, f.h, true);
     std::vector<std::size_t> order(s.trees.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -86,7 +87,7 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     for (const auto k : order) {
         const Tree& t = s.trees[k];
         const auto c = run::species_colour(static_cast<std::size_t>(t.species));
-        cairo_arc(cr, px(t.x_m, 0), py(t.y_m), std::max(1.0, t.crown_radius_m * scale), 0,
+        cairo_arc(cr, f.px(t.x_m, 0), f.py(t.y_m), std::max(1.0, t.crown_radius_m * f.scale), 0,
                   2 * std::numbers::pi);
         cairo_set_source_rgba(cr, c[0], c[1], c[2], 0.55);
         cairo_fill_preserve(cr);
@@ -96,9 +97,12 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     label(cr, 8, 20,
           "Snapshot " + std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
               "): stems, crown circles");
+}
 
-    // Right: the exported geometry seen from above, drawn far to near (painter's order by height).
-    const double off = w + kGapPx;
+/// The exported geometry's triangles (terrain, trunks, crowns or the user's meshes), far to
+/// near (painter's order by height).
+std::vector<Tri> exported_triangles(const Scene& s, const UserMeshes* user) {
+    const GridSpec& g = s.terrain.grid();
     std::vector<Tri> tris;
     const int step = std::max(1, (std::max(g.nx, g.ny) + kMaxTerrainQuads - 1) / kMaxTerrainQuads);
     add(tris, terrain_mesh(s.terrain, step), kGroundColour);
@@ -122,14 +126,20 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     }
     std::stable_sort(tris.begin(), tris.end(),
                      [](const Tri& a, const Tri& b) { return a.z < b.z; });
+    return tris;
+}
+
+/// Right: the exported geometry seen from above.
+void draw_geometry_panel(cairo_t* cr, const std::vector<Tri>& tris, const PanelFrame& f,
+                         double off) {
     cairo_save(cr);
-    cairo_rectangle(cr, off, kTitlePx, w, h);
+    cairo_rectangle(cr, off, kTitlePx, f.w, f.h);
     cairo_clip(cr);
     cairo_set_line_width(cr, 0.3);
     for (const auto& t : tris) {
-        cairo_move_to(cr, px(t.p[0][0], off), py(t.p[0][1]));
-        cairo_line_to(cr, px(t.p[1][0], off), py(t.p[1][1]));
-        cairo_line_to(cr, px(t.p[2][0], off), py(t.p[2][1]));
+        cairo_move_to(cr, f.px(t.p[0][0], off), f.py(t.p[0][1]));
+        cairo_line_to(cr, f.px(t.p[1][0], off), f.py(t.p[1][1]));
+        cairo_line_to(cr, f.px(t.p[2][0], off), f.py(t.p[2][1]));
         cairo_close_path(cr);
         cairo_set_source_rgb(cr, t.rgb[0], t.rgb[1], t.rgb[2]);
         cairo_fill_preserve(cr);
@@ -138,11 +148,26 @@ void draw_export_picture(const Scene& s, const std::filesystem::path& png, const
     cairo_restore(cr);
     label(cr, off + 8, 20,
           "Exported geometry, top view: " + std::to_string(tris.size()) + " triangles");
-    label(cr, 8, kTitlePx + h + 18,
+}
+
+} // namespace
+
+void draw_export_picture(const Scene& s, const std::filesystem::path& png, const UserMeshes* user) {
+    const GridSpec& g = s.terrain.grid();
+    const PanelFrame f(g);
+    const int W = static_cast<int>(std::ceil(2 * f.w + kGapPx)),
+              H = static_cast<int>(std::ceil(f.h + kTitlePx + 54));
+    cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
+    cairo_t* cr = cairo_create(surf);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    draw_records_panel(cr, s, f);
+    draw_geometry_panel(cr, exported_triangles(s, user), f, f.w + kGapPx);
+    label(cr, 8, kTitlePx + f.h + 18,
           std::to_string(s.trees.size()) + " trees, " +
               std::to_string(static_cast<int>(g.width_m())) + " m x " +
               std::to_string(static_cast<int>(g.height_m())) + " m; colours by species; north up");
-    terrain::draw_scale_bar(cr, 10, kTitlePx + h + 40, scale, w / 4);
+    terrain::draw_scale_bar(cr, 10, kTitlePx + f.h + 40, f.scale, f.w / 4);
     cairo_surface_flush(surf);
     const auto status = cairo_surface_write_to_png(surf, png.string().c_str());
     cairo_destroy(cr);

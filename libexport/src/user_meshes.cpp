@@ -89,6 +89,71 @@ fs::path checked_mtllib(const fs::path& obj, int line, const std::string& name) 
     return file;
 }
 
+namespace {
+
+/// A text entry of a mesh's object ("" when absent and not required).
+std::string entry_text(const json& m, const char* key, bool required, const std::string& at) {
+    if (!m.contains(key)) {
+        if (required) throw InputError(at + ": " + key + " is missing");
+        return "";
+    }
+    if (!m[key].is_string()) throw InputError(at + "." + key + ": not a string");
+    return m[key].get<std::string>();
+}
+
+/// The index of the run's species a mesh names.
+int entry_species(const std::string& species, const std::vector<SpeciesLook>& sp,
+                  const std::string& at) {
+    int k = -1;
+    std::string known;
+    for (std::size_t s = 0; s < sp.size(); ++s) {
+        if (sp[s].name == species) k = static_cast<int>(s);
+        known += (s ? ", " : "") + sp[s].name;
+    }
+    if (k < 0)
+        throw InputError(at + ".species = '" + species + "': the run has no such species (" +
+                         known + ")");
+    return k;
+}
+
+/// The life stages a mesh stands for: the one it names, or all.
+std::vector<Stage> entry_stages(const std::string& stage, const std::string& at) {
+    std::vector<Stage> stages;
+    for (const Stage st : kStages)
+        if (stage.empty() || stage == stage_name(st)) stages.push_back(st);
+    if (stages.empty())
+        throw InputError(at + ".stage = '" + stage + "': use young, medium or adult");
+    return stages;
+}
+
+/// The mesh of an entry: its OBJ (beside the JSON unless absolute), height and orientation.
+UserMesh entry_mesh(const json& m, const fs::path& base, const std::string& at) {
+    UserMesh u;
+    const std::string obj = entry_text(m, "obj", true, at);
+    u.obj = fs::path(obj).is_absolute() ? fs::path(obj) : base / obj;
+    std::error_code ec;
+    if (!fs::is_regular_file(u.obj, ec))
+        throw InputError(at + ".obj = '" + obj + "': no such file (" + u.obj.string() + ")");
+    if (!m.contains("height_m") || !m["height_m"].is_number() || !(m["height_m"].get<double>() > 0))
+        throw InputError(at + ".height_m: give the mesh's height in metres (above 0)");
+    u.height_m = m["height_m"].get<double>();
+    if (m.contains("rotate_y_to_z")) {
+        if (!m["rotate_y_to_z"].is_boolean())
+            throw InputError(at + ".rotate_y_to_z: true or false");
+        u.rotate_y_to_z = m["rotate_y_to_z"].get<bool>();
+    }
+    std::vector<std::string> libs;
+    u.mesh = read_obj_mesh(u.obj, &libs);
+    if (u.rotate_y_to_z) {
+        for (auto& p : u.mesh.positions) p = {p[0], -p[2], p[1]};
+        u.mesh.compute_normals();
+    }
+    u.mtl = libs; // each checked by read_obj_mesh
+    return u;
+}
+
+} // namespace
+
 UserMeshes UserMeshes::load(const fs::path& file, const std::vector<SpeciesLook>& sp) {
     const std::string where = "--species-meshes " + file.string();
     json j;
@@ -113,52 +178,10 @@ UserMeshes UserMeshes::load(const fs::path& file, const std::vector<SpeciesLook>
                 k != "rotate_y_to_z")
                 throw InputError(at + ": unknown key '" + k +
                                  "' (species, stage, obj, height_m, rotate_y_to_z)");
-        auto text = [&](const char* key, bool required) -> std::string {
-            if (!m.contains(key)) {
-                if (required) throw InputError(at + ": " + key + " is missing");
-                return "";
-            }
-            if (!m[key].is_string()) throw InputError(at + "." + key + ": not a string");
-            return m[key].get<std::string>();
-        };
-        const std::string species = text("species", true);
-        int k = -1;
-        std::string known;
-        for (std::size_t s = 0; s < sp.size(); ++s) {
-            if (sp[s].name == species) k = static_cast<int>(s);
-            known += (s ? ", " : "") + sp[s].name;
-        }
-        if (k < 0)
-            throw InputError(at + ".species = '" + species + "': the run has no such species (" +
-                             known + ")");
-        const std::string stage = text("stage", false);
-        std::vector<Stage> stages;
-        for (const Stage st : kStages)
-            if (stage.empty() || stage == stage_name(st)) stages.push_back(st);
-        if (stages.empty())
-            throw InputError(at + ".stage = '" + stage + "': use young, medium or adult");
-        UserMesh u;
-        const std::string obj = text("obj", true);
-        u.obj = fs::path(obj).is_absolute() ? fs::path(obj) : base / obj;
-        std::error_code ec;
-        if (!fs::is_regular_file(u.obj, ec))
-            throw InputError(at + ".obj = '" + obj + "': no such file (" + u.obj.string() + ")");
-        if (!m.contains("height_m") || !m["height_m"].is_number() ||
-            !(m["height_m"].get<double>() > 0))
-            throw InputError(at + ".height_m: give the mesh's height in metres (above 0)");
-        u.height_m = m["height_m"].get<double>();
-        if (m.contains("rotate_y_to_z")) {
-            if (!m["rotate_y_to_z"].is_boolean())
-                throw InputError(at + ".rotate_y_to_z: true or false");
-            u.rotate_y_to_z = m["rotate_y_to_z"].get<bool>();
-        }
-        std::vector<std::string> libs;
-        u.mesh = read_obj_mesh(u.obj, &libs);
-        if (u.rotate_y_to_z) {
-            for (auto& p : u.mesh.positions) p = {p[0], -p[2], p[1]};
-            u.mesh.compute_normals();
-        }
-        u.mtl = libs; // each checked by read_obj_mesh
+        const std::string species = entry_text(m, "species", true, at);
+        const int k = entry_species(species, sp, at);
+        const std::vector<Stage> stages = entry_stages(entry_text(m, "stage", false, at), at);
+        UserMesh u = entry_mesh(m, base, at);
         u.name = "user_" + file_safe(u.obj.stem().string());
         while (!names.insert(u.name).second) u.name += "_";
         const std::size_t idx = out.m_meshes.size();

@@ -189,6 +189,50 @@ void Catchments::pour_into(std::int32_t leaf, std::int32_t stop, double v,
     }
 }
 
+void Catchments::overflow(std::int32_t n, std::vector<std::int32_t>& work) {
+    Catchment& k = at(n);
+    const double cap = m_dh.capacity(n) * m_area;
+    const std::int32_t parent = m_dh.parent(n);
+    const std::int32_t t = m_dh.overflow_leaf(n);
+    if (parent < 0) { // no saddle to merge over: spill past the pass
+        const double excess = k.volume_m3 - cap;
+        k.volume_m3 = cap;
+        set_full(k);
+        k.dynamic = t >= 0;
+        if (t < 0)
+            m_lost_m3 += excess; // straight off the domain
+        else
+            pour_into(t, -1, excess, work); // into a depression that drains to the edge
+        return;
+    }
+    const std::int32_t s = m_dh.sibling(n);
+    const double cap_s = m_dh.capacity(s) * m_area;
+    const bool s_full = cap_s <= tolerance_m3(0.0) ||
+                        (m_pos[s] >= 0 && at(s).volume_m3 >= cap_s - tolerance_m3(cap_s));
+    if (s_full) { // both sides full to the saddle: one lake over it
+        double v = k.volume_m3;
+        remove(n);
+        if (m_pos[s] >= 0) { // the usual case: one catchment fills the sibling
+            v += at(s).volume_m3;
+            remove(s);
+        } else { // a sibling of no capacity: gather whatever lies under it
+            m_dh.for_each_in_subtree(s, [&](std::int32_t x) {
+                if (m_pos[x] < 0) return;
+                v += at(x).volume_m3;
+                remove(x);
+            });
+        }
+        create(parent, v);
+        work.push_back(parent);
+        return;
+    }
+    const double excess = k.volume_m3 - cap;
+    k.volume_m3 = cap;
+    set_full(k);
+    k.dynamic = true;
+    pour_into(t, s, excess, work);
+}
+
 int Catchments::equilibrate() {
     std::vector<std::int32_t> work;
     for (const auto& k : m_list)
@@ -211,44 +255,7 @@ int Catchments::equilibrate() {
         const double cap = m_dh.capacity(n) * m_area;
         const std::int32_t parent = m_dh.parent(n);
         if (k.volume_m3 - cap > tolerance_m3(cap)) {
-            const std::int32_t t = m_dh.overflow_leaf(n);
-            if (parent < 0) { // no saddle to merge over: spill past the pass
-                const double excess = k.volume_m3 - cap;
-                k.volume_m3 = cap;
-                set_full(k);
-                k.dynamic = t >= 0;
-                if (t < 0)
-                    m_lost_m3 += excess; // straight off the domain
-                else
-                    pour_into(t, -1, excess, work); // into a depression that drains to the edge
-                continue;
-            }
-            const std::int32_t s = m_dh.sibling(n);
-            const double cap_s = m_dh.capacity(s) * m_area;
-            const bool s_full = cap_s <= tolerance_m3(0.0) ||
-                                (m_pos[s] >= 0 && at(s).volume_m3 >= cap_s - tolerance_m3(cap_s));
-            if (s_full) { // both sides full to the saddle: one lake over it
-                double v = k.volume_m3;
-                remove(n);
-                if (m_pos[s] >= 0) { // the usual case: one catchment fills the sibling
-                    v += at(s).volume_m3;
-                    remove(s);
-                } else { // a sibling of no capacity: gather whatever lies under it
-                    m_dh.for_each_in_subtree(s, [&](std::int32_t x) {
-                        if (m_pos[x] < 0) return;
-                        v += at(x).volume_m3;
-                        remove(x);
-                    });
-                }
-                create(parent, v);
-                work.push_back(parent);
-                continue;
-            }
-            const double excess = k.volume_m3 - cap;
-            k.volume_m3 = cap;
-            set_full(k);
-            k.dynamic = true;
-            pour_into(t, s, excess, work);
+            overflow(n, work);
             continue;
         }
         const double base = m_dh.base_capacity(n) * m_area;

@@ -116,6 +116,9 @@ private:
     /// Splits the catchment at a node whose volume fell below its children's saddle; pushes the
     /// new catchments' nodes onto `work`.
     void split(std::int32_t node, std::vector<std::int32_t>& work);
+    /// A catchment over its capacity: it spills past its pass (no parent), merges with a full
+    /// sibling into one lake over the saddle, or pours the excess towards the sibling.
+    void overflow(std::int32_t node, std::vector<std::int32_t>& work);
     /// After an equilibrium: list order, positions, cover map and wet counts.
     void finish();
 

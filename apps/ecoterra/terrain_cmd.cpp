@@ -290,11 +290,9 @@ void run_convert(const ConvertArgs& a) {
 
 } // namespace
 
-void add_terrain_command(CLI::App& app) {
-    CLI::App* terrain = app.add_subcommand("terrain", "generate, analyse and convert terrain");
-    terrain->require_subcommand(1);
+namespace {
 
-    // generate
+void add_generate(CLI::App* terrain) {
     auto g = std::make_shared<GenerateArgs>();
     CLI::App* gen = terrain->add_subcommand("generate", "generate a heightmap");
     gen->footer("Unset parameters take their method's defaults, which depend on the method and "
@@ -322,8 +320,9 @@ void add_terrain_command(CLI::App& app) {
     gen->add_option("--format", g->format, "force a format: hdf5 asc geotiff png gazebo-png obj");
     add_force_flag(gen, g->force);
     gen->callback([g] { run_generate(*g); });
+}
 
-    // analyze
+void add_analyze(CLI::App* terrain) {
     auto a = std::make_shared<AnalyzeArgs>();
     CLI::App* an = terrain->add_subcommand("analyze", "roughness, classes, PSD, fractal dimension");
     an->add_option("file", a->input, "elevation raster (any supported format)")->required();
@@ -357,8 +356,9 @@ void add_terrain_command(CLI::App& app) {
         ->capture_default_str();
     add_force_flag(an, a->force);
     an->callback([a] { run_analyze(*a); });
+}
 
-    // missions
+void add_missions(CLI::App* terrain) {
     auto m = std::make_shared<MissionArgs>();
     CLI::App* mi = terrain->add_subcommand("missions", "random straight-line A-to-B missions");
     mi->add_option("file", m->input, "elevation raster")->required();
@@ -370,8 +370,9 @@ void add_terrain_command(CLI::App& app) {
     mi->add_option("--json", m->json_out, "also write JSON here");
     add_force_flag(mi, m->force);
     mi->callback([m] { run_missions(*m); });
+}
 
-    // convert
+void add_convert(CLI::App* terrain) {
     auto c = std::make_shared<ConvertArgs>();
     CLI::App* cv = terrain->add_subcommand("convert", "convert a raster between formats");
     cv->add_option("input", c->input, "input raster")->required();
@@ -380,6 +381,17 @@ void add_terrain_command(CLI::App& app) {
     cv->add_option("--format", c->format, "force a format: hdf5 asc geotiff png gazebo-png obj");
     add_force_flag(cv, c->force);
     cv->callback([c] { run_convert(*c); });
+}
+
+} // namespace
+
+void add_terrain_command(CLI::App& app) {
+    CLI::App* terrain = app.add_subcommand("terrain", "generate, analyse and convert terrain");
+    terrain->require_subcommand(1);
+    add_generate(terrain);
+    add_analyze(terrain);
+    add_missions(terrain);
+    add_convert(terrain);
 }
 
 } // namespace ecoterra::app

@@ -7,9 +7,11 @@
 
 #include "ecoterra/analyses/describe.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/eco/outputs.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
+#include "ecoterra/run/records.hpp"
 #include "ecoterra/run/run.hpp"
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/generate.hpp"

@@ -5,6 +5,7 @@
 
 #include "ecoterra/export/formats.hpp"
 #include "ecoterra/export/mesh.hpp"
+#include "ecoterra/export/scene.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/run/run_reader.hpp"

@@ -1,6 +1,7 @@
 // The depression hierarchy's invariants, and the catchments it carries checked with Boost.Graph:
 // after filling and draining, each catchment is one connected water body and no two touch.
 #include "ecoterra/hydro/catchments.hpp"
+#include "ecoterra/hydro/depressions.hpp"
 #include "ecoterra/hydro/hydrology.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"

@@ -4,6 +4,7 @@
 // them must fill it before any water leaves the domain (the defect of issue 10, which white-noise
 // DEMs rarely showed).
 #include "ecoterra/hydro/catchments.hpp"
+#include "ecoterra/hydro/pond.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/spectral.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"

@@ -2,6 +2,7 @@
 // population, checked for what it must conserve or keep (water, carbon, counts, the random streams,
 // the geometry of the canopy), over several seeds.
 #include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/population.hpp"
 #include "ecoterra/eco/processes.hpp"
 #include "ecoterra/hydro/catchments.hpp"
 

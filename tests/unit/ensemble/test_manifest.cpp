@@ -1,6 +1,7 @@
 // Manifest expansion: members as pure functions of (manifest, index).
 #include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/ensemble/manifest.hpp"
+#include "ecoterra/ensemble/member.hpp"
 #include "ecoterra/ensemble/summary.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/io/atomic_file.hpp"

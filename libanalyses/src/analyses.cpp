@@ -1,6 +1,7 @@
 #include "ecoterra/analyses/analyses.hpp"
 
 #include "ecoterra/analyses/describe.hpp"
+#include "ecoterra/export/formats.hpp"
 #include "ecoterra/units.hpp"
 
 #include <cmath>
@@ -307,6 +308,22 @@ const ParamCatalog<TerrainAnalysisOptions>& terrain_catalog() {
     return c;
 }
 
+const ParamCatalog<ExportAnalysis>& export_catalog() {
+    using E = ExportAnalysis;
+    static const ParamCatalog<E> c = [] {
+        std::vector<std::string> names;
+        for (const auto f : {exporter::SceneFormat::mavs, exporter::SceneFormat::gazebo,
+                             exporter::SceneFormat::unreal, exporter::SceneFormat::gltf})
+            names.emplace_back(exporter::scene_format_name(f));
+        return ParamCatalog<E>(
+            "analyses.export",
+            {choice_list<E>("formats", &E::formats, names,
+                            "scene formats to export, each into scene_FORMAT/ (docs/exports.md)"),
+             flag<E>("layers", &E::layers, "the GeoTIFF layers too, into layers/")});
+    }();
+    return c;
+}
+
 const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_keys() {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> k = [] {
         // The seed is not the manifest's to give: each member derives its own.
@@ -321,7 +338,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_ke
             {"mobility", keys(mobility_catalog())},
             {"terrain", keys(terrain_catalog())},
             {"traverse", keys(traverse_catalog())},
-            {"export", {"formats", "layers"}},
+            {"export", keys(export_catalog())},
             {"pictures", {}}};
     }();
     return k;

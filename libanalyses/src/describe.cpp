@@ -172,6 +172,8 @@ std::vector<Section> output_sections() {
         params("Analysis options: traverse",
                "`ecoterra terrain traverse` and an ensemble's `analyses.traverse`.",
                describe(traverse_catalog(), TraverseAnalysis{})),
+        params("Analysis options: export", "An ensemble's `analyses.export`.",
+               describe(export_catalog(), ExportAnalysis{})),
         params("Analysis options: terrain",
                "`ecoterra terrain analyze` and an ensemble's `analyses.terrain`.",
                describe(terrain_catalog(), TerrainAnalysisOptions{})),

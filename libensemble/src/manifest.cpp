@@ -93,6 +93,11 @@ void check_analyses(const json& a, BaseKind kind, const std::string& where) {
             throw InputError(where + "." + name +
                              ": missing key 'vehicle' (a vehicle file, e.g. "
                              "../vehicles/mrzr4.json)");
+        // Values too, from the catalogues, before any member runs.
+        if (name == "mobility") analyses::mobility_catalog().read(v, {});
+        if (name == "traverse") analyses::traverse_catalog().read(v, {});
+        if (name == "terrain") analyses::terrain_catalog().read(v, {});
+        if (name == "export") analyses::export_catalog().read(v, {});
     }
 }
 

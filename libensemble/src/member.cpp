@@ -120,24 +120,19 @@ void analyse_traverse(const Manifest& m, const json& a, const RasterD& z, const 
 void export_scenes(const json& a, const fs::path& run, const fs::path& stage,
                    const fs::path& final_dir, const std::string& source) {
     namespace ex = ecoterra::exporter;
+    const auto opt_a = analyses::export_catalog().read(a, {});
     ex::Scene s = ex::load_scene(run, -1);
     s.source = source; // not the staging folder, which is gone once the member is in place
     ex::ExportOptions opt;
-    if (a.contains("formats")) {
-        if (!a["formats"].is_array())
-            throw InputError("analyses.export.formats must be an array of format names");
-        for (const auto& f : a["formats"]) {
-            if (!f.is_string())
-                throw InputError("analyses.export.formats: " + f.dump() + " is not a format name");
-            const auto format = ex::scene_format_from_name(f.get<std::string>());
-            const std::string name = "scene_" + f.get<std::string>();
-            ex::OutputFolder folder(stage / name, false);
-            opt.final_dir = final_dir / name;
-            ex::write_scene(ex::in_local_frame(s), format, folder, opt);
-            folder.commit();
-        }
+    for (const auto& f : opt_a.formats) {
+        const auto format = ex::scene_format_from_name(f);
+        const std::string name = "scene_" + f;
+        ex::OutputFolder folder(stage / name, false);
+        opt.final_dir = final_dir / name;
+        ex::write_scene(ex::in_local_frame(s), format, folder, opt);
+        folder.commit();
     }
-    if (get_bool(a, "layers", false, "analyses.export")) {
+    if (opt_a.layers) {
         ex::OutputFolder folder(stage / "layers", false);
         ex::write_layers(s, folder, ex::LayerOptions{});
         folder.commit();

@@ -59,6 +59,10 @@ std::vector<json> other_values(const Param<S>& p, const json& current) {
     case ParamKind::text:
         v.push_back(current.get<std::string>() + "_other");
         break;
+    case ParamKind::choices:
+        for (const auto& c : p.choices)
+            if (json::array({c}) != current) v.push_back(json::array({c}));
+        break;
     }
     return v;
 }

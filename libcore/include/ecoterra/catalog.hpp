@@ -34,7 +34,7 @@
 
 namespace ecoterra {
 
-enum class ParamKind { number, integer, flag, choice, text };
+enum class ParamKind { number, integer, flag, choice, text, choices };
 
 /// One parameter of struct S.
 template <class S>
@@ -192,6 +192,21 @@ Param<S> choice(std::string key, Ref ref, std::vector<std::pair<std::string, E>>
     return p;
 }
 
+/// A list of named values, each one of `names` (a std::vector<std::string> member), in any order,
+/// each at most once.
+template <class S, class Ref>
+Param<S> choice_list(std::string key, Ref ref, std::vector<std::string> names,
+                     std::string description) {
+    using catalog_detail::kNoLimit;
+    auto acc = catalog_detail::accessor(ref);
+    auto p = catalog_detail::param<S>(std::move(key), ParamKind::choices, "", -kNoLimit, kNoLimit,
+                                      std::move(description));
+    p.choices = std::move(names);
+    p.get = [acc](const S& s) { return nlohmann::json(acc(const_cast<S&>(s))); };
+    p.set = [acc](S& s, const nlohmann::json& v) { acc(s) = v.get<std::vector<std::string>>(); };
+    return p;
+}
+
 /// The parameters of struct S, read from and written to the JSON object of one section.
 template <class S>
 class ParamCatalog {
@@ -324,8 +339,31 @@ private:
             return p.choices[get_choice(obj, leaf, p.choices, 0, at)];
         case ParamKind::text:
             return get_string(obj, leaf, "", at);
+        case ParamKind::choices:
+            return checked_list(p, obj.at(leaf), catalog_detail::join(at, leaf));
         }
         return nullptr;
+    }
+
+    /// An array of distinct names, each one of p.choices; InputError naming the key and the item.
+    static nlohmann::json checked_list(const Param<S>& p, const nlohmann::json& v,
+                                       const std::string& key) {
+        std::string known;
+        for (std::size_t k = 0; k < p.choices.size(); ++k) known += (k ? ", " : "") + p.choices[k];
+        if (!v.is_array())
+            throw InputError(key + " must be an array of names (" + known + "), got " + v.dump());
+        std::vector<std::string> seen;
+        for (const auto& item : v) {
+            if (!item.is_string())
+                throw InputError(key + ": " + item.dump() + " is not a name (" + known + ")");
+            const std::string name = item.get<std::string>();
+            if (std::find(p.choices.begin(), p.choices.end(), name) == p.choices.end())
+                throw InputError(key + ": '" + name + "' is not one of " + known);
+            if (std::find(seen.begin(), seen.end(), name) != seen.end())
+                throw InputError(key + ": '" + name + "' is given twice");
+            seen.push_back(name);
+        }
+        return v;
     }
 
     std::string m_section;
@@ -376,6 +414,11 @@ std::vector<ParamInfo> describe(const ParamCatalog<S>& c, const S& defaults) {
             break;
         case ParamKind::text:
             i.range = "text";
+            break;
+        case ParamKind::choices:
+            i.range = "array of:";
+            for (std::size_t k = 0; k < p.choices.size(); ++k)
+                i.range += (k ? ", " : " ") + p.choices[k];
             break;
         }
         i.description = p.description;

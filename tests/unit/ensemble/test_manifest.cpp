@@ -168,3 +168,26 @@ TEST_CASE("ensemble summaries: index ranges and units", "[ensemble]") {
         CHECK(names.insert(m.name).second);
     }
 }
+
+TEST_CASE("ensemble analyses: options are read through their catalogues at load, naming the key",
+          "[ensemble][analyses]") {
+    const auto e = analyses::export_catalog().read(
+        nlohmann::json{{"formats", {"gltf", "mavs"}}, {"layers", true}}, {});
+    CHECK(e.formats == std::vector<std::string>{"gltf", "mavs"});
+    CHECK(e.layers);
+    for (const auto& [bad, says] : std::vector<std::pair<nlohmann::json, std::string>>{
+             {{{"formats", "gltf"}}, "analyses.export.formats must be an array"},
+             {{{"formats", {"gltf", 3}}}, "3 is not a name"},
+             {{{"formats", {"obj"}}}, "'obj' is not one of mavs, gazebo, unreal, gltf"},
+             {{{"formats", {"gltf", "gltf"}}}, "'gltf' is given twice"},
+             {{{"layers", "yes"}}, "analyses.export.layers"}}) {
+        CAPTURE(bad.dump());
+        CHECK_THROWS_WITH(analyses::export_catalog().read(bad, {}), Catch::Contains(says));
+    }
+    CHECK_THROWS_WITH(
+        analyses::mobility_catalog().read(nlohmann::json{{"vehicle", "v.json"}, {"lines", 0}}, {}),
+        Catch::Contains("analyses.mobility.lines"));
+    CHECK_THROWS_WITH(analyses::traverse_catalog().read(
+                          nlohmann::json{{"vehicle", "v.json"}, {"speed_m_per_s", -1}}, {}),
+                      Catch::Contains("analyses.traverse.speed_m_per_s"));
+}

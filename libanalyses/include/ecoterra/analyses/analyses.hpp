@@ -101,6 +101,14 @@ struct TerrainAnalysisOptions {
 };
 const ParamCatalog<TerrainAnalysisOptions>& terrain_catalog();
 
+/// Options of an ensemble's scene exports (analyses.export; `ecoterra export scene` writes one
+/// format per call).
+struct ExportAnalysis {
+    std::vector<std::string> formats; ///< scene formats (export/formats.hpp), each once
+    bool layers = false;              ///< the GeoTIFF layers too
+};
+const ParamCatalog<ExportAnalysis>& export_catalog();
+
 /// The keys each analysis of an ensemble's manifest takes ("stand": none), from the catalogues
 /// (the seed aside: each member derives its own).
 const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_keys();

@@ -232,8 +232,11 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     // tests/data/checkpoints/quickstart_v6_year1.bin: /checkpoint/state of
     //   ecoterra run data/scenes/quickstart.json --years 1 --set terrain.generate.size=12
     //     --set 'vegetation.initial={"random":{"stems_per_ha":3000}}'
-    // made by ecoterra at commit 4655e5c (format 6). Resumed for two years it must end where a run
-    // of three years ends today.
+    // made by ecoterra at commit 4655e5c (format 6), built by GCC 12 in Release. Read today, it
+    // must save and load again unchanged, and resume without a broken budget; in a GCC build it
+    // must also be, bit for bit, the year-1 state of today's engine and, resumed for two years,
+    // end where a run of three years ends. (A clang build rounds some of the year's arithmetic
+    // differently in the last bit, so there the comparison is of the stand, to 1e-9.)
     std::ifstream f(test::data_dir() / "scenes/quickstart.json");
     json j = json::parse(f);
     j["terrain"]["generate"]["size"] = 12;
@@ -250,10 +253,23 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     ArchiveReader r(v6.data(), v6.size(), "format-6 checkpoint");
     resumed.load_state(r);
     CHECK(r.at_end());
+    const auto saved = checkpoint(resumed);
+    eco::Ecosystem again(scene);
+    ArchiveReader r2(saved.data(), saved.size(), "format-7 checkpoint");
+    again.load_state(r2);
+    CHECK(first_difference(checkpoint(again), saved) == -1);
+#if defined(__GNUC__) && !defined(__clang__)
+    constexpr bool kFixtureCompiler = true;
+#else
+    constexpr bool kFixtureCompiler = false;
+#endif
     // The year-1 state read from format 6 is the year-1 state of today's engine.
-    CHECK(first_difference(checkpoint(resumed), checkpoint(straight)) == -1);
+    if (kFixtureCompiler) CHECK(first_difference(saved, checkpoint(straight)) == -1);
     for (int y = 0; y < 2; ++y) straight.run_year(), resumed.run_year();
-    CHECK(first_difference(checkpoint(resumed), checkpoint(straight)) == -1);
+    if (kFixtureCompiler) CHECK(first_difference(checkpoint(resumed), checkpoint(straight)) == -1);
+    CHECK(resumed.stand().basal_area_m2_per_ha ==
+          Approx(straight.stand().basal_area_m2_per_ha).epsilon(1e-9));
+    CHECK(resumed.plants().size() == straight.plants().size());
     CHECK(resumed.plants().size() > 10);
 }
 

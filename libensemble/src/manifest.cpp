@@ -443,6 +443,9 @@ Member make_member(const Manifest& m, std::size_t index) {
     h = fnv1a64_text(mb.scene.dump(), h);
     h = fnv1a64_text(mb.analyses.dump(), h);
     h = fnv1a64_text(m.keep_files ? "keep" : "drop", h);
+    // The metrics' names and units: a member recorded under other names runs again.
+    for (const auto& metric : analyses::describe_metrics())
+        h = fnv1a64_text(metric.name + metric.unit, h);
     hash_files(mb.scene, m.base_dir, h);
     hash_files(mb.analyses, m.dir, h);
     char hex[17];

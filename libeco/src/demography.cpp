@@ -162,6 +162,8 @@ void background_arrivals(const std::vector<Species>& species, const GridSpec& gr
 }
 
 void remove_dead(Population& pop, PlantSums& sums) {
+    // Called at every canopy refresh; most refreshes have no one to remove.
+    if (std::find(pop.alive.begin(), pop.alive.end(), std::uint8_t{0}) == pop.alive.end()) return;
     std::vector<char> keep(pop.size());
     for (std::size_t k = 0; k < pop.size(); ++k) {
         keep[k] = pop.alive[k] ? 1 : 0;

@@ -52,10 +52,10 @@ struct Plant {
     double growth_efficiency = std::numeric_limits<double>::quiet_NaN();
     std::uint16_t species = 0;
     bool alive = true; ///< false from a starvation death until the next canopy refresh removes it
-    std::uint8_t reserved_[5]{}; ///< explicit, zeroed: checkpoints copy plants byte for byte
+    std::uint8_t reserved_[5]{}; ///< explicit, zeroed: format-6 checkpoints hold plants as bytes
 };
 static_assert(sizeof(Plant) % 8 == 0 && offsetof(Plant, reserved_) + 5 == sizeof(Plant),
-              "Plant must have no padding: checkpoints would hold uninitialised bytes");
+              "Plant must keep the layout of format-6 checkpoints, which hold plants as bytes");
 
 namespace allometry {
 double height_m(const Species& s, double dbh_m);

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     for (int n : {32, 64, 128}) {
         const RasterD dem = terrain_of(n);
         const RasterF k(dem.grid(), 7e-6f);
-        Groundwater gw(dem, k, 0.2, 20.0, 3.0);
+        Groundwater gw(dem, k, 0.2, 20.0, 3.0, GroundwaterNumerics{GroundwaterSolver::cvode, 1});
         std::vector<double> recharge(static_cast<std::size_t>(dem.size()), 0.0);
         const int days = 30;
         const auto t0 = std::chrono::steady_clock::now();

@@ -363,8 +363,16 @@ Methods scene_methods(const HydroScene& sc) {
     m.push_back({"standing water (fill, spill, merge)",
                  "the depression hierarchy of Barnes, Callaghan & Wickert (2020) ESurf 8:431"});
     if (sc.options.groundwater)
-        m.push_back({"groundwater", "Dupuit-Boussinesq flow (Bear 1972) solved by CVODE: "
-                                    "Hindmarsh et al. (2005) ACM TOMS 31:363"});
+        m.push_back(
+            {"groundwater",
+             sc.options.groundwater_solver == GroundwaterSolver::cvode
+                 ? "Dupuit-Boussinesq flow (Bear 1972) solved by CVODE: Hindmarsh et al. (2005) "
+                   "ACM TOMS 31:363"
+                 : "Dupuit-Boussinesq flow (Bear 1972), TR-BDF2 steps (Bank et al. 1985, IEEE "
+                   "Trans. CAD 4:436) solved by conjugate gradients (Saad 2003, Iterative Methods "
+                   "for Sparse Linear Systems, 2nd ed., SIAM) "
+                   "preconditioned by an aggregation multigrid V-cycle (Braess 1995, Computing "
+                   "55:379; Notay 2010, ETNA 37:123)"});
     return m;
 }
 

@@ -496,8 +496,11 @@ TEST_CASE("a run names the published methods its options chose, in its provenanc
     const std::string other = cited(load(j));
     CHECK_THAT(other, Catch::Contains("Deussen") && Catch::Contains("Monsi & Saeki 1953") &&
                           Catch::Contains("TR-55") && Catch::Contains("Freeman (1991)") &&
-                          Catch::Contains("CVODE") && Catch::Contains("Saxton & Rawls (2006)") &&
+                          Catch::Contains("TR-BDF2") && !Catch::Contains("CVODE") &&
+                          Catch::Contains("Saxton & Rawls (2006)") &&
                           !Catch::Contains("Goodin, Hudson"));
+    j["hydrology"]["groundwater_solver"] = "cvode";
+    CHECK_THAT(cited(load(j)), Catch::Contains("CVODE") && !Catch::Contains("TR-BDF2"));
     // The run file's provenance holds the same list, and the log prints it.
     test::TempDir dir;
     write(dir / "s.json", small_scene(1).dump());

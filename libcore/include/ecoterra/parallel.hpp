@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
@@ -58,6 +59,42 @@ std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
     for (const auto& s : part)
         for (std::size_t i = 0; i < K; ++i) total[i] += s[i];
     return total;
+}
+
+/// Neumaier's compensated sum (Neumaier 1974, ZAMM 54:39): `sum` plus the rounding errors lost
+/// on the way in `carry`. Its error is about one rounding of the total, independent of the count.
+struct CompensatedSum {
+    double sum = 0, carry = 0;
+    void add(double x) {
+        const double t = sum + x;
+        carry += std::abs(sum) >= std::abs(x) ? (sum - t) + x : (x - t) + sum;
+        sum = t;
+    }
+    double value() const { return sum + carry; }
+};
+
+/// The sum of f(k) for every k in [0, n), compensated within and across fixed blocks: for totals
+/// whose differences are taken (the storages of a water budget). A plain sum of 2.6e5 cell
+/// storages of similar size is off by ~1e-11 of the total, which is 1e-5 m3 of a 512 x 512 aquifer
+/// and more than the budget allows; this one is off by one rounding. Deterministic as
+/// blocked_sums.
+template <class F>
+double compensated_sum(std::int64_t n, F&& f) {
+    const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
+    std::vector<CompensatedSum> part(static_cast<std::size_t>(blocks));
+#pragma omp parallel for schedule(static) if (n >= kMinParallelBlocks * parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        CompensatedSum s;
+        const std::int64_t end = std::min(n, (b + 1) * kSumBlockCells);
+        for (std::int64_t k = b * kSumBlockCells; k < end; ++k) s.add(f(k));
+        part[static_cast<std::size_t>(b)] = s;
+    }
+    CompensatedSum total;
+    for (const auto& s : part) {
+        total.add(s.sum);
+        total.add(s.carry);
+    }
+    return total.value();
 }
 
 } // namespace ecoterra

@@ -26,6 +26,7 @@
 // + d(soil) + d(surface) + d(groundwater) + residual.
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/hydro/catchments.hpp"
+#include "ecoterra/hydro/groundwater.hpp"
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/hydro/runoff.hpp"
 #include "ecoterra/hydro/soil.hpp"
@@ -36,8 +37,6 @@
 #include <vector>
 
 namespace ecoterra::hydro {
-
-class Groundwater;
 
 enum class RunoffMethod { coefficients, curve_number };
 
@@ -53,7 +52,9 @@ struct HydrologyOptions {
     double specific_yield = 0.2;       ///< m3/m3
     double aquifer_thickness_m = 20.0; ///< from the impermeable base to the surface
     double initial_water_table_depth_m = 5.0;
-    double budget_tolerance = 1e-9; ///< |cumulative residual| / cumulative throughput
+    GroundwaterSolver groundwater_solver = GroundwaterSolver::implicit;
+    int groundwater_steps_per_day = 2; ///< TR-BDF2 steps a day (implicit solver)
+    double budget_tolerance = 1e-9;    ///< |cumulative residual| / cumulative throughput
     void validate() const;
 };
 

@@ -1,0 +1,71 @@
+#pragma once
+// Conjugate gradients preconditioned by an aggregation multigrid V-cycle, for the symmetric
+// positive definite systems of cell-centred diffusion on a raster (the implicit groundwater step):
+//   (A x)_i = s_i x_i + sum over the faces f of cell i of c_f (x_i - x_n(f))
+// s_i >= 0 is a cell's own term (storage S_y A / dt, conductance to a fixed head), c_f >= 0 a face
+// conductance (m2/s). Inactive cells are identity rows without faces.
+//
+// Coarse levels aggregate 2 x 2 cells (Braess 1995, "Towards algebraic multigrid for elliptic
+// problems of second order"; Notay 2010 for aggregation as a Krylov preconditioner). A coarse
+// cell's own term is the sum of its cells' (the storage of the aggregate); a coarse face's
+// conductance is the mean of the fine faces that cross it, which is the rediscretised operator on
+// cells twice the size (the plain Galerkin sum would be twice too stiff and slow the cycle).
+// Prolongation is piecewise constant and restriction its transpose (the sum), so the cycle is
+// symmetric: red-black Gauss-Seidel before the coarse correction, black-red after, a fixed number
+// of symmetric sweeps on the coarsest level. That makes the V-cycle a valid preconditioner for
+// conjugate gradients (Saad 2003, "Iterative methods for sparse linear systems", §9.2 and §13).
+//
+// Everything is deterministic: the red-black sweeps update independent cells, and the dot products
+// add fixed blocks in a fixed order (blocked_sums), so the result does not depend on the thread
+// count.
+#include <cstdint>
+#include <vector>
+
+namespace ecoterra::hydro {
+
+struct CellOperator {
+    int nx = 0, ny = 0;
+    std::vector<double> s;  ///< own term per cell, >= 0 (m2/s)
+    std::vector<double> cx; ///< conductance between (i, j) and (i + 1, j) at j nx + i (m2/s)
+    std::vector<double> cy; ///< conductance between (i, j) and (i, j + 1) at j nx + i (m2/s)
+    std::vector<std::uint8_t> active; ///< 0: identity row, no faces
+
+    CellOperator() = default;
+    CellOperator(int nx_, int ny_);
+    std::int64_t size() const { return static_cast<std::int64_t>(nx) * ny; }
+    /// y = A x.
+    void apply(const double* x, double* y) const;
+    /// The diagonal s_i + sum c_f (1 for inactive cells).
+    std::vector<double> diagonal() const;
+};
+
+struct SolveReport {
+    int iterations = 0;         ///< conjugate-gradient iterations
+    double residual_scaled = 0; ///< root mean square of r_i / s_i at the end (units of x)
+    bool converged = false;
+};
+
+class MultigridSolver {
+public:
+    /// Builds the hierarchy for `fine`; throws InputError if a term is negative or not finite.
+    explicit MultigridSolver(CellOperator fine);
+    /// Solves A x = b starting from x (a warm start), until the root mean square of r_i / s_i
+    /// (r_i / diagonal where s_i = 0), the change of x_i the residual stands for, is at most
+    /// `tolerance`, or max_iterations pass.
+    SolveReport solve(const std::vector<double>& b, std::vector<double>& x, double tolerance,
+                      int max_iterations) const;
+    int levels() const { return static_cast<int>(m_levels.size()); }
+    const CellOperator& fine() const { return m_levels.front().op; }
+
+private:
+    struct Level {
+        CellOperator op;
+        std::vector<double> inv_diag;
+        mutable std::vector<double> b, x, r; ///< work arrays of the V-cycle
+    };
+    std::vector<Level> m_levels;
+    std::vector<double> m_weight; ///< 1 / s_i (or 1 / diagonal) for the stopping test
+    void vcycle(std::size_t l) const;
+};
+
+} // namespace ecoterra::hydro

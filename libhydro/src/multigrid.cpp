@@ -1,0 +1,248 @@
+#include "ecoterra/hydro/multigrid.hpp"
+
+#include "ecoterra/error.hpp"
+#include "ecoterra/parallel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace ecoterra::hydro {
+
+namespace {
+
+constexpr std::int64_t kCoarsestCells = 16; ///< stop aggregating at this many cells
+constexpr int kCoarsestSweeps = 24;         ///< symmetric sweep pairs on the coarsest level
+
+bool parallel_rows(std::int64_t cells) {
+    return cells >= parallel_min_items();
+}
+
+/// One red-black half sweep: cells with (i + j) % 2 == colour take their Gauss-Seidel value.
+void sweep(const CellOperator& a, const std::vector<double>& inv_diag, const double* b, double* x,
+           int colour) {
+    const int nx = a.nx, ny = a.ny;
+#pragma omp parallel for schedule(static) if (parallel_rows(a.size()))
+    for (int j = 0; j < ny; ++j) {
+        const std::int64_t row = static_cast<std::int64_t>(j) * nx;
+        for (int i = (colour + j) & 1; i < nx; i += 2) {
+            const std::int64_t k = row + i;
+            double sum = b[k];
+            if (i > 0) sum += a.cx[k - 1] * x[k - 1];
+            if (i + 1 < nx) sum += a.cx[k] * x[k + 1];
+            if (j > 0) sum += a.cy[k - nx] * x[k - nx];
+            if (j + 1 < ny) sum += a.cy[k] * x[k + nx];
+            x[k] = a.active[k] ? sum * inv_diag[k] : b[k];
+        }
+    }
+}
+
+/// The operator on cells of twice the side: own terms summed, crossing faces averaged.
+CellOperator coarsen(const CellOperator& f) {
+    CellOperator c((f.nx + 1) / 2, (f.ny + 1) / 2);
+    for (int j = 0; j < f.ny; ++j)
+        for (int i = 0; i < f.nx; ++i) {
+            const std::int64_t k = static_cast<std::int64_t>(j) * f.nx + i;
+            const std::int64_t kc = static_cast<std::int64_t>(j / 2) * c.nx + i / 2;
+            if (!f.active[k]) continue;
+            c.active[kc] = 1;
+            c.s[kc] += f.s[k];
+            // A fine face on the aggregate's east (north) side crosses a coarse face.
+            if (i % 2 == 1 && i + 1 < f.nx) c.cx[kc] += 0.5 * f.cx[k];
+            if (j % 2 == 1 && j + 1 < f.ny) c.cy[kc] += 0.5 * f.cy[k];
+        }
+    return c;
+}
+
+std::vector<double> inverse(std::vector<double> d) {
+    for (double& v : d) v = 1.0 / v;
+    return d;
+}
+
+template <class F>
+void for_cells(std::int64_t n, F&& f) {
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+    for (std::int64_t k = 0; k < n; ++k) f(k);
+}
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+    return blocked_sums<1>(static_cast<std::int64_t>(a.size()),
+                           [&](std::int64_t k, auto& s) { s[0] += a[k] * b[k]; })[0];
+}
+
+} // namespace
+
+CellOperator::CellOperator(int nx_, int ny_)
+    : nx(nx_), ny(ny_), s(static_cast<std::size_t>(size()), 0.0),
+      cx(static_cast<std::size_t>(size()), 0.0), cy(static_cast<std::size_t>(size()), 0.0),
+      active(static_cast<std::size_t>(size()), 0) {}
+
+void CellOperator::apply(const double* x, double* y) const {
+#pragma omp parallel for schedule(static) if (parallel_rows(size()))
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+            if (!active[k]) {
+                y[k] = x[k];
+                continue;
+            }
+            double v = s[k] * x[k];
+            if (i > 0) v += cx[k - 1] * (x[k] - x[k - 1]);
+            if (i + 1 < nx) v += cx[k] * (x[k] - x[k + 1]);
+            if (j > 0) v += cy[k - nx] * (x[k] - x[k - nx]);
+            if (j + 1 < ny) v += cy[k] * (x[k] - x[k + nx]);
+            y[k] = v;
+        }
+}
+
+std::vector<double> CellOperator::diagonal() const {
+    std::vector<double> d(static_cast<std::size_t>(size()), 1.0);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+            if (!active[k]) continue;
+            double v = s[k];
+            if (i > 0) v += cx[k - 1];
+            if (i + 1 < nx) v += cx[k];
+            if (j > 0) v += cy[k - nx];
+            if (j + 1 < ny) v += cy[k];
+            d[k] = v;
+        }
+    return d;
+}
+
+MultigridSolver::MultigridSolver(CellOperator fine) {
+    const std::int64_t n = fine.size();
+    if (fine.nx < 1 || fine.ny < 1 || static_cast<std::int64_t>(fine.s.size()) != n ||
+        static_cast<std::int64_t>(fine.cx.size()) != n ||
+        static_cast<std::int64_t>(fine.cy.size()) != n ||
+        static_cast<std::int64_t>(fine.active.size()) != n)
+        throw InputError("multigrid: the operator's arrays do not match its " +
+                         std::to_string(fine.nx) + " x " + std::to_string(fine.ny) + " grid");
+    for (std::int64_t k = 0; k < n; ++k) {
+        if (!(fine.s[k] >= 0 && fine.cx[k] >= 0 && fine.cy[k] >= 0) ||
+            !std::isfinite(fine.s[k] + fine.cx[k] + fine.cy[k]))
+            throw InputError("multigrid: a negative or non-finite term at cell " +
+                             std::to_string(k));
+        // Faces that touch an inactive cell carry nothing.
+        const int i = static_cast<int>(k % fine.nx), j = static_cast<int>(k / fine.nx);
+        if (!fine.active[k] || (i + 1 < fine.nx && !fine.active[k + 1])) fine.cx[k] = 0;
+        if (!fine.active[k] || (j + 1 < fine.ny && !fine.active[k + fine.nx])) fine.cy[k] = 0;
+    }
+    const std::vector<double> d = fine.diagonal();
+    m_weight.resize(static_cast<std::size_t>(n));
+    for (std::int64_t k = 0; k < n; ++k) {
+        if (!(d[k] > 0))
+            throw InputError("multigrid: cell " + std::to_string(k) +
+                             " has no own term and no faces (a singular row)");
+        m_weight[k] = fine.active[k] ? 1.0 / (fine.s[k] > 0 ? fine.s[k] : d[k]) : 0.0;
+    }
+    m_levels.push_back(Level{std::move(fine), {}, {}, {}, {}});
+    while (m_levels.back().op.size() > kCoarsestCells)
+        m_levels.push_back(Level{coarsen(m_levels.back().op), {}, {}, {}, {}});
+    for (Level& l : m_levels) {
+        l.inv_diag = inverse(l.op.diagonal());
+        const auto m = static_cast<std::size_t>(l.op.size());
+        l.b.assign(m, 0.0);
+        l.x.assign(m, 0.0);
+        l.r.assign(m, 0.0);
+    }
+}
+
+void MultigridSolver::vcycle(std::size_t l) const {
+    const Level& L = m_levels[l];
+    std::fill(L.x.begin(), L.x.end(), 0.0);
+    if (l + 1 == m_levels.size()) {
+        for (int k = 0; k < kCoarsestSweeps; ++k) {
+            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
+        }
+        for (int k = 0; k < kCoarsestSweeps; ++k) {
+            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
+            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+        }
+        return;
+    }
+    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
+    L.op.apply(L.x.data(), L.r.data());
+    const Level& C = m_levels[l + 1];
+    std::fill(C.b.begin(), C.b.end(), 0.0);
+    const int nx = L.op.nx, ny = L.op.ny, cnx = C.op.nx;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+            if (L.op.active[k])
+                C.b[static_cast<std::int64_t>(j / 2) * cnx + i / 2] += L.b[k] - L.r[k];
+        }
+    vcycle(l + 1);
+#pragma omp parallel for schedule(static) if (parallel_rows(L.op.size()))
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+            if (L.op.active[k]) L.x[k] += C.x[static_cast<std::int64_t>(j / 2) * cnx + i / 2];
+        }
+    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
+    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+}
+
+SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<double>& x,
+                                   double tolerance, int max_iterations) const {
+    const CellOperator& a = m_levels.front().op;
+    const std::int64_t n = a.size();
+    if (static_cast<std::int64_t>(b.size()) != n || static_cast<std::int64_t>(x.size()) != n)
+        throw InputError("multigrid: the right-hand side or the start does not match the grid");
+    std::vector<double> r(static_cast<std::size_t>(n)), z(r.size()), p(r.size()), q(r.size());
+    a.apply(x.data(), q.data());
+    for_cells(n, [&](std::int64_t k) { r[k] = a.active[k] ? b[k] - q[k] : 0.0; });
+    const double active_cells = std::max<double>(
+        1.0, blocked_sums<1>(n, [&](std::int64_t k, auto& s) { s[0] += a.active[k]; })[0]);
+    auto scaled = [&] {
+        return std::sqrt(blocked_sums<1>(n,
+                                         [&](std::int64_t k, auto& s) {
+                                             const double e = r[k] * m_weight[k];
+                                             s[0] += e * e;
+                                         })[0] /
+                         active_cells);
+    };
+    auto precondition = [&] {
+        const Level& L = m_levels.front();
+        std::copy(r.begin(), r.end(), L.b.begin());
+        vcycle(0);
+        for_cells(n, [&](std::int64_t k) { z[k] = a.active[k] ? L.x[k] : 0.0; });
+    };
+    SolveReport rep;
+    rep.residual_scaled = scaled();
+    if (rep.residual_scaled <= tolerance) {
+        rep.converged = true;
+        return rep;
+    }
+    precondition();
+    p = z;
+    double rz = dot(r, z);
+    while (rep.iterations < max_iterations) {
+        a.apply(p.data(), q.data());
+        for_cells(n, [&](std::int64_t k) {
+            if (!a.active[k]) q[k] = 0;
+        });
+        const double alpha = rz / dot(p, q);
+        for_cells(n, [&](std::int64_t k) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+        });
+        ++rep.iterations;
+        rep.residual_scaled = scaled();
+        if (rep.residual_scaled <= tolerance) {
+            rep.converged = true;
+            break;
+        }
+        precondition();
+        const double rz_new = dot(r, z);
+        const double beta = rz_new / rz;
+        rz = rz_new;
+        for_cells(n, [&](std::int64_t k) { p[k] = z[k] + beta * p[k]; });
+    }
+    return rep;
+}
+
+} // namespace ecoterra::hydro

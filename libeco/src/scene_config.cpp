@@ -53,6 +53,20 @@ const ParamCatalog<EcoScene>& eco_simulation_catalog() {
     return c;
 }
 
+MemoryEstimate memory_estimate(const EcoScene& scene) {
+    MemoryEstimate m = hydro::memory_estimate(scene.hydro);
+    const GridSpec& g = scene.hydro.dem.grid();
+    const double area_m2 = g.width_m() * g.height_m();
+    m.terms.push_back(
+        {"plant cells", area_m2 / (scene.plant_cell_m * scene.plant_cell_m), kBytesPerPlantCell});
+    const double initial = scene.initial.kind == InitialPlants::Kind::random
+                               ? scene.initial.stems_per_ha * area_m2 / 1e4
+                               : 0;
+    m.terms.push_back(
+        {"plants", std::max(initial, kStemCeilingPerHa * area_m2 / 1e4), kBytesPerPlant});
+    return m;
+}
+
 EcoScene load_eco_scene(const json& s, const fs::path& base) {
     if (!s.is_object()) throw InputError("scene: must be a JSON object");
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},

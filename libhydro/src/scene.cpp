@@ -155,6 +155,16 @@ const ParamCatalog<HydroScene>& hydro_simulation_catalog() {
     return c;
 }
 
+MemoryEstimate memory_estimate(const HydroScene& scene) {
+    MemoryEstimate m;
+    m.fixed_bytes = kFixedBytes;
+    const double cells = static_cast<double>(scene.dem.size());
+    m.terms.push_back({"terrain cells", cells, kBytesPerTerrainCell});
+    if (scene.options.groundwater)
+        m.terms.push_back({"groundwater cells", cells, kBytesPerGroundwaterCell});
+    return m;
+}
+
 HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
                        "");
@@ -250,6 +260,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
                                 const std::function<void(const HydroProgress&)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     io::Hdf5Writer h5(output); // fails now, not after the run, if the folder is missing
+    check_memory(memory_estimate(sc), "the scene (" + std::to_string(sc.dem.nx()) + " x " +
+                                          std::to_string(sc.dem.ny()) + " cells)");
     HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
     WeatherGenerator gen(sc.climate, sc.seed);
     const int total =

@@ -1,4 +1,5 @@
 #include "ecoterra/run/run.hpp"
+#include "ecoterra/memory.hpp"
 
 #include "ecoterra/run/pictures.hpp"
 #include "ecoterra/run/run_reader.hpp"
@@ -139,8 +140,16 @@ private:
     bool m_reached_target = false;
 };
 
+namespace {
+void check_scene_memory(const EcoScene& sc) {
+    check_memory(memory_estimate(sc), "the scene (" + std::to_string(sc.hydro.dem.nx()) + " x " +
+                                          std::to_string(sc.hydro.dem.ny()) + " terrain cells)");
+}
+} // namespace
+
 void RunJob::start(const EcoScene* scene) {
     if (!scene) throw InputError("run: a scene is required");
+    check_scene_memory(*scene);
     m_eco = std::make_unique<Ecosystem>(*scene);
     m_prov["scene"] = scene->resolved;
     m_years_total = scene->years;
@@ -187,6 +196,7 @@ void RunJob::resume(const EcoScene* scene) {
                                               "without a scene file or with the same scene");
     }
     const EcoScene sc = load_eco_scene(stored_scene, "/");
+    check_scene_memory(sc);
     m_eco = std::make_unique<Ecosystem>(sc);
     const std::vector<std::uint8_t> bytes = read_checkpoint(sc);
     // Every snapshot the run file lists must be there and whole, or the resumed run would link

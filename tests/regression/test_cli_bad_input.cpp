@@ -759,3 +759,33 @@ TEST_CASE("damaged plant values, ambiguous CSV headers and killed exports' stagi
     CHECK(fs::exists(dir / (".layers.partial-" + me + std::to_string(::getpid()))));
     CHECK(fs::exists(dir / (".layers.partial-elsewhere-" + std::to_string(gone))));
 }
+
+TEST_CASE("a scene larger than the memory available is refused at the start, naming its size",
+          "[cli][bad-input][memory]") {
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(1, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o run.h5 --no-pictures").code == 0);
+    const std::string before = read(dir / "run.h5");
+    // The same scene fits in 1 GiB; in 10 MB it does not, and the earlier run stays as it was.
+    auto r = test::run(dir, "run s.json -o run.h5 --force --no-pictures",
+                       "ECOTERRA_MEMORY_LIMIT_GIB=0.01");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("needs an estimated") && Catch::Contains("terrain cells") &&
+                          Catch::Contains("plants x 1000 B") &&
+                          Catch::Contains("0.01 GiB is available (ECOTERRA_MEMORY_LIMIT_GIB)"));
+    CHECK(read(dir / "run.h5") == before);
+    CHECK(
+        test::run(dir, "run s.json -o run2.h5 --no-pictures", "ECOTERRA_MEMORY_LIMIT_GIB=1").code ==
+        0);
+    std::ifstream hf(test::data_dir() / "scenes/hydro_quickstart.json");
+    json hydro = json::parse(hf);
+    hydro["terrain"]["generate"]["size"] = 16;
+    write(dir / "h.json", hydro.dump());
+    r = test::run(dir, "hydro run h.json -o h.h5", "ECOTERRA_MEMORY_LIMIT_GIB=0.01");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("needs an estimated") && !Catch::Contains("plants"));
+    CHECK(!std::filesystem::exists(dir / "h.h5"));
+    r = test::run(dir, "run s.json -o run3.h5", "ECOTERRA_MEMORY_LIMIT_GIB=lots");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("ECOTERRA_MEMORY_LIMIT_GIB = 'lots'"));
+}

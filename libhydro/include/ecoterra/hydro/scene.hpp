@@ -3,6 +3,7 @@
 // Every key, its unit, default and range: docs/formats.md. Unknown keys are errors.
 #include "ecoterra/hydro/hydrology.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/memory.hpp"
 #include "ecoterra/methods.hpp"
 
 #include "ecoterra/io/hdf5_writer.hpp"
@@ -60,6 +61,16 @@ const ParamCatalog<HydroScene>& hydro_simulation_catalog();
 /// The published methods a hydrology scene uses (terrain, soil, weather, ET, runoff, routing,
 /// catchments, groundwater), for the run's provenance and log.
 Methods scene_methods(const HydroScene& scene);
+
+/// The memory a run of the scene needs at its peak: per terrain cell (rasters of the terrain, soil,
+/// water state, flow order, catchments, output staging) and, with groundwater, the solver's arrays
+/// per cell. Measured peak resident sizes (/usr/bin/time -v) of 1-year runs from 62,500 to
+/// 1,048,576 cells fit ~50 MB + 410 B per cell, + 150 B per cell with groundwater; the constants
+/// below carry ~10 % of margin (docs/scaling.md).
+MemoryEstimate memory_estimate(const HydroScene& scene);
+inline constexpr double kFixedBytes = 60e6;
+inline constexpr double kBytesPerTerrainCell = 450;
+inline constexpr double kBytesPerGroundwaterCell = 170;
 
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.
 HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::path& base_dir);

@@ -42,7 +42,9 @@ struct ImplicitGroundwater final : Groundwater::Impl {
     std::vector<double> d;      ///< a stage's change of the heads, m
     std::vector<double> fx, fy; ///< transmissivity of the east and north faces, m2/s
     std::vector<double> rhs;
-    int substeps = 1; ///< TR-BDF2 steps per call
+    CellOperator op;    ///< a stage's operator (its arrays reused from stage to stage)
+    MultigridSolver mg; ///< its hierarchy (likewise)
+    int substeps = 1;   ///< TR-BDF2 steps per call
 
     ImplicitGroundwater(const RasterD& surf, const RasterD& b, const RasterD& h, const RasterF& ks,
                         double specific_yield, std::array<GroundwaterBoundary, 4> sides,
@@ -112,12 +114,14 @@ struct ImplicitGroundwater final : Groundwater::Impl {
 
     /// The stage operator own x - L(x): faces between evolving cells couple, a face to a fixed
     /// head adds its transmissivity to the own term.
-    CellOperator stage_operator(double own) const {
+    void stage_operator(double own) {
         const int nx = grid.nx;
-        CellOperator op(nx, grid.ny);
+        if (op.nx != nx || op.ny != grid.ny) op = CellOperator(nx, grid.ny);
         for_rows([&](int j) {
             for (int i = 0; i < nx; ++i) {
                 const std::int64_t c = static_cast<std::int64_t>(j) * nx + i;
+                op.s[c] = op.cx[c] = op.cy[c] = 0;
+                op.active[c] = 0;
                 if (!evolving(c)) continue;
                 op.active[c] = 1;
                 double s = own;
@@ -129,16 +133,17 @@ struct ImplicitGroundwater final : Groundwater::Impl {
                 op.s[c] = s;
             }
         });
-        return op;
     }
 
     /// Solves the stage for d, from d = 0, and leaves h + d in `trial`. (Starting from the last
     /// stage's change saves nothing measurable, as rain changes it from day to day, and would put
     /// solver history into the state a checkpoint must carry.)
     void solve_stage(double own, const std::vector<double>& h, double dt_s) {
-        const MultigridSolver mg(stage_operator(own));
+        stage_operator(own);
+        mg.set_operator(std::move(op));
         std::fill(d.begin(), d.end(), 0.0);
         const SolveReport rep = mg.solve(rhs, d, kHeadTolerance, kMaxIterations);
+        op = mg.take_operator();
         steps += rep.iterations;
         if (!rep.converged) {
             std::ostringstream s;

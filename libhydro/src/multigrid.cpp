@@ -37,9 +37,15 @@ void sweep(const CellOperator& a, const std::vector<double>& inv_diag, const dou
     }
 }
 
-/// The operator on cells of twice the side: own terms summed, crossing faces averaged.
-CellOperator coarsen(const CellOperator& f) {
-    CellOperator c((f.nx + 1) / 2, (f.ny + 1) / 2);
+/// The operator on cells of twice the side: own terms summed, crossing faces averaged. Reuses
+/// c's arrays when it has the size already.
+void coarsen(const CellOperator& f, CellOperator& c) {
+    if (c.nx != (f.nx + 1) / 2 || c.ny != (f.ny + 1) / 2)
+        c = CellOperator((f.nx + 1) / 2, (f.ny + 1) / 2);
+    std::fill(c.s.begin(), c.s.end(), 0.0);
+    std::fill(c.cx.begin(), c.cx.end(), 0.0);
+    std::fill(c.cy.begin(), c.cy.end(), 0.0);
+    std::fill(c.active.begin(), c.active.end(), std::uint8_t{0});
     for (int j = 0; j < f.ny; ++j)
         for (int i = 0; i < f.nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * f.nx + i;
@@ -51,12 +57,6 @@ CellOperator coarsen(const CellOperator& f) {
             if (i % 2 == 1 && i + 1 < f.nx) c.cx[kc] += 0.5 * f.cx[k];
             if (j % 2 == 1 && j + 1 < f.ny) c.cy[kc] += 0.5 * f.cy[k];
         }
-    return c;
-}
-
-std::vector<double> inverse(std::vector<double> d) {
-    for (double& v : d) v = 1.0 / v;
-    return d;
 }
 
 template <class F>
@@ -97,10 +97,20 @@ void CellOperator::apply(const double* x, double* y) const {
 
 std::vector<double> CellOperator::diagonal() const {
     std::vector<double> d(static_cast<std::size_t>(size()), 1.0);
+    diagonal_into(d);
+    return d;
+}
+
+void CellOperator::diagonal_into(std::vector<double>& d) const {
+    d.resize(static_cast<std::size_t>(size()));
+#pragma omp parallel for schedule(static) if (parallel_rows(size()))
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
-            if (!active[k]) continue;
+            if (!active[k]) {
+                d[k] = 1.0;
+                continue;
+            }
             double v = s[k];
             if (i > 0) v += cx[k - 1];
             if (i + 1 < nx) v += cx[k];
@@ -108,10 +118,13 @@ std::vector<double> CellOperator::diagonal() const {
             if (j + 1 < ny) v += cy[k];
             d[k] = v;
         }
-    return d;
 }
 
 MultigridSolver::MultigridSolver(CellOperator fine) {
+    set_operator(std::move(fine));
+}
+
+void MultigridSolver::set_operator(CellOperator fine) {
     const std::int64_t n = fine.size();
     if (fine.nx < 1 || fine.ny < 1 || static_cast<std::int64_t>(fine.s.size()) != n ||
         static_cast<std::int64_t>(fine.cx.size()) != n ||
@@ -129,24 +142,32 @@ MultigridSolver::MultigridSolver(CellOperator fine) {
         if (!fine.active[k] || (i + 1 < fine.nx && !fine.active[k + 1])) fine.cx[k] = 0;
         if (!fine.active[k] || (j + 1 < fine.ny && !fine.active[k + fine.nx])) fine.cy[k] = 0;
     }
-    const std::vector<double> d = fine.diagonal();
+    if (m_levels.empty() || m_levels.front().op.nx != fine.nx || m_levels.front().op.ny != fine.ny)
+        m_levels.assign(1, Level{});
+    m_levels.front().op = std::move(fine);
+    for (std::size_t l = 0; m_levels[l].op.size() > kCoarsestCells; ++l) {
+        if (l + 1 == m_levels.size()) m_levels.emplace_back();
+        coarsen(m_levels[l].op, m_levels[l + 1].op);
+    }
+    for (Level& l : m_levels) {
+        l.op.diagonal_into(l.inv_diag);
+        const auto m = static_cast<std::size_t>(l.op.size());
+        l.b.resize(m);
+        l.x.resize(m);
+        l.r.resize(m);
+    }
+    const CellOperator& a = m_levels.front().op;
+    const std::vector<double>& d = m_levels.front().inv_diag; // still the diagonal here
     m_weight.resize(static_cast<std::size_t>(n));
     for (std::int64_t k = 0; k < n; ++k) {
         if (!(d[k] > 0))
             throw InputError("multigrid: cell " + std::to_string(k) +
                              " has no own term and no faces (a singular row)");
-        m_weight[k] = fine.active[k] ? 1.0 / (fine.s[k] > 0 ? fine.s[k] : d[k]) : 0.0;
+        m_weight[k] = a.active[k] ? 1.0 / (a.s[k] > 0 ? a.s[k] : d[k]) : 0.0;
     }
-    m_levels.push_back(Level{std::move(fine), {}, {}, {}, {}});
-    while (m_levels.back().op.size() > kCoarsestCells)
-        m_levels.push_back(Level{coarsen(m_levels.back().op), {}, {}, {}, {}});
-    for (Level& l : m_levels) {
-        l.inv_diag = inverse(l.op.diagonal());
-        const auto m = static_cast<std::size_t>(l.op.size());
-        l.b.assign(m, 0.0);
-        l.x.assign(m, 0.0);
-        l.r.assign(m, 0.0);
-    }
+    for (Level& l : m_levels)
+        for (double& v : l.inv_diag) v = 1.0 / v;
+    for (auto* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(static_cast<std::size_t>(n));
 }
 
 void MultigridSolver::vcycle(std::size_t l) const {
@@ -192,7 +213,7 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
     const std::int64_t n = a.size();
     if (static_cast<std::int64_t>(b.size()) != n || static_cast<std::int64_t>(x.size()) != n)
         throw InputError("multigrid: the right-hand side or the start does not match the grid");
-    std::vector<double> r(static_cast<std::size_t>(n)), z(r.size()), p(r.size()), q(r.size());
+    std::vector<double>&r = m_r, &z = m_z, &p = m_p, &q = m_q;
     a.apply(x.data(), q.data());
     for_cells(n, [&](std::int64_t k) { r[k] = a.active[k] ? b[k] - q[k] : 0.0; });
     const double active_cells = std::max<double>(
@@ -218,7 +239,7 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
         return rep;
     }
     precondition();
-    p = z;
+    std::copy(z.begin(), z.end(), p.begin());
     double rz = dot(r, z);
     while (rep.iterations < max_iterations) {
         a.apply(p.data(), q.data());

@@ -37,6 +37,7 @@ struct CellOperator {
     void apply(const double* x, double* y) const;
     /// The diagonal s_i + sum c_f (1 for inactive cells).
     std::vector<double> diagonal() const;
+    void diagonal_into(std::vector<double>& d) const;
 };
 
 struct SolveReport {
@@ -47,8 +48,14 @@ struct SolveReport {
 
 class MultigridSolver {
 public:
+    MultigridSolver() = default;
     /// Builds the hierarchy for `fine`; throws InputError if a term is negative or not finite.
     explicit MultigridSolver(CellOperator fine);
+    /// The same for a new operator, reusing the arrays of the last one when the grid is the same
+    /// (an implicit time step calls it at every stage).
+    void set_operator(CellOperator fine);
+    /// Gives the fine operator's arrays back for the next set_operator to fill without allocating.
+    CellOperator take_operator() { return std::move(m_levels.front().op); }
     /// Solves A x = b starting from x (a warm start), until the root mean square of r_i / s_i
     /// (r_i / diagonal where s_i = 0), the change of x_i the residual stands for, is at most
     /// `tolerance`, or max_iterations pass.
@@ -65,6 +72,7 @@ private:
     };
     std::vector<Level> m_levels;
     std::vector<double> m_weight; ///< 1 / s_i (or 1 / diagonal) for the stopping test
+    mutable std::vector<double> m_r, m_z, m_p, m_q; ///< conjugate-gradient work arrays
     void vcycle(std::size_t l) const;
 };
 

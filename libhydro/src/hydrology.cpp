@@ -302,11 +302,6 @@ void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double so
     f.residual = f.rain - f.evaporation - f.transpiration - f.runoff_out - f.groundwater_out -
                  f.d_soil - f.d_surface - f.d_groundwater;
     m_cum_residual += f.residual;
-    fprintf(stderr,
-            "rain %.17g ev %.17g tr %.17g ro %.17g gwo %.17g ds %.17g dsu %.17g dgw %.17g res "
-            "%.6g rech %.17g\n",
-            f.rain, f.evaporation, f.transpiration, f.runoff_out, f.groundwater_out, f.d_soil,
-            f.d_surface, f.d_groundwater, f.residual, f.recharge);
     m_cum_throughput +=
         f.rain + f.evaporation + f.transpiration + f.runoff_out + std::abs(f.groundwater_out);
     // Written so that NaN (from a non-finite input that got this far) fails the check too.

@@ -65,11 +65,11 @@ Methods scene_methods(const HydroScene& scene);
 /// The memory a run of the scene needs at its peak: per terrain cell (rasters of the terrain, soil,
 /// water state, flow order, catchments, output staging) and, with groundwater, the solver's arrays
 /// per cell. Measured peak resident sizes (/usr/bin/time -v) of 1-year runs from 62,500 to
-/// 1,048,576 cells fit ~50 MB + 410 B per cell, + 150 B per cell with groundwater; the constants
-/// below carry ~10 % of margin (docs/scaling.md).
+/// 1,000,000 cells fit 51 MB + 478 B per cell (plant grid included), + 150 B per cell with
+/// groundwater; the constants carry some margin (docs/scaling.md).
 MemoryEstimate memory_estimate(const HydroScene& scene);
 inline constexpr double kFixedBytes = 60e6;
-inline constexpr double kBytesPerTerrainCell = 450;
+inline constexpr double kBytesPerTerrainCell = 500;
 inline constexpr double kBytesPerGroundwaterCell = 170;
 
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.

@@ -37,10 +37,10 @@ const double kC = (1 - kGamma) / (2 - kGamma);
 
 struct ImplicitGroundwater final : Groundwater::Impl {
     std::vector<double> h0, hg,
-        trial;                  ///< heads of every cell at the step's start, the stage, a solve
-    std::vector<double> flux;   ///< R + L(h) per cell, m3/s
-    std::vector<double> d;      ///< a stage's change of the heads, m
-    std::vector<double> fx, fy; ///< transmissivity of the east and north faces, m2/s
+        trial;                    ///< heads of every cell at the step's start, the stage, a solve
+    std::vector<double> flux, f0; ///< R + L(h) per cell, now and at the step's start, m3/s
+    std::vector<double> d;        ///< a stage's change of the heads, m
+    std::vector<double> fx, fy;   ///< transmissivity of the east and north faces, m2/s
     std::vector<double> rhs;
     CellOperator op;    ///< a stage's operator (its arrays reused from stage to stage)
     MultigridSolver mg; ///< its hierarchy (likewise)
@@ -55,11 +55,19 @@ struct ImplicitGroundwater final : Groundwater::Impl {
                              "got " +
                              std::to_string(substeps));
         const auto n = static_cast<std::size_t>(grid.size());
-        for (auto* v : {&h0, &hg, &trial, &flux, &d, &fx, &fy, &rhs}) v->assign(n, 0.0);
+        for (auto* v : {&h0, &hg, &trial, &flux, &f0, &d, &fx, &fy, &rhs}) v->assign(n, 0.0);
     }
     GroundwaterSolver solver() const override { return GroundwaterSolver::implicit; }
 
     bool evolving(std::int64_t c) const { return var_of_cell[c] >= 0; }
+
+    /// f(c) for every cell, in parallel (each cell's result its own).
+    template <class F>
+    void for_cells(F&& f) const {
+        const std::int64_t n = grid.size();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+        for (std::int64_t c = 0; c < n; ++c) f(c);
+    }
 
     template <class F>
     void for_rows(F&& f) const {
@@ -152,7 +160,7 @@ struct ImplicitGroundwater final : Groundwater::Impl {
               << " m of head at the end of a " << dt_s << " s step)";
             throw Error(s.str());
         }
-        for (std::int64_t c = 0; c < grid.size(); ++c) trial[c] = h[c] + (evolving(c) ? d[c] : 0);
+        for_cells([&](std::int64_t c) { trial[c] = h[c] + (evolving(c) ? d[c] : 0); });
     }
 
     void advance(double dt_s) override {
@@ -160,27 +168,30 @@ struct ImplicitGroundwater final : Groundwater::Impl {
     }
 
     void tr_bdf2(double dt) {
-        const std::int64_t ncell = grid.size();
         const double m = sy * area;
-        for (std::int64_t c = 0; c < ncell; ++c) h0[c] = head_of(c, y.data());
+        for_cells([&](std::int64_t c) { h0[c] = head_of(c, y.data()); });
         // Trapezoidal stage.
         faces_at(h0);
         const double out0 = fluxes(h0);
-        for (std::int64_t c = 0; c < ncell; ++c) rhs[c] = evolving(c) ? 2 * flux[c] : 0.0;
-        std::vector<double> f0 = flux;
+        for_cells([&](std::int64_t c) { rhs[c] = evolving(c) ? 2 * flux[c] : 0.0; });
+        f0 = flux;
         solve_stage(2 * m / (kGamma * dt), h0, dt);
         const double outg = fluxes(trial);
-        for (std::int64_t c = 0; c < ncell; ++c)
+        for_cells([&](std::int64_t c) {
             hg[c] = evolving(c) ? h0[c] + kGamma * dt / 2 * (f0[c] + flux[c]) / m : h0[c];
+        });
         // BDF2 stage, with the transmissivities of the stage's heads.
         faces_at(hg);
         fluxes(hg);
         const double own = m / (kC * dt);
-        for (std::int64_t c = 0; c < ncell; ++c)
+        for_cells([&](std::int64_t c) {
             rhs[c] = evolving(c) ? flux[c] + kB * own * (hg[c] - h0[c]) : 0.0;
+        });
         solve_stage(own, hg, dt);
         const double out1 = fluxes(trial);
-        for (std::int64_t v = 0; v < nvar(); ++v) {
+        const auto n = nvar();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+        for (std::int64_t v = 0; v < n; ++v) {
             const std::int64_t c = cell_of_var[v];
             y[v] = hg[c] + kB * (hg[c] - h0[c]) + kC * dt * flux[c] / m;
         }

@@ -46,17 +46,19 @@ void coarsen(const CellOperator& f, CellOperator& c) {
     std::fill(c.cx.begin(), c.cx.end(), 0.0);
     std::fill(c.cy.begin(), c.cy.end(), 0.0);
     std::fill(c.active.begin(), c.active.end(), std::uint8_t{0});
-    for (int j = 0; j < f.ny; ++j)
-        for (int i = 0; i < f.nx; ++i) {
-            const std::int64_t k = static_cast<std::int64_t>(j) * f.nx + i;
-            const std::int64_t kc = static_cast<std::int64_t>(j / 2) * c.nx + i / 2;
-            if (!f.active[k]) continue;
-            c.active[kc] = 1;
-            c.s[kc] += f.s[k];
-            // A fine face on the aggregate's east (north) side crosses a coarse face.
-            if (i % 2 == 1 && i + 1 < f.nx) c.cx[kc] += 0.5 * f.cx[k];
-            if (j % 2 == 1 && j + 1 < f.ny) c.cy[kc] += 0.5 * f.cy[k];
-        }
+#pragma omp parallel for schedule(static) if (parallel_rows(f.size()))
+    for (int jc = 0; jc < c.ny; ++jc)
+        for (int j = 2 * jc; j < std::min(f.ny, 2 * jc + 2); ++j)
+            for (int i = 0; i < f.nx; ++i) {
+                const std::int64_t k = static_cast<std::int64_t>(j) * f.nx + i;
+                const std::int64_t kc = static_cast<std::int64_t>(jc) * c.nx + i / 2;
+                if (!f.active[k]) continue;
+                c.active[kc] = 1;
+                c.s[kc] += f.s[k];
+                // A fine face on the aggregate's east (north) side crosses a coarse face.
+                if (i % 2 == 1 && i + 1 < f.nx) c.cx[kc] += 0.5 * f.cx[k];
+                if (j % 2 == 1 && j + 1 < f.ny) c.cy[kc] += 0.5 * f.cy[k];
+            }
 }
 
 template <class F>
@@ -132,16 +134,19 @@ void MultigridSolver::set_operator(CellOperator fine) {
         static_cast<std::int64_t>(fine.active.size()) != n)
         throw InputError("multigrid: the operator's arrays do not match its " +
                          std::to_string(fine.nx) + " x " + std::to_string(fine.ny) + " grid");
+    std::int64_t bad = n; // the first cell with a negative or non-finite term
+#pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel_min_items())
     for (std::int64_t k = 0; k < n; ++k) {
         if (!(fine.s[k] >= 0 && fine.cx[k] >= 0 && fine.cy[k] >= 0) ||
             !std::isfinite(fine.s[k] + fine.cx[k] + fine.cy[k]))
-            throw InputError("multigrid: a negative or non-finite term at cell " +
-                             std::to_string(k));
+            bad = std::min(bad, k);
         // Faces that touch an inactive cell carry nothing.
         const int i = static_cast<int>(k % fine.nx), j = static_cast<int>(k / fine.nx);
         if (!fine.active[k] || (i + 1 < fine.nx && !fine.active[k + 1])) fine.cx[k] = 0;
         if (!fine.active[k] || (j + 1 < fine.ny && !fine.active[k + fine.nx])) fine.cy[k] = 0;
     }
+    if (bad < n)
+        throw InputError("multigrid: a negative or non-finite term at cell " + std::to_string(bad));
     if (m_levels.empty() || m_levels.front().op.nx != fine.nx || m_levels.front().op.ny != fine.ny)
         m_levels.assign(1, Level{});
     m_levels.front().op = std::move(fine);
@@ -159,14 +164,17 @@ void MultigridSolver::set_operator(CellOperator fine) {
     const CellOperator& a = m_levels.front().op;
     const std::vector<double>& d = m_levels.front().inv_diag; // still the diagonal here
     m_weight.resize(static_cast<std::size_t>(n));
+    std::int64_t singular = n;
+#pragma omp parallel for schedule(static) reduction(min : singular) if (n >= parallel_min_items())
     for (std::int64_t k = 0; k < n; ++k) {
-        if (!(d[k] > 0))
-            throw InputError("multigrid: cell " + std::to_string(k) +
-                             " has no own term and no faces (a singular row)");
+        if (!(d[k] > 0)) singular = std::min(singular, k);
         m_weight[k] = a.active[k] ? 1.0 / (a.s[k] > 0 ? a.s[k] : d[k]) : 0.0;
     }
+    if (singular < n)
+        throw InputError("multigrid: cell " + std::to_string(singular) +
+                         " has no own term and no faces (a singular row)");
     for (Level& l : m_levels)
-        for (double& v : l.inv_diag) v = 1.0 / v;
+        for_cells(l.op.size(), [&](std::int64_t k) { l.inv_diag[k] = 1.0 / l.inv_diag[k]; });
     for (auto* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(static_cast<std::size_t>(n));
 }
 
@@ -190,12 +198,15 @@ void MultigridSolver::vcycle(std::size_t l) const {
     const Level& C = m_levels[l + 1];
     std::fill(C.b.begin(), C.b.end(), 0.0);
     const int nx = L.op.nx, ny = L.op.ny, cnx = C.op.nx;
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-            const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
-            if (L.op.active[k])
-                C.b[static_cast<std::int64_t>(j / 2) * cnx + i / 2] += L.b[k] - L.r[k];
-        }
+    // Each coarse row gathers its two fine rows (a fixed order: the same bits on any threads).
+#pragma omp parallel for schedule(static) if (parallel_rows(L.op.size()))
+    for (int jc = 0; jc < C.op.ny; ++jc)
+        for (int j = 2 * jc; j < std::min(ny, 2 * jc + 2); ++j)
+            for (int i = 0; i < nx; ++i) {
+                const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+                if (L.op.active[k])
+                    C.b[static_cast<std::int64_t>(jc) * cnx + i / 2] += L.b[k] - L.r[k];
+            }
     vcycle(l + 1);
 #pragma omp parallel for schedule(static) if (parallel_rows(L.op.size()))
     for (int j = 0; j < ny; ++j)

@@ -38,6 +38,23 @@ const std::vector<Column<run::RunSummary>>& run_metrics() {
         metric<R>("water_residual_relative", "1",
                   "|cumulative water budget residual| / cumulative throughput",
                   [](const R& r) { return r.water_residual_relative; }),
+        metric<R>("rain_mm_per_yr", "mm/yr", "rain over the domain, mean over the run's days",
+                  [](const R& r) { return r.water_mm_per_yr.rain; }),
+        metric<R>("evaporation_mm_per_yr", "mm/yr",
+                  "evaporation (soil, grass surface, open water), mean over the run",
+                  [](const R& r) { return r.water_mm_per_yr.evaporation; }),
+        metric<R>("transpiration_mm_per_yr", "mm/yr",
+                  "transpiration of the plants and the ground layer, mean over the run",
+                  [](const R& r) { return r.water_mm_per_yr.transpiration; }),
+        metric<R>("runoff_out_mm_per_yr", "mm/yr",
+                  "surface water that left the domain, mean over the run",
+                  [](const R& r) { return r.water_mm_per_yr.runoff_out; }),
+        metric<R>("groundwater_out_mm_per_yr", "mm/yr",
+                  "groundwater that left through fixed-head edges, mean over the run",
+                  [](const R& r) { return r.water_mm_per_yr.groundwater_out; }),
+        metric<R>("recharge_mm_per_yr", "mm/yr",
+                  "percolation below the root zone into the aquifer, mean over the run",
+                  [](const R& r) { return r.water_mm_per_yr.recharge; }),
     };
     return c;
 }

@@ -324,6 +324,20 @@ RunSummary RunJob::summary() {
     sum.water_residual_relative = std::abs(m_eco->hydrology().cumulative_residual_m3()) /
                                   std::max(m_eco->hydrology().cumulative_throughput_m3(), 1e-300);
     sum.carbon_residual_relative = m_eco->carbon_residual_relative();
+    const Table& daily = m_eco->daily();
+    const double years = std::max<double>(1.0, static_cast<double>(daily.rows()) / 365.0);
+    auto per_year = [&](const char* column) {
+        double total = 0;
+        for (double v : daily.column(column)) total += v;
+        return total / years;
+    };
+    auto& w = sum.water_mm_per_yr;
+    w.rain = per_year("rain_mm");
+    w.evaporation = per_year("evaporation_mm");
+    w.transpiration = per_year("transpiration_mm");
+    w.runoff_out = per_year("runoff_out_mm");
+    w.groundwater_out = per_year("groundwater_out_mm");
+    w.recharge = per_year("recharge_mm");
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_t0).count();
     return sum;
 }

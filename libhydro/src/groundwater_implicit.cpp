@@ -65,13 +65,13 @@ struct ImplicitGroundwater final : Groundwater::Impl {
     template <class F>
     void for_cells(F&& f) const {
         const std::int64_t n = grid.size();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+#pragma omp parallel for schedule(static) if (parallel_grid(n))
         for (std::int64_t c = 0; c < n; ++c) f(c);
     }
 
     template <class F>
     void for_rows(F&& f) const {
-#pragma omp parallel for schedule(static) if (grid.size() >= parallel_min_items())
+#pragma omp parallel for schedule(static) if (parallel_grid(grid.size()))
         for (int j = 0; j < grid.ny; ++j) f(j);
     }
 
@@ -190,7 +190,7 @@ struct ImplicitGroundwater final : Groundwater::Impl {
         solve_stage(own, hg, dt);
         const double out1 = fluxes(trial);
         const auto n = nvar();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+#pragma omp parallel for schedule(static) if (parallel_grid(n))
         for (std::int64_t v = 0; v < n; ++v) {
             const std::int64_t c = cell_of_var[v];
             y[v] = hg[c] + kB * (hg[c] - h0[c]) + kC * dt * flux[c] / m;

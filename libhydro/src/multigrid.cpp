@@ -9,13 +9,17 @@
 
 namespace ecoterra::hydro {
 
+bool parallel_grid(std::int64_t cells) {
+    return cells >= kGridParallelFactor * parallel_min_items();
+}
+
 namespace {
 
 constexpr std::int64_t kCoarsestCells = 16; ///< stop aggregating at this many cells
 constexpr int kCoarsestSweeps = 24;         ///< symmetric sweep pairs on the coarsest level
 
 bool parallel_rows(std::int64_t cells) {
-    return cells >= parallel_min_items();
+    return parallel_grid(cells);
 }
 
 /// One red-black half sweep: cells with (i + j) % 2 == colour take their Gauss-Seidel value.
@@ -63,7 +67,7 @@ void coarsen(const CellOperator& f, CellOperator& c) {
 
 template <class F>
 void for_cells(std::int64_t n, F&& f) {
-#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+#pragma omp parallel for schedule(static) if (parallel_grid(n))
     for (std::int64_t k = 0; k < n; ++k) f(k);
 }
 
@@ -135,7 +139,7 @@ void MultigridSolver::set_operator(CellOperator fine) {
         throw InputError("multigrid: the operator's arrays do not match its " +
                          std::to_string(fine.nx) + " x " + std::to_string(fine.ny) + " grid");
     std::int64_t bad = n; // the first cell with a negative or non-finite term
-#pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel_min_items())
+#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_grid(n))
     for (std::int64_t k = 0; k < n; ++k) {
         if (!(fine.s[k] >= 0 && fine.cx[k] >= 0 && fine.cy[k] >= 0) ||
             !std::isfinite(fine.s[k] + fine.cx[k] + fine.cy[k]))
@@ -165,7 +169,7 @@ void MultigridSolver::set_operator(CellOperator fine) {
     const std::vector<double>& d = m_levels.front().inv_diag; // still the diagonal here
     m_weight.resize(static_cast<std::size_t>(n));
     std::int64_t singular = n;
-#pragma omp parallel for schedule(static) reduction(min : singular) if (n >= parallel_min_items())
+#pragma omp parallel for schedule(static) reduction(min : singular) if (parallel_grid(n))
     for (std::int64_t k = 0; k < n; ++k) {
         if (!(d[k] > 0)) singular = std::min(singular, k);
         m_weight[k] = a.active[k] ? 1.0 / (a.s[k] > 0 ? a.s[k] : d[k]) : 0.0;

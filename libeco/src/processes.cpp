@@ -64,17 +64,15 @@ void ground_water_request(const GroundLayer& ground, const std::vector<Species>&
 
 void supply_fractions(const RootCells& roots, const RasterD& request_mm, const RasterD& supplied_mm,
                       std::vector<double>& ratio, std::vector<double>& fraction) {
-    const std::int64_t n = request_mm.size();
-    ratio.resize(static_cast<std::size_t>(n));
-    const double* req = request_mm.data();
-    const double* sup = supplied_mm.data();
-    bool all_met = true; // an AND of every cell's: the same whatever the thread count
-#pragma omp parallel for schedule(static) reduction(&& : all_met) if (n >= parallel_min_items())
-    for (std::int64_t c = 0; c < n; ++c) {
-        const double r = req[c];
-        const double q = r > 0 ? std::min(1.0, sup[c] / r) : 1.0;
-        ratio[static_cast<std::size_t>(c)] = q;
-        all_met = all_met && q == 1.0;
+    ratio.assign(static_cast<std::size_t>(request_mm.size()), 1.0);
+    bool all_met = true;
+    for (std::int64_t c = 0; c < request_mm.size(); ++c) {
+        const double r = request_mm.data()[c];
+        if (r > 0) {
+            const double q = std::min(1.0, supplied_mm.data()[c] / r);
+            ratio[static_cast<std::size_t>(c)] = q;
+            all_met = all_met && q == 1.0;
+        }
     }
     if (all_met)
         fraction.assign(roots.size(), 1.0);

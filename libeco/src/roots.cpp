@@ -5,36 +5,6 @@
 
 namespace ecoterra::eco {
 
-namespace {
-
-/// The entries by cell: a counting sort, stable, so each cell's entries keep their order.
-void index_by_cell(RootCells& r) {
-    const std::size_t entries = r.cell.size();
-    r.plant_of.resize(entries);
-    for (std::size_t p = 0; p < r.size(); ++p)
-        for (std::uint32_t e = r.offset[p]; e < r.offset[p + 1]; ++e)
-            r.plant_of[e] = static_cast<std::uint32_t>(p);
-    std::int64_t cells = 0;
-    for (std::int64_t c : r.cell) cells = std::max(cells, c + 1);
-    std::vector<std::uint32_t> count(static_cast<std::size_t>(cells) + 1, 0);
-    for (std::int64_t c : r.cell) ++count[static_cast<std::size_t>(c) + 1];
-    r.touched.clear();
-    r.by_cell_offset.assign(1, 0);
-    std::vector<std::uint32_t> slot(static_cast<std::size_t>(cells), 0);
-    for (std::int64_t c = 0; c < cells; ++c) {
-        const std::uint32_t n = count[static_cast<std::size_t>(c) + 1];
-        if (n == 0) continue;
-        slot[static_cast<std::size_t>(c)] = r.by_cell_offset.back();
-        r.touched.push_back(c);
-        r.by_cell_offset.push_back(r.by_cell_offset.back() + n);
-    }
-    r.by_cell.resize(entries);
-    for (std::uint32_t e = 0; e < entries; ++e)
-        r.by_cell[slot[static_cast<std::size_t>(r.cell[e])]++] = e;
-}
-
-} // namespace
-
 RootCells root_cells(const CrownSet& roots, const CellMap& map) {
     RootCells r;
     r.offset.reserve(roots.size() + 1);
@@ -77,22 +47,16 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
         }
         r.offset.push_back(static_cast<std::uint32_t>(r.cell.size()));
     }
-    index_by_cell(r);
     return r;
 }
 
 void scatter_demand(const RootCells& roots, const std::vector<double>& demand,
                     std::vector<double>& request) {
-    const auto n = static_cast<std::int64_t>(roots.touched.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
-    for (std::int64_t t = 0; t < n; ++t) {
-        double& acc = request[static_cast<std::size_t>(roots.touched[static_cast<std::size_t>(t)])];
-        for (std::uint32_t k = roots.by_cell_offset[static_cast<std::size_t>(t)];
-             k < roots.by_cell_offset[static_cast<std::size_t>(t) + 1]; ++k) {
-            const std::uint32_t e = roots.by_cell[k];
-            const double d = demand[roots.plant_of[e]];
-            if (d > 0) acc += d * roots.share[e];
-        }
+    for (std::size_t p = 0; p < roots.size(); ++p) {
+        const double d = demand[p];
+        if (!(d > 0)) continue;
+        for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e)
+            request[static_cast<std::size_t>(roots.cell[e])] += d * roots.share[e];
     }
 }
 

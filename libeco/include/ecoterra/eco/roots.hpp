@@ -31,19 +31,13 @@ struct RootCells {
     std::vector<std::uint32_t> offset{0}; ///< plant p's entries are [offset[p], offset[p + 1])
     std::vector<std::int64_t> cell;       ///< hydrology cell index
     std::vector<double> share;            ///< fraction of the plant's root cells in that cell
-    // The same entries by hydrology cell, for the daily scatter: `touched` lists the cells with
-    // roots in ascending order; cell touched[t]'s entries are by_cell[by_cell_offset[t] ..
-    // by_cell_offset[t + 1]), in ascending entry (so plant) order; plant_of[e] is entry e's plant.
-    std::vector<std::int64_t> touched;
-    std::vector<std::uint32_t> by_cell_offset{0}, by_cell, plant_of;
     std::size_t size() const { return offset.size() - 1; }
 };
 
 RootCells root_cells(const CrownSet& roots, const CellMap& map);
 
-/// Adds each plant's demand (m3/day) to `request_m3` (per hydrology cell). Each cell adds its
-/// plants' shares in plant order, one cell per thread, so the sums have the bits of a serial
-/// scatter in plant order whatever the thread count.
+/// Adds each plant's demand (m3/day) to `request_m3` (per hydrology cell). Serial: the order of
+/// the sum per cell does not depend on the thread count.
 void scatter_demand(const RootCells& roots, const std::vector<double>& demand_m3,
                     std::vector<double>& request_m3);
 

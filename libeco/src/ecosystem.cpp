@@ -24,7 +24,8 @@ constexpr std::uint32_t kSectionRandom = 1; // the seeding, mortality and arriva
 constexpr std::uint32_t kSectionPlants = 1; // the population's columns and the next id
 constexpr std::uint32_t kSectionCanopy = 1; // the ground shade
 constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
-constexpr std::uint32_t kSectionHydro = 1;  // the hydrology's state and vegetation density
+// the hydrology's state and vegetation density (2: with the surface layer's depletion)
+constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
 constexpr std::uint32_t kSectionSeries = 1; // the daily and yearly series, by column name
 constexpr std::uint32_t kSectionBudget = 1; // the year's sums and the carbon ledger
 } // namespace
@@ -48,6 +49,8 @@ Ecosystem::Ecosystem(const EcoScene& scene)
                                                 scene.hydro.options, scene.hydro.climate);
     m_canopy.ground_shade = RasterD(pg, 0.0);
     m_request_mm = RasterD(hg, 0.0);
+    m_lai = RasterD(hg, 0.0);
+    m_cover = RasterD(hg, 0.0);
     const auto& species = scene.ecosystem.species;
     const auto& soil = scene.hydro.soil;
     m_ground = GroundLayer(species, hg.size(), [&](std::uint16_t k, std::int64_t c) {
@@ -96,7 +99,7 @@ int Ecosystem::year_length(const hydro::DayWeather& w) const {
 bool Ecosystem::step_day() {
     const hydro::DayWeather& w = next_weather();
     const bool coupled = m_scene.competition == Competition::coupled;
-    const hydro::DailyFluxes f = coupled ? coupled_day(w) : m_hydro->step(w, nullptr);
+    const hydro::DailyFluxes f = coupled ? coupled_day(w) : light_only_day(w);
     const auto& hg = m_scene.hydro.dem.grid();
     m_daily.push(hydro::daily_budget_row(m_days_done, w, f, hg.width_m() * hg.height_m()),
                  hydro::daily_budget_columns());
@@ -114,23 +117,53 @@ void Ecosystem::run_year() {
     }
 }
 
-hydro::DailyFluxes Ecosystem::coupled_day(const hydro::DayWeather& w) {
+void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayClimate& day) {
     const auto& species = m_scene.ecosystem.species;
     const auto dw = hydro::et_weather(w, m_scene.hydro.climate);
     const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
-    const DayClimate day = day_climate(species, w.doy, 0.5 * (w.tmin_c + w.tmax_c));
     // Demand: the plants' through their root cells, then the ground layer's.
     plant_water_demand(m_pop, species, day.phen, et0_m, m_demand);
-    m_request.assign(static_cast<std::size_t>(m_request_mm.size()), 0.0);
+    const auto cells = static_cast<std::size_t>(m_request_mm.size());
+    m_request.assign(cells, 0.0);
     scatter_demand(m_canopy.roots, m_demand, m_request);
     ground_water_request(m_ground, species, day.phen, et0_m, soil_water(),
                          m_scene.hydro.options.root_zone_depth_m, m_hydro_cell_area,
                          m_ground_demand, m_ground_request, m_request);
-    for (std::int64_t c = 0; c < m_request_mm.size(); ++c)
-        m_request_mm.data()[c] =
-            m_request[static_cast<std::size_t>(c)] / m_hydro_cell_area * kMmPerM;
+    for (std::size_t c = 0; c < cells; ++c)
+        m_request_mm.data()[c] = m_request[c] / m_hydro_cell_area * kMmPerM;
+    // Leaves: each plant's today, spread as its roots are, and the ground layer's.
+    m_leaf_today.assign(m_pop.size(), 0.0);
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (m_pop.alive[k] && species[m_pop.species[k]].life_form != LifeForm::object)
+            m_leaf_today[k] = m_pop.leaf_area_m2[k] * day.phen[m_pop.species[k]];
+    m_leaf_cells.assign(cells, 0.0);
+    scatter_demand(m_canopy.roots, m_leaf_today, m_leaf_cells);
+    const double k = m_scene.extinction;
+    for (std::size_t c = 0; c < cells; ++c) {
+        double lai = m_leaf_cells[c] / m_hydro_cell_area;
+        if (!m_ground.empty())
+            lai += m_ground.leaf_area_index(species, static_cast<std::int64_t>(c), day.phen);
+        m_lai.data()[c] = lai;
+        m_cover.data()[c] = 1.0 - std::exp(-k * lai);
+    }
+}
+
+hydro::DailyFluxes Ecosystem::light_only_day(const hydro::DayWeather& w) {
+    const DayClimate day =
+        day_climate(m_scene.ecosystem.species, w.doy, 0.5 * (w.tmin_c + w.tmax_c));
+    water_request_and_leaves(w, day);
+    // Paper 002's light-only baseline draws no water for its plants.
+    if (m_scene.hydro.options.evapotranspiration == hydro::EvapotranspirationMethod::paper002)
+        return m_hydro->step(w, nullptr, &m_lai, &m_cover);
+    return m_hydro->step(w, &m_request_mm, &m_lai, &m_cover);
+}
+
+hydro::DailyFluxes Ecosystem::coupled_day(const hydro::DayWeather& w) {
+    const auto& species = m_scene.ecosystem.species;
+    const DayClimate day = day_climate(species, w.doy, 0.5 * (w.tmin_c + w.tmax_c));
+    water_request_and_leaves(w, day);
     // The hydrology supplies it; the plants grow on what they got.
-    const hydro::DailyFluxes f = m_hydro->step(w, &m_request_mm);
+    const hydro::DailyFluxes f = m_hydro->step(w, &m_request_mm, &m_lai, &m_cover);
     supply_fractions(m_canopy.roots, m_request_mm, m_hydro->transpiration_supplied_mm(), m_ratio,
                      m_fraction);
     carbon_balance(m_pop, species, day, m_fraction, m_demand, m_sum);
@@ -347,6 +380,19 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
 }
 
 namespace {
+/// The daily columns of the processes that came with hydrology state version 2 (interception,
+/// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".
+bool is_surface_layer_era_column(const std::string& name) {
+    return name == "interception_mm" || name == "drainage_out_mm";
+}
+void zero_surface_layer_era_columns(Table& daily) {
+    std::size_t rows = 0;
+    for (std::size_t c = 0; c < daily.columns.size(); ++c)
+        if (!is_surface_layer_era_column(daily.names[c])) rows = daily.columns[c].size();
+    for (std::size_t c = 0; c < daily.columns.size(); ++c)
+        if (is_surface_layer_era_column(daily.names[c])) daily.columns[c].assign(rows, 0.0);
+}
+
 /// Reads a series table by column name: a column the checkpoint lacks (added since) is NaN in the
 /// rows before the resume; one this ecoterra lacks is an error naming it.
 void load_table(ArchiveReader& a, Table& t, const char* which) {
@@ -417,12 +463,15 @@ void Ecosystem::load_sections(ArchiveReader& a) {
     });
     r.read("ground_layer", kSectionGround, kSectionGround,
            [&](ArchiveReader& s, std::uint32_t) { m_ground.set_raw(s.get_vector<double>()); });
-    r.read("hydrology", kSectionHydro, kSectionHydro, [&](ArchiveReader& s, std::uint32_t) {
-        m_hydro->load_state(s);
+    std::uint32_t hydro_version = kSectionHydro;
+    r.read("hydrology", 1, kSectionHydro, [&](ArchiveReader& s, std::uint32_t version) {
+        hydro_version = version;
+        m_hydro->load_state(s, version);
         m_hydro->set_vegetation_density(s.get_raster<double>());
     });
     r.read("series", kSectionSeries, kSectionSeries, [&](ArchiveReader& s, std::uint32_t) {
         load_table(s, m_daily, "daily");
+        if (hydro_version < 2) zero_surface_layer_era_columns(m_daily);
         load_table(s, m_yearly, "yearly");
     });
     r.read("budget", kSectionBudget, kSectionBudget, [&](ArchiveReader& s, std::uint32_t) {
@@ -450,9 +499,13 @@ void Ecosystem::load_version6(ArchiveReader& a) {
     m_next_id = a.get<std::int64_t>();
     m_canopy.ground_shade = a.get_raster<double>();
     m_ground.set_raw(a.get_vector<double>());
-    m_hydro->load_state(a);
+    m_hydro->load_state(a, 1);
     m_hydro->set_vegetation_density(a.get_raster<double>());
-    for (auto& c : m_daily.columns) c = a.get_vector<double>();
+    // Format 6 predates the interception and drainage columns.
+    for (std::size_t c = 0; c < m_daily.columns.size(); ++c)
+        if (!is_surface_layer_era_column(m_daily.names[c]))
+            m_daily.columns[c] = a.get_vector<double>();
+    zero_surface_layer_era_columns(m_daily);
     for (auto& c : m_yearly.columns) c = a.get_vector<double>();
     m_sum = a.get<PlantSums>();
     m_ledger.stock_at_year_start_kg = a.get<double>();

@@ -34,6 +34,14 @@ double GroundLayer::demand_m3(const std::vector<Species>& sp, std::int64_t c,
     return d * cell_area_m2 * et0_m;
 }
 
+double GroundLayer::leaf_area_index(const std::vector<Species>& sp, std::int64_t c,
+                                    const std::vector<double>& phen) const {
+    double lai = 0;
+    for (std::size_t g = 0; g < m_species.size(); ++g)
+        lai += sp[m_species[g]].leaf_area_per_crown_area * cover(g, c) * phen[m_species[g]];
+    return lai;
+}
+
 double GroundLayer::root_depth_m(const std::vector<Species>& sp, std::int64_t c) const {
     double a = 0, z = 0;
     for (std::size_t g = 0; g < m_species.size(); ++g) {

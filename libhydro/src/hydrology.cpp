@@ -62,9 +62,13 @@ const std::vector<Column<BudgetRow>>& daily_budget_columns() {
         column("rain_mm", &R::rain_mm, mm, "rain over the domain"),
         column("evaporation_mm", &R::evaporation_mm, mm, "soil and open-water evaporation"),
         column("transpiration_mm", &R::transpiration_mm, mm, "transpiration supplied to plants"),
+        column("interception_mm", &R::interception_mm, mm,
+               "rain held on the canopy and evaporated from it"),
         column("infiltration_mm", &R::infiltration_mm, mm, "infiltration into the soil"),
         column("runoff_out_mm", &R::runoff_out_mm, mm,
                "surface water that left through the domain edge"),
+        column("drainage_out_mm", &R::drainage_out_mm, mm,
+               "water drained below the root zone out of the domain (groundwater off)"),
         column("groundwater_out_mm", &R::groundwater_out_mm, mm,
                "groundwater that left through fixed-head edges"),
         column("recharge_mm", &R::recharge_mm, mm, "percolation to the water table"),
@@ -87,8 +91,10 @@ BudgetRow daily_budget_row(int day, const DayWeather& w, const DailyFluxes& f, d
     r.rain_mm = f.rain * to_mm;
     r.evaporation_mm = f.evaporation * to_mm;
     r.transpiration_mm = f.transpiration * to_mm;
+    r.interception_mm = f.interception * to_mm;
     r.infiltration_mm = f.infiltration * to_mm;
     r.runoff_out_mm = f.runoff_out * to_mm;
+    r.drainage_out_mm = f.drainage_out * to_mm;
     r.groundwater_out_mm = f.groundwater_out * to_mm;
     r.recharge_mm = f.recharge * to_mm;
     r.d_soil_storage_mm = f.d_soil * to_mm;
@@ -147,12 +153,45 @@ const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
              "groundwater_solver", &O::groundwater_solver,
              std::vector<std::pair<std::string, GroundwaterSolver>>{
                  {"implicit", GroundwaterSolver::implicit}, {"cvode", GroundwaterSolver::cvode}},
-             "implicit: linearised backward-Euler steps solved by multigrid-preconditioned "
-             "conjugate gradients, work in proportion to the cells (docs/model.md); cvode: "
+             "implicit: TR-BDF2 steps, each stage solved by multigrid-preconditioned "
+             "conjugate gradients, work in proportion to the cells (docs/hydrology.md); cvode: "
              "the error-controlled reference (CVODE BDF + KLU), for grids up to ~128 x 128"),
          integer<O>("groundwater_steps_per_day", &O::groundwater_steps_per_day, "1/d", 1, 96,
-                    "backward-Euler steps a day of the implicit solver; its water-table error is "
-                    "first order in the step (under 1 cm a year against cvode at 4)")});
+                    "TR-BDF2 steps a day of the implicit solver; its water-table error is second "
+                    "order in the step (under 1 cm a year against cvode at 2)"),
+         choice<O>("evapotranspiration", &O::evapotranspiration,
+                   std::vector<std::pair<std::string, EvapotranspirationMethod>>{
+                       {"fao56", EvapotranspirationMethod::fao56},
+                       {"paper002", EvapotranspirationMethod::paper002}},
+                   "fao56: two-stage soil evaporation plus transpiration, each limited (FAO-56 "
+                   "dual coefficients); paper002: the larger of the surface's Penman demand and "
+                   "the plants' request"),
+         choice<O>("drainage", &O::drainage,
+                   std::vector<std::pair<std::string, DrainageMethod>>{
+                       {"gravity", DrainageMethod::gravity}, {"none", DrainageMethod::none}},
+                   "gravity: the soil holds up to its porosity and drains at K(theta) (Saxton & "
+                   "Rawls 2006); none (paper 002): it holds up to field capacity, the rest runs "
+                   "off (or percolates at Ksat with groundwater on)"),
+         choice<O>("interception", &O::interception,
+                   std::vector<std::pair<std::string, InterceptionMethod>>{
+                       {"gash", InterceptionMethod::gash}, {"none", InterceptionMethod::none}},
+                   "gash: the canopy holds and evaporates rain (Gash 1979, sparse form 1995); "
+                   "none (paper 002)"),
+         number<O>("surface_layer_depth_m", &O::surface_layer_depth_m, "m", 0.05, 0.25,
+                   "depth Ze of the evaporating surface layer (FAO-56 eq. 73: 0.10-0.15)"),
+         number<O>("kc_max", &O::kc_max, "1", 1.0, 1.4,
+                   "upper limit of the crop and evaporation coefficients, Kcb + Ke (FAO-56 eq. "
+                   "72)"),
+         number<O>("depletion_fraction", &O::depletion_fraction, "1", 0, 0.9,
+                   "fraction p of the available water plants use before transpiration falls "
+                   "(FAO-56 eq. 84, Table 22)"),
+         number<O>("canopy_storage_per_lai_mm", &O::canopy_storage_per_lai_mm, "mm", 0, 2,
+                   "rain a unit of leaf area index holds (Gash interception)"),
+         number<O>("wet_canopy_evaporation_ratio", &O::wet_canopy_evaporation_ratio, "1", 0.01, 0.9,
+                   "mean evaporation rate from a wet canopy over the mean rain rate (Gash)"),
+         number<O>("canopy_extinction", &O::canopy_extinction, "1", 0.1, 2,
+                   "k of cover = 1 - exp(-k LAI) when hydrology runs without plants (the "
+                   "vegetation density is the cover)")});
     return c;
 }
 
@@ -196,6 +235,7 @@ HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const Ra
     m_order = upstream_first_order(dem);
     m_runoff.assign(static_cast<std::size_t>(dem.size()), 0.0);
     m_recharge.assign(static_cast<std::size_t>(dem.size()), 0.0);
+    init_soil_layers();
     if (opt.groundwater)
         m_gw = std::make_unique<Groundwater>(
             dem, soil.ksat_m_per_s, opt.specific_yield, opt.aquifer_thickness_m,
@@ -204,6 +244,49 @@ HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const Ra
 }
 
 HydrologyModel::~HydrologyModel() = default;
+
+void HydrologyModel::init_soil_layers() {
+    const std::int64_t n = m_dem.size();
+    const auto un = static_cast<std::size_t>(n);
+    m_de = RasterD(m_dem.grid(), 0.0);
+    m_tew.assign(un, 0.0f);
+    m_rew.assign(un, 0.0f);
+    m_drain_exponent.assign(un, 0.0f);
+    m_kr.assign(un, 1.0);
+    m_intercepted.assign(un, 0.0);
+    for (std::int64_t k = 0; k < n; ++k) {
+        const double fc = m_soil.field_capacity.data()[k], wp = m_soil.wilting_point.data()[k];
+        // FAO-56 eq. 73; REW at most 90 % of TEW (thin sandy layers).
+        const double tew = 1000.0 * (fc - 0.5 * wp) * m_opt.surface_layer_depth_m;
+        const double rew = std::min(
+            readily_evaporable_water_mm(static_cast<Texture>(m_soil.texture.data()[k])), 0.9 * tew);
+        m_tew[k] = static_cast<float>(tew);
+        m_rew[k] = static_cast<float>(rew);
+        m_drain_exponent[k] = static_cast<float>(conductivity_exponent(fc, wp));
+        // The surface layer starts as wet as the root zone.
+        if (m_opt.evapotranspiration == EvapotranspirationMethod::fao56)
+            m_de.data()[k] = tew * (1.0 - m_opt.initial_saturation);
+    }
+}
+
+void HydrologyModel::leaves_of_the_day(const RasterD* lai, const RasterD* cover) {
+    const auto n = static_cast<std::size_t>(m_dem.size());
+    if (lai) {
+        m_lai.assign(lai->data(), lai->data() + n);
+        m_cover.assign(cover->data(), cover->data() + n);
+        m_leaves_from_density = false;
+        return;
+    }
+    if (m_leaves_from_density) return; // unchanged since the density was set
+    m_lai.resize(n);
+    m_cover.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double v = std::min(m_veg.data()[k], 0.99);
+        m_cover[k] = v;
+        m_lai[k] = -std::log1p(-v) / m_opt.canopy_extinction;
+    }
+    m_leaves_from_density = true;
+}
 
 void HydrologyModel::set_vegetation_density(const RasterD& veg) {
     if (!(veg.grid() == m_dem.grid()))
@@ -215,6 +298,7 @@ void HydrologyModel::set_vegetation_density(const RasterD& veg) {
                              " at cell " + std::to_string(k));
     }
     m_veg = veg;
+    m_leaves_from_density = false; // recomputed from the new density unless the plants give theirs
     update_runoff_coefficients();
 }
 
@@ -247,20 +331,23 @@ RasterD HydrologyModel::water_table_depth() const {
     return d;
 }
 
-DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm) {
+DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, const RasterD* lai,
+                                 const RasterD* cover) {
     if (transp_mm && !(transp_mm->grid() == m_dem.grid()))
         throw InputError("the transpiration demand raster's grid does not match the terrain's");
+    if ((lai == nullptr) != (cover == nullptr) ||
+        (lai && (!(lai->grid() == m_dem.grid()) || !(cover->grid() == m_dem.grid()))))
+        throw InputError("the leaf-area and cover rasters must both be given, on the terrain's "
+                         "grid");
     ++m_day;
     DailyFluxes f;
     const std::int64_t cells = m_dem.grid().size();
     const double soil0 = soil_storage_m3(), surf0 = m_catch.total_volume_m3(),
                  gw0 = groundwater_storage_m3(), lost0 = m_catch.lost_m3();
-    // The day's Penman demands, mm.
+    const bool fao = m_opt.evapotranspiration == EvapotranspirationMethod::fao56;
+    const bool gash = m_opt.interception == InterceptionMethod::gash;
     const et::DailyWeather dw = et_weather(w, m_climate);
     const double e0_mm = std::max(0.0, et::penman_open_water(dw, m_opt.wind));
-    const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
-                               et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
-                               m_veg.data(), m_opt.grass_density_threshold};
     const double rain_m = w.rain_mm / kMmPerM;
     f.rain = rain_m * m_area * static_cast<double>(cells);
     const SoilColumns soil{m_theta.data(),
@@ -268,22 +355,40 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm) 
                            m_soil.wilting_point.data(),
                            m_soil.ksat_m_per_s.data(),
                            m_opt.root_zone_depth_m,
-                           m_area};
+                           m_area,
+                           m_opt.drainage == DrainageMethod::gravity ? m_soil.porosity.data()
+                                                                     : nullptr,
+                           fao ? m_de.data() : nullptr};
     std::vector<double>* recharge = m_gw ? &m_recharge : nullptr; // m3 per cell
     if (recharge) std::fill(recharge->begin(), recharge->end(), 0.0);
+    if (fao || gash) leaves_of_the_day(lai, cover);
+    if (fao) {
+        // FAO-56 eq. 74 takes the surface layer's depletion at the end of the previous day.
+        const double* de = m_de.data();
+#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
+        for (std::int64_t k = 0; k < cells; ++k) {
+            const double tew = m_tew[k], rew = m_rew[k];
+            m_kr[k] = std::clamp((tew - de[k]) / (tew - rew), 0.0, 1.0);
+        }
+    }
+    if (gash) std::fill(m_intercepted.begin(), m_intercepted.end(), 0.0);
 
     lake_losses(m_catch, m_dem, soil, e0_mm, recharge, f.evaporation, f.infiltration);
     if (rain_m > 0) {
         rain_on_lakes(m_catch, rain_m, m_area);
-        const RainPartition rain{
-            m_opt.runoff,   rain_m,           w.rain_mm,    m_coef.data(),
-            m_slope.data(), m_opt.flat_slope, m_veg.data(), m_soil.texture.data()};
+        if (gash)
+            canopy_interception(
+                m_catch, m_lai.data(), m_cover.data(), w.rain_mm,
+                {m_opt.canopy_storage_per_lai_mm, m_opt.wet_canopy_evaporation_ratio}, m_area,
+                m_intercepted, f.interception);
+        RainPartition rain{m_opt.runoff,   rain_m,           w.rain_mm,    m_coef.data(),
+                           m_slope.data(), m_opt.flat_slope, m_veg.data(), m_soil.texture.data()};
+        if (gash) rain.intercepted_m = m_intercepted.data();
         partition_rain(m_catch, soil, rain, m_runoff, recharge, f.infiltration);
         route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
     m_catch.equilibrate();
-    evapotranspiration(m_catch, soil, cells, demand, transp_mm ? transp_mm->data() : nullptr,
-                       m_transp_supplied.data(), f.transpiration, f.evaporation);
+    soil_losses(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr, recharge);
     if (m_gw) {
         f.recharge =
             blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) { sum[0] += m_recharge[k]; })[0];
@@ -293,17 +398,45 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm) 
     return f;
 }
 
+void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
+                                 const et::DailyWeather& dw, const double* request_mm,
+                                 std::vector<double>* recharge) {
+    const std::int64_t cells = m_dem.grid().size();
+    if (m_opt.evapotranspiration == EvapotranspirationMethod::paper002) {
+        const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
+                                   et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
+                                   m_veg.data(), m_opt.grass_density_threshold};
+        evapotranspiration(m_catch, soil, cells, demand, request_mm, m_transp_supplied.data(),
+                           f.transpiration, f.evaporation);
+    } else {
+        Fao56Day day;
+        day.et0_mm = std::max(0.0, et::fao56_reference_daily(dw));
+        day.kc_max = m_opt.kc_max;
+        day.depletion_fraction = m_opt.depletion_fraction;
+        day.cover = m_cover.data();
+        day.intercepted_m =
+            m_opt.interception == InterceptionMethod::gash ? m_intercepted.data() : nullptr;
+        day.tew_mm = m_tew.data();
+        day.kr = m_kr.data();
+        evapotranspiration_fao56(m_catch, soil, cells, day, request_mm, m_transp_supplied.data(),
+                                 f.transpiration, f.evaporation);
+    }
+    if (m_opt.drainage == DrainageMethod::gravity)
+        gravity_drainage(soil, m_soil.porosity.data(), m_drain_exponent.data(), cells, 86400.0,
+                         recharge, f.drainage_out);
+}
+
 void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0,
                                   double gw0, double lost0) {
     f.runoff_out = m_catch.lost_m3() - lost0;
     f.d_soil = soil_storage_m3() - soil0;
     f.d_surface = m_catch.total_volume_m3() - surf0;
     f.d_groundwater = groundwater_storage_m3() - gw0;
-    f.residual = f.rain - f.evaporation - f.transpiration - f.runoff_out - f.groundwater_out -
-                 f.d_soil - f.d_surface - f.d_groundwater;
+    f.residual = f.rain - f.evaporation - f.transpiration - f.interception - f.runoff_out -
+                 f.drainage_out - f.groundwater_out - f.d_soil - f.d_surface - f.d_groundwater;
     m_cum_residual += f.residual;
-    m_cum_throughput +=
-        f.rain + f.evaporation + f.transpiration + f.runoff_out + std::abs(f.groundwater_out);
+    m_cum_throughput += f.rain + f.evaporation + f.transpiration + f.interception + f.runoff_out +
+                        f.drainage_out + std::abs(f.groundwater_out);
     // Written so that NaN (from a non-finite input that got this far) fails the check too.
     if (!(std::abs(m_cum_residual) <= m_opt.budget_tolerance * std::max(m_cum_throughput, 1.0))) {
         std::ostringstream s;
@@ -327,9 +460,10 @@ void HydrologyModel::save_state(ArchiveWriter& a) const {
     a.put(m_cum_residual);
     a.put(m_cum_throughput);
     a.put(m_day);
+    a.put_raster(m_de); // state version 2
 }
 
-void HydrologyModel::load_state(ArchiveReader& a) {
+void HydrologyModel::load_state(ArchiveReader& a, std::uint32_t version) {
     auto theta = a.get_raster<double>();
     auto supplied = a.get_raster<double>();
     if (!(theta.grid() == m_dem.grid()) || !(supplied.grid() == m_dem.grid()))
@@ -346,6 +480,19 @@ void HydrologyModel::load_state(ArchiveReader& a) {
     m_cum_residual = a.get<double>();
     m_cum_throughput = a.get<double>();
     m_day = a.get<int>();
+    if (version >= 2) {
+        auto de = a.get_raster<double>();
+        if (!(de.grid() == m_dem.grid()))
+            throw CheckpointError("hydrology checkpoint: its grid differs from the terrain's");
+        m_de = std::move(de);
+    } else if (m_opt.evapotranspiration == EvapotranspirationMethod::fao56) {
+        // Older checkpoints have no surface layer: it starts as wet as the root zone.
+        for (std::int64_t k = 0; k < m_de.size(); ++k) {
+            const double fc = m_soil.field_capacity.data()[k], wp = m_soil.wilting_point.data()[k];
+            const double s = std::clamp((m_theta.data()[k] - wp) / (fc - wp), 0.0, 1.0);
+            m_de.data()[k] = m_tew[static_cast<std::size_t>(k)] * (1.0 - s);
+        }
+    }
 }
 
 } // namespace ecoterra::hydro

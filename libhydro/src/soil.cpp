@@ -102,6 +102,19 @@ SoilProperties class_properties(Texture t) {
     return p;
 }
 
+double readily_evaporable_water_mm(Texture t) {
+    // Index by Texture (sand .. clay), FAO-56 Table 19 mid-range (see soil.hpp).
+    static constexpr std::array<double, kTextureCount> rew = {4.5, 6.0, 8.0, 9.0, 9.5,  9.5,
+                                                              8.0, 9.5, 9.5, 9.0, 10.0, 10.0};
+    return rew[static_cast<std::size_t>(t)];
+}
+
+double conductivity_exponent(double field_capacity, double wilting_point) {
+    const double lambda =
+        (std::log(field_capacity) - std::log(wilting_point)) / (std::log(1500.0) - std::log(33.0));
+    return 3.0 + 2.0 / lambda;
+}
+
 SoilProperties saxton_rawls_2006(double sand_pct, double clay_pct, double om) {
     const double S = sand_pct / 100.0, C = clay_pct / 100.0;
     const double t1500 = -0.024 * S + 0.487 * C + 0.006 * om + 0.005 * S * om - 0.013 * C * om +

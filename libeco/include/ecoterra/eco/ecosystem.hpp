@@ -73,6 +73,11 @@ private:
     int year_length(const hydro::DayWeather& w) const;
     /// The coupled day: demand -> hydrology -> supply -> carbon -> ground layer -> canopy.
     hydro::DailyFluxes coupled_day(const hydro::DayWeather& w);
+    /// The plants' and ground layer's water request of the day (m_request_mm) and their leaves
+    /// per hydrology cell (m_lai, m_cover), for either mode.
+    void water_request_and_leaves(const hydro::DayWeather& w, const DayClimate& day);
+    /// The light-only day: the plants ask for water and shade the ground, but grow on light.
+    hydro::DailyFluxes light_only_day(const hydro::DayWeather& w);
     /// The ground layer's day in coupled mode: its environment, water sums and growth.
     void ground_layer_day(const hydro::DayWeather& w, const DayClimate& day);
     /// Removes the dead, refreshes the structure (coupled) and the canopy.
@@ -111,6 +116,10 @@ private:
     std::vector<double> m_demand, m_fraction;
     std::vector<double> m_request, m_ratio, m_ground_demand, m_ground_request;
     RasterD m_request_mm;
+    // Today's leaves: per plant its leaf area (m2), per hydrology cell the leaf area index and
+    // the cover 1 - exp(-k LAI).
+    std::vector<double> m_leaf_today, m_leaf_cells;
+    RasterD m_lai, m_cover;
     int m_years_done = 0, m_days_done = 0;
     Table m_yearly, m_daily;
     PlantSums m_sum;

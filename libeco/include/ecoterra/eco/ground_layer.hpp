@@ -86,6 +86,9 @@ public:
     /// The light the layer lets through to the soil of a cell, 0..1.
     double transmission(const std::vector<Species>& sp, std::int64_t c, double k) const;
     /// Water demand of a cell's layer, m3 (phen per ecosystem species, et0 in m).
+    /// Today's leaf area index of cell c (leaf area per crown area x cover x phenology).
+    double leaf_area_index(const std::vector<Species>& sp, std::int64_t c,
+                           const std::vector<double>& phen) const;
     double demand_m3(const std::vector<Species>& sp, std::int64_t c,
                      const std::vector<double>& phen, double et0_m, double cell_area_m2) const;
     /// Cover-weighted root depth of a cell's layer, m (0 without cover).

@@ -33,12 +33,22 @@
 #include "ecoterra/hydro/weather.hpp"
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace ecoterra::hydro {
 
+struct SoilColumns;
 enum class RunoffMethod { coefficients, curve_number };
+/// How the soil loses water to the air: paper 002 (the larger of the surface's Penman demand and
+/// the plants' request) or FAO-56's dual coefficients (two-stage soil evaporation plus
+/// transpiration, each limited).
+enum class EvapotranspirationMethod { paper002, fao56 };
+/// Water below the root zone: none (paper 002: the root zone holds at most field capacity, the
+/// excess runs off) or gravity drainage at K(theta).
+enum class DrainageMethod { none, gravity };
+enum class InterceptionMethod { none, gash };
 
 struct HydrologyOptions {
     double root_zone_depth_m = 1.0;
@@ -54,7 +64,16 @@ struct HydrologyOptions {
     double initial_water_table_depth_m = 5.0;
     GroundwaterSolver groundwater_solver = GroundwaterSolver::implicit;
     int groundwater_steps_per_day = 2; ///< TR-BDF2 steps a day (implicit solver)
-    double budget_tolerance = 1e-9;    ///< |cumulative residual| / cumulative throughput
+    EvapotranspirationMethod evapotranspiration = EvapotranspirationMethod::fao56;
+    DrainageMethod drainage = DrainageMethod::gravity;
+    InterceptionMethod interception = InterceptionMethod::gash;
+    double surface_layer_depth_m = 0.10; ///< Ze, FAO-56 eq. 73 (0.10-0.15 m)
+    double kc_max = 1.2;                 ///< FAO-56 eq. 72 at the standard climate
+    double depletion_fraction = 0.5;     ///< p, FAO-56 Table 22 (trees 0.5-0.7)
+    double canopy_storage_per_lai_mm = 0.2;
+    double wet_canopy_evaporation_ratio = 0.15;
+    double canopy_extinction = 0.5; ///< cover = 1 - exp(-k LAI), hydrology without plants
+    double budget_tolerance = 1e-9; ///< |cumulative residual| / cumulative throughput
     void validate() const;
 };
 
@@ -65,6 +84,7 @@ const ParamCatalog<HydrologyOptions>& hydrology_catalog();
 struct DailyFluxes {
     double rain = 0, evaporation = 0, transpiration = 0, infiltration = 0, runoff_out = 0;
     double groundwater_out = 0, recharge = 0;
+    double interception = 0, drainage_out = 0;
     double d_soil = 0, d_surface = 0, d_groundwater = 0;
     double residual = 0;
 };
@@ -73,9 +93,10 @@ struct DailyFluxes {
 /// terms in mm/day over the whole domain.
 struct BudgetRow {
     double day = 0, year = 0, day_of_year = 0;
-    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, infiltration_mm = 0,
-           runoff_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0, d_soil_storage_mm = 0,
-           d_surface_storage_mm = 0, d_groundwater_storage_mm = 0, residual_mm = 0;
+    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
+           infiltration_mm = 0, runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0,
+           recharge_mm = 0, d_soil_storage_mm = 0, d_surface_storage_mm = 0,
+           d_groundwater_storage_mm = 0, residual_mm = 0;
 };
 const std::vector<Column<BudgetRow>>& daily_budget_columns();
 BudgetRow daily_budget_row(int day, const DayWeather& w, const DailyFluxes& f, double domain_m2);
@@ -90,8 +111,11 @@ public:
     ~HydrologyModel();
 
     /// Advances one day. `transpiration_mm` (per cell, may be null) is the water the plants ask
-    /// for. Throws Error if the budget breaks.
-    DailyFluxes step(const DayWeather& w, const RasterD* transpiration_mm = nullptr);
+    /// for; `leaf_area_index` and `cover` (per cell, m2/m2 and 0..1, both or neither) today's
+    /// leaves, for interception and the energy split (without them, both follow the vegetation
+    /// density). Throws Error if the budget breaks.
+    DailyFluxes step(const DayWeather& w, const RasterD* transpiration_mm = nullptr,
+                     const RasterD* leaf_area_index = nullptr, const RasterD* cover = nullptr);
 
     const SoilMap& soil() const { return m_soil; }
     const RasterD& soil_moisture() const { return m_theta; }
@@ -116,10 +140,22 @@ public:
     /// Checkpoint of the evolving state (soil water, catchments, groundwater, budget totals).
     /// load_state() expects a model built from the same terrain, soil and options.
     void save_state(ArchiveWriter& a) const;
-    void load_state(ArchiveReader& a);
+    /// `version` 1 (before the surface layer) derives the surface layer's depletion from theta.
+    void load_state(ArchiveReader& a, std::uint32_t version = kStateVersion);
+    static constexpr std::uint32_t kStateVersion = 2;
+    /// Depletion of the evaporating surface layer, mm (FAO-56 De; zero under paper 002).
+    const RasterD& surface_depletion_mm() const { return m_de; }
 
 private:
     void update_runoff_coefficients();
+    /// The surface layer's limits and the drainage exponent per cell, from the soil.
+    void init_soil_layers();
+    /// Today's leaf area and cover: the plants' or the vegetation density's.
+    void leaves_of_the_day(const RasterD* leaf_area_index, const RasterD* cover);
+    /// Steps 6 and 6b (evapotranspiration, drainage) under the chosen methods.
+    void soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
+                     const et::DailyWeather& dw, const double* request_mm,
+                     std::vector<double>* recharge);
     /// Step 8: storage changes, the residual and the cumulative check.
     void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
                       double lost0);
@@ -131,8 +167,12 @@ private:
     Catchments m_catch;
     RunoffTable m_table;
     RasterD m_theta, m_slope, m_coef, m_transp_supplied;
-    std::vector<std::int64_t> m_order;        ///< every cell after its higher neighbours
-    std::vector<double> m_runoff, m_recharge; ///< per-cell scratch of a step, m3
+    std::vector<std::int64_t> m_order;                 ///< every cell after its higher neighbours
+    std::vector<double> m_runoff, m_recharge;          ///< per-cell scratch of a step, m3
+    RasterD m_de;                                      ///< surface-layer depletion, mm
+    std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
+    std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
+    bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     std::unique_ptr<Groundwater> m_gw;
     double m_area;
     double m_cum_residual = 0, m_cum_throughput = 0;

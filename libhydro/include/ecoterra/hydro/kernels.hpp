@@ -24,6 +24,7 @@
 #include "ecoterra/hydro/runoff.hpp"
 #include "ecoterra/hydro/soil.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,19 @@ struct SoilColumns {
     const float* ksat_m_per_s;   ///< saturated conductivity (percolation limit), m/s
     double depth_m;              ///< root-zone depth
     double cell_area_m2;
+    /// The most the soil holds, m3/m3: the field capacity where nothing drains (paper 002; null
+    /// means field_capacity), the porosity where water above it drains by gravity.
+    const float* ceiling = nullptr;
+    /// Depletion of the evaporating surface layer, mm (FAO-56 De); null without the two-stage
+    /// soil evaporation. Infiltration refills it.
+    double* surface_depletion_mm = nullptr;
+    double ceiling_at(std::int64_t k) const { return ceiling ? ceiling[k] : field_capacity[k]; }
+    /// Infiltration of `m3` into cell k: the surface layer's depletion falls by its depth.
+    void refill_surface(std::int64_t k, double m3) const {
+        if (surface_depletion_mm)
+            surface_depletion_mm[k] =
+                std::max(0.0, surface_depletion_mm[k] - m3 / cell_area_m2 * 1000.0);
+    }
 };
 
 /// 1. Open-water evaporation (e0_mm over each catchment's wet cells) and infiltration under
@@ -60,6 +74,7 @@ struct RainPartition {
     double flat_slope = 0;            ///< below it a cell absorbs everything (curve number)
     const double* vegetation_density;
     const std::uint8_t* texture;
+    const double* intercepted_m = nullptr; ///< rain held and evaporated by the canopy, per cell
 };
 
 /// 3. Rain on each dry cell: infiltration raises theta up to field capacity, the excess
@@ -91,6 +106,59 @@ struct SurfaceDemand {
 void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
                         const SurfaceDemand& demand, const double* request_mm, double* supplied_mm,
                         double& transpiration_m3, double& evaporation_m3);
+
+/// Gash's (1979) analytical interception model in its sparse-canopy form (Gash, Lloyd & Lachaud
+/// 1995), one storm per rain day.
+struct InterceptionParams {
+    double storage_per_lai_mm = 0.2;   ///< canopy storage capacity per unit leaf area index, mm
+    double evaporation_to_rain = 0.15; ///< mean wet-canopy evaporation rate / mean rain rate
+};
+
+/// Rain held on a canopy and evaporated, mm over the ground: the leaves (leaf area index `lai`)
+/// cover the fraction `cover`, whose storage capacity is Sc = s LAI / c; a storm of P >= P' =
+/// -(Sc / e) ln(1 - e) saturates it and loses c [P' + e (P - P')], a smaller one c P (e = E/R).
+double gash_interception_mm(double rain_mm, double lai, double cover, const InterceptionParams& p);
+
+/// 2b. Interception on every dry cell (none over standing water): writes `intercepted_m` (m per
+/// cell) and adds the total, m3.
+void canopy_interception(const Catchments& lakes, const double* lai, const double* cover,
+                         double rain_mm, const InterceptionParams& p, double cell_area_m2,
+                         std::vector<double>& intercepted_m, double& interception_m3);
+
+/// The day's FAO-56 dual-coefficient terms (Allen et al. 1998 ch. 7).
+struct Fao56Day {
+    double et0_mm = 0;               ///< grass reference evapotranspiration
+    double kc_max = 1.2;             ///< upper limit of Kcb + Ke (eq. 72, standard climate)
+    double depletion_fraction = 0.5; ///< p: transpiration falls below (1 - p) of TAW (eq. 84)
+    double default_kcb = 1.0;        ///< Kcb of full cover where no plant asks (hydrology alone)
+    const double* cover;             ///< fraction of the ground under leaves, per cell
+    const double* intercepted_m;     ///< today's interception per cell (may be null)
+    const float* tew_mm;             ///< total evaporable water of the surface layer (eq. 73)
+    const double* kr;                ///< evaporation reduction at the day's start (eq. 74)
+};
+
+/// 6. Evapotranspiration as the sum of two limited fluxes (FAO-56 eq. 69-77). Per cell:
+///    transpiration T = Ks min(request, c Kc_max ET0 - I) (the energy on its leaves less what the
+///    wet canopy used; `request_mm` null: Kcb_default c ET0); soil evaporation E = Kr min(Kc_max
+///    - Kcb, few Kc_max) ET0 with few = 1 - c (none under standing water); both scaled down
+///    together to the water above the wilting point. The surface layer's depletion grows by E /
+///    few. Writes `supplied_mm` and adds transpiration and evaporation, m3.
+void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
+                              const Fao56Day& day, const double* request_mm, double* supplied_mm,
+                              double& transpiration_m3, double& evaporation_m3);
+
+/// 6b. Drainage below the root zone by gravity (unit gradient) at the unsaturated conductivity
+///     K(theta) = Ks (theta / theta_s)^n, n = 3 + 2 / lambda (Saxton & Rawls 2006 eq. 16; theta_s
+///     the porosity), integrated exactly over `dt_s`: u = theta / theta_s follows du/dt = -a u^n,
+///     a = Ks / (d theta_s), so u1 = (u0^(1-n) + (n-1) a dt)^(-1/(n-1)). The water drained joins
+///     `recharge` (m3 per cell, groundwater on) or leaves the domain (added to drained_m3).
+void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
+                      std::int64_t cells, double dt_s, std::vector<double>* recharge,
+                      double& drained_m3);
+
+/// theta after `dt_s` of gravity drainage from `theta0` (the exact solution above).
+double drained_theta(double theta0, double porosity, double exponent, double ksat_m_per_s,
+                     double depth_m, double dt_s);
 
 /// 7. One day of groundwater flow with the day's `recharge` (m3 per cell): the outflow through
 ///    fixed-head edges (m3) is returned; water table above the surface seeps into the standing

@@ -73,6 +73,16 @@ struct SoilProperties {
     std::string source; ///< "rawls1982", "rawls1982+schaake2000 (silt)", "saxton_rawls2006"
 };
 
+/// Readily evaporable water of a bare surface layer, mm: the middle of FAO-56 Table 19's range
+/// for the class (Allen et al. 1998; sand 2-7, loamy sand 4-8, sandy loam 6-10, loam 8-10, silt
+/// loam, silt and silty clay loam 8-11, silty clay and clay 8-12). Table 19 has no sandy clay
+/// loam, clay loam or sandy clay; ecoterra gives them 8, 9.5 and 9 (between their neighbours).
+double readily_evaporable_water_mm(Texture t);
+
+/// Exponent n of the unsaturated conductivity K(theta) = Ks (theta / theta_s)^n (Saxton & Rawls
+/// 2006 eq. 16): n = 3 + 2 / lambda, lambda = (ln FC - ln WP) / (ln 1500 - ln 33).
+double conductivity_exponent(double field_capacity, double wilting_point);
+
 /// Rawls et al. 1982 class averages (silt substituted as stated in the header).
 SoilProperties class_properties(Texture t);
 

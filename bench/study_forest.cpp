@@ -13,7 +13,15 @@
 //     against ln Dq (trees >= 5 cm) is compared with Reineke's -1.605, over the whole phase and
 //     over its late half.
 //
-// Usage: study_forest [--seeds N] [--years Y] [--density D] [--only-central | --only-thinning]
+//  C. Water and stand over a century (issue 27): the quickstart, coupled, --century years
+//     (100), for each seed the water partition of the first decade (a young, sparse stand) and of
+//     the last 20 years (mature): evapotranspiration / rain, transpiration / evapotranspiration,
+//     interception / rain, soil evaporation / rain, and runoff + drainage / rain; then the basal
+//     area at the end and the largest species' share of it. --paper002 runs it with paper 002's
+//     soil water (evapotranspiration, drainage and interception as the paper prescribes).
+//
+// Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
+//                     [--only-central | --only-thinning | --only-water]
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
@@ -208,15 +216,107 @@ void self_thinning(const json& base, const std::filesystem::path& dir, int seeds
                 cohort_all.sd(), cohort_late.mean(), cohort_late.sd());
 }
 
+/// The water partition of years [first, last] (1-based) of a run's daily series, mm/yr.
+struct Partition {
+    double rain = 0, evaporation = 0, transpiration = 0, interception = 0, out = 0;
+    double et() const { return evaporation + transpiration + interception; }
+};
+
+Partition partition(const Table& daily, int first, int last) {
+    Partition p;
+    const auto& year = daily.column("year");
+    const auto& rain = daily.column("rain_mm");
+    const auto& evap = daily.column("evaporation_mm");
+    const auto& tr = daily.column("transpiration_mm");
+    const auto& ic = daily.column("interception_mm");
+    const auto& ro = daily.column("runoff_out_mm");
+    const auto& dr = daily.column("drainage_out_mm");
+    const auto& gw = daily.column("groundwater_out_mm");
+    for (std::size_t d = 0; d < year.size(); ++d) {
+        if (year[d] < first || year[d] > last) continue;
+        p.rain += rain[d], p.evaporation += evap[d], p.transpiration += tr[d];
+        p.interception += ic[d], p.out += ro[d] + dr[d] + gw[d];
+    }
+    const double n = last - first + 1;
+    p.rain /= n, p.evaporation /= n, p.transpiration /= n, p.interception /= n, p.out /= n;
+    return p;
+}
+
+void water_and_stand(const json& base, const std::filesystem::path& dir, int seeds, int years,
+                     bool paper) {
+    std::printf("C. Water and stand over %d years (%s soil water), %d seeds\n", years,
+                paper ? "paper 002's" : "the default", seeds);
+    std::printf(
+        "   per period: rain mm/yr, ET/rain, T/ET, interception/rain, soil evaporation/rain,"
+        " runoff+drainage/rain\n\n");
+    std::printf("%4s %-9s %6s %6s %6s %6s %6s %6s | %-9s %6s %6s %6s %6s %6s %6s | %6s %-12s\n",
+                "seed", "years", "rain", "ET/P", "T/ET", "I/P", "E/P", "out/P", "years", "rain",
+                "ET/P", "T/ET", "I/P", "E/P", "out/P", "BA", "largest");
+    Mean et, t_et, ip, ba, top;
+    const int late0 = std::max(1, years - 19);
+    for (int seed = 1; seed <= seeds; ++seed) {
+        json q = base;
+        q["simulation"]["seed"] = seed;
+        q["terrain"]["generate"]["seed"] = 100 + seed;
+        if (paper) {
+            q["hydrology"]["evapotranspiration"] = "paper002";
+            q["hydrology"]["drainage"] = "none";
+            q["hydrology"]["interception"] = "none";
+        }
+        const auto sc = eco::load_eco_scene(q, dir);
+        eco::Ecosystem e(sc);
+        for (int y = 0; y < years; ++y) e.run_year();
+        const Partition a = partition(e.daily(), 1, std::min(10, years));
+        const Partition b = partition(e.daily(), late0, years);
+        // Basal area by species (trees).
+        const auto& pop = e.plants();
+        const auto& species = sc.ecosystem.species;
+        std::vector<double> by(species.size(), 0.0);
+        for (std::size_t k = 0; k < pop.size(); ++k)
+            if (species[pop.species[k]].life_form == eco::LifeForm::tree)
+                by[pop.species[k]] += 0.25 * M_PI * pop.dbh_m[k] * pop.dbh_m[k];
+        double total = 0;
+        std::size_t best = 0;
+        for (std::size_t k = 0; k < by.size(); ++k) {
+            total += by[k];
+            if (by[k] > by[best]) best = k;
+        }
+        const double share = total > 0 ? by[best] / total : 0.0;
+        const double stand_ba = e.stand().basal_area_m2_per_ha;
+        char label[32];
+        std::snprintf(label, sizeof label, "%d-%d", late0, years);
+        std::printf("%4d %-9s %6.0f %6.2f %6.2f %6.2f %6.2f %6.2f | %-9s %6.0f %6.2f %6.2f %6.2f "
+                    "%6.2f %6.2f | %6.1f %s %.0f%%\n",
+                    seed, "1-10", a.rain, a.et() / a.rain, a.transpiration / a.et(),
+                    a.interception / a.rain, a.evaporation / a.rain, a.out / a.rain, label, b.rain,
+                    b.et() / b.rain, b.transpiration / b.et(), b.interception / b.rain,
+                    b.evaporation / b.rain, b.out / b.rain, stand_ba, species[best].name.c_str(),
+                    100 * share);
+        et.add(b.et() / b.rain);
+        t_et.add(b.transpiration / b.et());
+        ip.add(b.interception / b.rain);
+        ba.add(stand_ba);
+        top.add(share);
+    }
+    std::printf(
+        "mean over %d seeds, years %d-%d: ET/P %.2f (sd %.2f), T/ET %.2f (sd %.2f), I/P "
+        "%.2f (sd %.2f); basal area at %d years %.1f m2/ha (sd %.1f); largest species %.0f%% "
+        "of it (sd %.0f)\n\n",
+        seeds, late0, years, et.mean(), et.sd(), t_et.mean(), t_et.sd(), ip.mean(), ip.sd(), years,
+        ba.mean(), ba.sd(), 100 * top.mean(), 100 * top.sd());
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
-    int seeds = 10, years = 80;
+    int seeds = 10, years = 80, century = 100;
     double density = 4000;
-    bool central = true, thinning = true;
+    bool central = true, thinning = true, water = true, paper = false;
     for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--only-central") == 0) thinning = false;
-        if (std::strcmp(argv[i], "--only-thinning") == 0) central = false;
+        if (std::strcmp(argv[i], "--only-central") == 0) thinning = water = false;
+        if (std::strcmp(argv[i], "--only-thinning") == 0) central = water = false;
+        if (std::strcmp(argv[i], "--only-water") == 0) central = thinning = false;
+        if (std::strcmp(argv[i], "--paper002") == 0) paper = true;
     }
     for (int i = 1; i + 1 < argc; ++i) {
         if (std::strcmp(argv[i], "--seeds") == 0)
@@ -225,14 +325,18 @@ int main(int argc, char** argv) {
             years = std::atoi(argv[++i]);
         else if (std::strcmp(argv[i], "--density") == 0)
             density = std::atof(argv[++i]);
+        else if (std::strcmp(argv[i], "--century") == 0)
+            century = std::atoi(argv[++i]);
     }
-    if (seeds < 1 || years < 3 || density <= 0) {
-        std::fprintf(stderr, "study_forest: --seeds >= 1, --years >= 3, --density > 0\n");
+    if (seeds < 1 || years < 3 || density <= 0 || century < 10) {
+        std::fprintf(stderr,
+                     "study_forest: --seeds >= 1, --years >= 3, --density > 0, --century >= 10\n");
         return 2;
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
     const json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
     if (central) central_result(q, data / "scenes", seeds);
     if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
+    if (water) water_and_stand(q, data / "scenes", seeds, century, paper);
     return 0;
 }

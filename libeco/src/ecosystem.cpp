@@ -28,6 +28,64 @@ constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
 constexpr std::uint32_t kSectionSeries = 1; // the daily and yearly series, by column name
 constexpr std::uint32_t kSectionBudget = 1; // the year's sums and the carbon ledger
+
+/// The daily columns of the processes that came with hydrology state version 2 (interception,
+/// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".
+bool is_surface_layer_era_column(const std::string& name) {
+    return name == "interception_mm" || name == "drainage_out_mm";
+}
+void zero_surface_layer_era_columns(Table& daily) {
+    std::size_t rows = 0;
+    for (std::size_t c = 0; c < daily.columns.size(); ++c)
+        if (!is_surface_layer_era_column(daily.names[c])) rows = daily.columns[c].size();
+    for (std::size_t c = 0; c < daily.columns.size(); ++c)
+        if (is_surface_layer_era_column(daily.names[c])) daily.columns[c].assign(rows, 0.0);
+}
+
+/// The yearly water columns, each the sum of a daily budget column.
+constexpr std::array<std::pair<const char*, const char*>, 8> kYearlyWater = {{
+    {"rain_mm", "rain_mm"},
+    {"evaporation_mm", "evaporation_mm"},
+    {"transpiration_mm", "transpiration_mm"},
+    {"interception_mm", "interception_mm"},
+    {"runoff_out_mm", "runoff_out_mm"},
+    {"drainage_out_mm", "drainage_out_mm"},
+    {"groundwater_out_mm", "groundwater_out_mm"},
+    {"recharge_mm", "recharge_mm"},
+}};
+
+/// Each year's water sums from the daily series: the k-th run of days with one `year` value is the
+/// k-th yearly row. Fills the yearly water columns of rows [first, rows).
+void yearly_water_from_daily(const Table& daily, Table& yearly, std::size_t first) {
+    const auto& day_year = daily.column("year");
+    const std::size_t rows = yearly.rows(), days = day_year.size();
+    // The first day of each year from `first` on; the last year alone (every year end) is found
+    // from the end, so that a long run does not rescan its whole series each year.
+    std::vector<std::size_t> start;
+    if (first + 1 == rows && days > 0) {
+        std::size_t d = days - 1;
+        while (d > 0 && day_year[d - 1] == day_year[days - 1]) --d;
+        start = {d, days};
+    } else {
+        std::size_t year = 0;
+        for (std::size_t d = 0; d < days; ++d)
+            if (d == 0 || day_year[d] != day_year[d - 1])
+                if (year++ >= first) start.push_back(d);
+        start.push_back(days);
+    }
+    for (const auto& [to, from] : kYearlyWater) {
+        const auto& src = daily.column(from);
+        auto& dst = yearly.columns[static_cast<std::size_t>(
+            std::find(yearly.names.begin(), yearly.names.end(), to) - yearly.names.begin())];
+        dst.resize(rows, 0.0);
+        for (std::size_t k = 0; first + k < rows && k + 1 < start.size(); ++k) {
+            double sum = 0;
+            for (std::size_t d = start[k]; d < start[k + 1]; ++d) sum += src[d];
+            dst[first + k] = sum;
+        }
+    }
+}
+
 } // namespace
 
 Ecosystem::Ecosystem(const EcoScene& scene)
@@ -276,6 +334,7 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.ground_transpiration_demand_mm = m_sum.ground_demand_m3 * to_mm;
     row.ground_transpiration_supplied_mm = m_sum.ground_supplied_m3 * to_mm;
     m_yearly.push(row, yearly_columns());
+    yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }
 
 StandMetrics Ecosystem::stand() const {
@@ -380,19 +439,6 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
 }
 
 namespace {
-/// The daily columns of the processes that came with hydrology state version 2 (interception,
-/// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".
-bool is_surface_layer_era_column(const std::string& name) {
-    return name == "interception_mm" || name == "drainage_out_mm";
-}
-void zero_surface_layer_era_columns(Table& daily) {
-    std::size_t rows = 0;
-    for (std::size_t c = 0; c < daily.columns.size(); ++c)
-        if (!is_surface_layer_era_column(daily.names[c])) rows = daily.columns[c].size();
-    for (std::size_t c = 0; c < daily.columns.size(); ++c)
-        if (is_surface_layer_era_column(daily.names[c])) daily.columns[c].assign(rows, 0.0);
-}
-
 /// Reads a series table by column name: a column the checkpoint lacks (added since) is NaN in the
 /// rows before the resume; one this ecoterra lacks is an error naming it.
 void load_table(ArchiveReader& a, Table& t, const char* which) {
@@ -473,6 +519,9 @@ void Ecosystem::load_sections(ArchiveReader& a) {
         load_table(s, m_daily, "daily");
         if (hydro_version < 2) zero_surface_layer_era_columns(m_daily);
         load_table(s, m_yearly, "yearly");
+        // Checkpoints from before the yearly water columns: their sums are in the daily series.
+        if (std::isnan(m_yearly.rows() ? m_yearly.column("rain_mm").front() : 0.0))
+            yearly_water_from_daily(m_daily, m_yearly, 0);
     });
     r.read("budget", kSectionBudget, kSectionBudget, [&](ArchiveReader& s, std::uint32_t) {
         m_sum = s.get<PlantSums>();
@@ -506,7 +555,12 @@ void Ecosystem::load_version6(ArchiveReader& a) {
         if (!is_surface_layer_era_column(m_daily.names[c]))
             m_daily.columns[c] = a.get_vector<double>();
     zero_surface_layer_era_columns(m_daily);
-    for (auto& c : m_yearly.columns) c = a.get_vector<double>();
+    // ... and the yearly water columns, summed from the daily series.
+    for (std::size_t c = 0; c < m_yearly.columns.size(); ++c)
+        if (std::none_of(kYearlyWater.begin(), kYearlyWater.end(),
+                         [&](const auto& w) { return m_yearly.names[c] == w.first; }))
+            m_yearly.columns[c] = a.get_vector<double>();
+    yearly_water_from_daily(m_daily, m_yearly, 0);
     m_sum = a.get<PlantSums>();
     m_ledger.stock_at_year_start_kg = a.get<double>();
     m_ledger.cumulative_residual_kg = a.get<double>();

@@ -60,6 +60,20 @@ const std::vector<Column<YearRow>>& yearly_columns() {
                "the ground layer's water demand over the domain"),
         column("ground_transpiration_supplied_mm", &R::ground_transpiration_supplied_mm, "mm",
                "the ground layer's water supplied (from above its roots)"),
+        column("rain_mm", &R::rain_mm, "mm", "rain over the domain in the year"),
+        column("evaporation_mm", &R::evaporation_mm, "mm",
+               "soil and open-water evaporation in the year"),
+        column("transpiration_mm", &R::transpiration_mm, "mm",
+               "transpiration supplied in the year (plants and ground layer)"),
+        column("interception_mm", &R::interception_mm, "mm",
+               "rain held on the canopy and evaporated in the year"),
+        column("runoff_out_mm", &R::runoff_out_mm, "mm",
+               "surface water that left through the domain edge in the year"),
+        column("drainage_out_mm", &R::drainage_out_mm, "mm",
+               "water drained below the root zone out of the domain in the year"),
+        column("groundwater_out_mm", &R::groundwater_out_mm, "mm",
+               "groundwater that left through fixed-head edges in the year"),
+        column("recharge_mm", &R::recharge_mm, "mm", "percolation to the water table in the year"),
     };
     return c;
 }

@@ -335,7 +335,9 @@ RunSummary RunJob::summary() {
     w.rain = per_year("rain_mm");
     w.evaporation = per_year("evaporation_mm");
     w.transpiration = per_year("transpiration_mm");
+    w.interception = per_year("interception_mm");
     w.runoff_out = per_year("runoff_out_mm");
+    w.drainage_out = per_year("drainage_out_mm");
     w.groundwater_out = per_year("groundwater_out_mm");
     w.recharge = per_year("recharge_mm");
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_t0).count();

@@ -1,10 +1,13 @@
 // Contract tests of the plant process kernels (processes.hpp): each process driven alone on a small
 // population, checked for what it must conserve or keep (water, carbon, counts, the random streams,
 // the geometry of the canopy), over several seeds.
+#include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/population.hpp"
 #include "ecoterra/eco/processes.hpp"
+#include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/hydro/catchments.hpp"
+#include "support/scenes.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -351,4 +354,37 @@ TEST_CASE("carbon budget: closes on consistent sums and names the year when a ki
     pop.wood_kg[0] += 1.0;
     CHECK_THROWS_WITH(close_carbon_budget(pop, PlantSums{}, 2, ledger),
                       Catch::Contains("carbon budget broke in year 2"));
+}
+
+TEST_CASE("the year's water: each yearly sum is its days' sum, and every mode asks for water",
+          "[eco][water]") {
+    // Coupled and light-only stands on the small scene: the yearly water columns are the daily
+    // budget summed over each year; light-only plants transpire too under FAO-56 (their leaves
+    // shade the soil and ask for water), and nothing under paper 002's light-only baseline.
+    const std::string mode = GENERATE("coupled", "light_only");
+    const bool paper = GENERATE(false, true);
+    nlohmann::json j = test::small_scene(3, mode);
+    if (paper) j["hydrology"]["evapotranspiration"] = "paper002";
+    INFO(mode << (paper ? ", paper 002" : ", FAO-56"));
+    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    eco::Ecosystem e(scene);
+    for (int y = 0; y < 3; ++y) e.run_year();
+    const Table& daily = e.daily();
+    const Table& yearly = e.yearly();
+    REQUIRE(yearly.rows() == 3);
+    for (const char* c : {"rain_mm", "evaporation_mm", "transpiration_mm", "interception_mm",
+                          "runoff_out_mm", "drainage_out_mm", "recharge_mm"}) {
+        for (std::size_t y = 0; y < 3; ++y) {
+            double sum = 0;
+            for (std::size_t d = 365 * y; d < 365 * (y + 1); ++d) sum += daily.column(c)[d];
+            CHECK(yearly.column(c)[y] == Approx(sum).epsilon(1e-12).margin(1e-12));
+        }
+    }
+    double transpired = 0;
+    for (double v : yearly.column("transpiration_mm")) transpired += v;
+    if (mode == "light_only" && paper)
+        CHECK(transpired == 0.0);
+    else
+        CHECK(transpired > 10.0);
+    CHECK(yearly.column("rain_mm")[0] > 0);
 }

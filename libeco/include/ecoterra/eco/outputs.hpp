@@ -26,6 +26,9 @@ struct YearRow {
            transpiration_demand_mm = 0, transpiration_supplied_mm = 0, shrubs_per_ha = 0,
            ground_cover_fraction = 0, ground_transpiration_demand_mm = 0,
            ground_transpiration_supplied_mm = 0, turnover_kg = 0;
+    // The year's water budget: the daily series summed over the year's days, mm.
+    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
+           runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0;
 };
 const std::vector<Column<YearRow>>& yearly_columns();
 

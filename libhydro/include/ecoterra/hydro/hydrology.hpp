@@ -71,7 +71,7 @@ struct HydrologyOptions {
     double kc_max = 1.2;                 ///< FAO-56 eq. 72 at the standard climate
     double depletion_fraction = 0.5;     ///< p, FAO-56 Table 22 (trees 0.5-0.7)
     double canopy_storage_per_lai_mm = 0.2;
-    double wet_canopy_evaporation_ratio = 0.15;
+    double wet_canopy_evaporation_ratio = 0.05; ///< Gash E/R, medfate's default
     double canopy_extinction = 0.5; ///< cover = 1 - exp(-k LAI), hydrology without plants
     double budget_tolerance = 1e-9; ///< |cumulative residual| / cumulative throughput
     void validate() const;

@@ -111,7 +111,7 @@ void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::i
 /// 1995), one storm per rain day.
 struct InterceptionParams {
     double storage_per_lai_mm = 0.2;   ///< canopy storage capacity per unit leaf area index, mm
-    double evaporation_to_rain = 0.15; ///< mean wet-canopy evaporation rate / mean rain rate
+    double evaporation_to_rain = 0.05; ///< mean wet-canopy evaporation rate / mean rain rate
 };
 
 /// Rain held on a canopy and evaporated, mm over the ground: the leaves (leaf area index `lai`)

@@ -42,8 +42,8 @@ struct RunSummary {
     double water_residual_relative = 0, carbon_residual_relative = 0;
     /// The water partition over all the run's days, mm per year over the domain.
     struct WaterPartition {
-        double rain = 0, evaporation = 0, transpiration = 0, runoff_out = 0, groundwater_out = 0,
-               recharge = 0;
+        double rain = 0, evaporation = 0, transpiration = 0, interception = 0, runoff_out = 0,
+               drainage_out = 0, groundwater_out = 0, recharge = 0;
     } water_mm_per_yr;
     std::filesystem::path picture_dir;
     Methods methods; ///< the published methods the run used (also in its provenance)

@@ -1,6 +1,7 @@
 #include "ecoterra/eco/ecosystem.hpp"
 
 #include "ecoterra/hydro/penman.hpp"
+#include "ecoterra/parallel.hpp"
 #include "ecoterra/units.hpp"
 
 #include <algorithm>
@@ -187,8 +188,7 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     ground_water_request(m_ground, species, day.phen, et0_m, soil_water(),
                          m_scene.hydro.options.root_zone_depth_m, m_hydro_cell_area,
                          m_ground_demand, m_ground_request, m_request);
-    for (std::size_t c = 0; c < cells; ++c)
-        m_request_mm.data()[c] = m_request[c] / m_hydro_cell_area * kMmPerM;
+
     // Leaves: each plant's today, spread as its roots are, and the ground layer's.
     m_leaf_today.assign(m_pop.size(), 0.0);
     for (std::size_t k = 0; k < m_pop.size(); ++k)
@@ -197,12 +197,15 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     m_leaf_cells.assign(cells, 0.0);
     scatter_demand(m_canopy.roots, m_leaf_today, m_leaf_cells);
     const double k = m_scene.extinction;
-    for (std::size_t c = 0; c < cells; ++c) {
-        double lai = m_leaf_cells[c] / m_hydro_cell_area;
-        if (!m_ground.empty())
-            lai += m_ground.leaf_area_index(species, static_cast<std::int64_t>(c), day.phen);
+    const auto n = static_cast<std::int64_t>(cells);
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+    for (std::int64_t c = 0; c < n; ++c) {
+        const auto u = static_cast<std::size_t>(c);
+        m_request_mm.data()[c] = m_request[u] / m_hydro_cell_area * kMmPerM;
+        double lai = m_leaf_cells[u] / m_hydro_cell_area;
+        if (!m_ground.empty()) lai += m_ground.leaf_area_index(species, c, day.phen);
         m_lai.data()[c] = lai;
-        m_cover.data()[c] = 1.0 - std::exp(-k * lai);
+        m_cover.data()[c] = lai > 0 ? 1.0 - std::exp(-k * lai) : 0.0;
     }
 }
 

@@ -270,14 +270,15 @@ void HydrologyModel::init_soil_layers() {
 }
 
 void HydrologyModel::leaves_of_the_day(const RasterD* lai, const RasterD* cover) {
-    const auto n = static_cast<std::size_t>(m_dem.size());
-    if (lai) {
-        m_lai.assign(lai->data(), lai->data() + n);
-        m_cover.assign(cover->data(), cover->data() + n);
-        m_leaves_from_density = false;
+    if (lai) { // the plants' rasters, read in place for the day
+        m_day_lai = lai->data();
+        m_day_cover = cover->data();
         return;
     }
+    m_day_lai = m_lai.data();
+    m_day_cover = m_cover.data();
     if (m_leaves_from_density) return; // unchanged since the density was set
+    const auto n = static_cast<std::size_t>(m_dem.size());
     m_lai.resize(n);
     m_cover.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -285,6 +286,8 @@ void HydrologyModel::leaves_of_the_day(const RasterD* lai, const RasterD* cover)
         m_cover[k] = v;
         m_lai[k] = -std::log1p(-v) / m_opt.canopy_extinction;
     }
+    m_day_lai = m_lai.data();
+    m_day_cover = m_cover.data();
     m_leaves_from_density = true;
 }
 
@@ -378,7 +381,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         rain_on_lakes(m_catch, rain_m, m_area);
         if (gash)
             canopy_interception(
-                m_catch, m_lai.data(), m_cover.data(), w.rain_mm,
+                m_catch, m_day_lai, m_day_cover, w.rain_mm,
                 {m_opt.canopy_storage_per_lai_mm, m_opt.wet_canopy_evaporation_ratio}, m_area,
                 m_intercepted, f.interception);
         RainPartition rain{m_opt.runoff,   rain_m,           w.rain_mm,    m_coef.data(),
@@ -413,7 +416,7 @@ void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double
         day.et0_mm = std::max(0.0, et::fao56_reference_daily(dw));
         day.kc_max = m_opt.kc_max;
         day.depletion_fraction = m_opt.depletion_fraction;
-        day.cover = m_cover.data();
+        day.cover = m_day_cover;
         day.intercepted_m =
             m_opt.interception == InterceptionMethod::gash ? m_intercepted.data() : nullptr;
         day.tew_mm = m_tew.data();

@@ -173,6 +173,7 @@ private:
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
+    const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell
     std::unique_ptr<Groundwater> m_gw;
     double m_area;
     double m_cum_residual = 0, m_cum_throughput = 0;

@@ -66,10 +66,13 @@ Methods scene_methods(const HydroScene& scene);
 /// water state, flow order, catchments, output staging) and, with groundwater, the solver's arrays
 /// per cell. Measured peak resident sizes (/usr/bin/time -v) of 1-year runs from 62,500 to
 /// 1,000,000 cells fit 51 MB + 478 B per cell (plant grid included), + 150 B per cell with
-/// groundwater; the constants carry some margin (docs/scaling.md).
+/// groundwater; the constants carry some margin (docs/scaling.md). The soil-water processes of
+/// issue 27 added 76 B per cell (surface layer, drainage exponent, today's leaves and cover, the
+/// interception and the ecosystem's leaf rasters): a 1 km2 year at 1 m peaked at 456 MB, 75 MB
+/// more than before.
 MemoryEstimate memory_estimate(const HydroScene& scene);
 inline constexpr double kFixedBytes = 60e6;
-inline constexpr double kBytesPerTerrainCell = 500;
+inline constexpr double kBytesPerTerrainCell = 580;
 inline constexpr double kBytesPerGroundwaterCell = 170;
 
 /// Reads a scene; relative file paths are taken from `base_dir`. Throws InputError naming the key.

@@ -263,6 +263,15 @@ void HydrologyModel::init_soil_layers() {
         m_tew[k] = static_cast<float>(tew);
         m_rew[k] = static_cast<float>(rew);
         m_drain_exponent[k] = static_cast<float>(conductivity_exponent(fc, wp));
+        if (m_opt.drainage == DrainageMethod::gravity &&
+            (!(wp > 0 && fc > wp && m_soil.porosity.data()[k] > fc) ||
+             !std::isfinite(m_drain_exponent[k])))
+            throw InputError("soil at cell " + std::to_string(k) +
+                             ": gravity drainage needs 0 < "
+                             "wilting point < field capacity < porosity, got " +
+                             format_number(wp) + ", " + format_number(fc) + " and " +
+                             format_number(m_soil.porosity.data()[k]) +
+                             " (hydrology.drainage = none keeps paper 002's soil water)");
         // The surface layer starts as wet as the root zone.
         if (m_opt.evapotranspiration == EvapotranspirationMethod::fao56)
             m_de.data()[k] = tew * (1.0 - m_opt.initial_saturation);

@@ -266,3 +266,17 @@ TEST_CASE("The day's budget closes with interception, two-stage evaporation and 
         }
     }
 }
+
+TEST_CASE("Gravity drainage refuses a soil it cannot drain, naming the cell and the values",
+          "[hydrology][drainage][errors]") {
+    const GridSpec g{3, 3, 1.0, 0, 0};
+    SoilMap soil = uniform_soil(g, SoilComposition{20, 60, 20, 6.5, {}});
+    soil.porosity.data()[4] = soil.field_capacity.data()[4] * 0.9f; // below field capacity
+    HydrologyOptions opt;
+    const Climate c = climate_preset("temperate");
+    CHECK_THROWS_WITH(HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, c),
+                      Catch::Contains("soil at cell 4") && Catch::Contains("porosity") &&
+                          Catch::Contains("hydrology.drainage = none"));
+    opt.drainage = DrainageMethod::none; // paper 002's soil water does not need the porosity
+    CHECK_NOTHROW(HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, c));
+}

@@ -185,10 +185,11 @@ void run_hydro_run(const RunArgs& a) {
     std::printf("%d days in %.2f s (%.3g cell-days/s)\n", sum.days, sum.seconds,
                 cells * sum.days / sum.seconds);
     std::printf("water budget, mm over the domain: rain %.1f = evaporation %.1f + transpiration "
-                "%.1f + runoff out %.1f + groundwater out %.1f + storage change; cumulative "
-                "residual %.2e of the throughput\n",
-                sum.rain_mm, sum.evaporation_mm, sum.transpiration_mm, sum.runoff_out_mm,
-                sum.groundwater_out_mm, sum.residual_relative);
+                "%.1f + interception %.1f + runoff out %.1f + drainage out %.1f + groundwater out "
+                "%.1f + storage change; cumulative residual %.2e of the throughput\n",
+                sum.rain_mm, sum.evaporation_mm, sum.transpiration_mm, sum.interception_mm,
+                sum.runoff_out_mm, sum.drainage_out_mm, sum.groundwater_out_mm,
+                sum.residual_relative);
     if (sum.transpiration_mm == 0)
         std::printf("  (transpiration is the water plants take; a hydrology run has no plants, "
                     "so the loss of the vegetation cover is in evaporation, at Penman's grass "

@@ -288,7 +288,9 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         sum.rain_mm += row.rain_mm;
         sum.evaporation_mm += row.evaporation_mm;
         sum.transpiration_mm += row.transpiration_mm;
+        sum.interception_mm += row.interception_mm;
         sum.runoff_out_mm += row.runoff_out_mm;
+        sum.drainage_out_mm += row.drainage_out_mm;
         sum.groundwater_out_mm += row.groundwater_out_mm;
         if (d % sc.snapshot_interval_days == 0 || d == total) write_snapshot(w, d);
         if (progress && (d % 30 == 0 || d == total))
@@ -324,6 +326,34 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     return sum;
 }
 
+namespace {
+/// The soil-water processes of the scene's options (paper 002's, or the defaults of issue 27).
+void soil_water_methods(const HydrologyOptions& opt, Methods& m) {
+    if (opt.evapotranspiration == EvapotranspirationMethod::fao56) {
+        m.push_back({"open-water evaporation", "Penman (1948) Proc. R. Soc. A 193:120; "
+                                               "Shuttleworth (1993) Handbook of Hydrology ch. 4"});
+        m.push_back({"soil evaporation and transpiration",
+                     "FAO-56 dual crop coefficients, two-stage soil evaporation (REW, TEW, Kr) "
+                     "and water stress Ks: Allen, Pereira, Raes & Smith (1998) FAO Irrigation and "
+                     "Drainage Paper 56, ch. 7-8"});
+    } else {
+        m.push_back({"open-water and surface evaporation",
+                     "Penman (1948) Proc. R. Soc. A 193:120; Shuttleworth (1993) Handbook of "
+                     "Hydrology ch. 4 (paper 002: the larger of the surface's demand and the "
+                     "plants' request)"});
+    }
+    if (opt.drainage == DrainageMethod::gravity)
+        m.push_back({"drainage below the root zone",
+                     "unit-gradient drainage at K(theta) = Ks (theta/theta_s)^(3 + 2/lambda): "
+                     "Saxton & Rawls (2006) SSSAJ 70:1569, eq. 16"});
+    if (opt.interception == InterceptionMethod::gash)
+        m.push_back({"canopy interception",
+                     "Gash (1979) Q. J. R. Meteorol. Soc. 105:43, sparse form of Gash, Lloyd & "
+                     "Lachaud (1995) J. Hydrol. 170:79"});
+}
+
+} // namespace
+
 Methods scene_methods(const HydroScene& sc) {
     Methods m;
     const nlohmann::json& t = sc.resolved.value("terrain", nlohmann::json::object());
@@ -358,27 +388,7 @@ Methods scene_methods(const HydroScene& sc) {
     m.push_back({"reference evapotranspiration",
                  "FAO-56 Penman-Monteith: Allen, Pereira, Raes & Smith (1998) FAO Irrigation and "
                  "Drainage Paper 56"});
-    if (sc.options.evapotranspiration == EvapotranspirationMethod::fao56) {
-        m.push_back({"open-water evaporation", "Penman (1948) Proc. R. Soc. A 193:120; "
-                                               "Shuttleworth (1993) Handbook of Hydrology ch. 4"});
-        m.push_back({"soil evaporation and transpiration",
-                     "FAO-56 dual crop coefficients, two-stage soil evaporation (REW, TEW, Kr) "
-                     "and water stress Ks: Allen, Pereira, Raes & Smith (1998) FAO Irrigation and "
-                     "Drainage Paper 56, ch. 7-8"});
-    } else {
-        m.push_back({"open-water and surface evaporation",
-                     "Penman (1948) Proc. R. Soc. A 193:120; Shuttleworth (1993) Handbook of "
-                     "Hydrology ch. 4 (paper 002: the larger of the surface's demand and the "
-                     "plants' request)"});
-    }
-    if (sc.options.drainage == DrainageMethod::gravity)
-        m.push_back({"drainage below the root zone",
-                     "unit-gradient drainage at K(theta) = Ks (theta/theta_s)^(3 + 2/lambda): "
-                     "Saxton & Rawls (2006) SSSAJ 70:1569, eq. 16"});
-    if (sc.options.interception == InterceptionMethod::gash)
-        m.push_back({"canopy interception",
-                     "Gash (1979) Q. J. R. Meteorol. Soc. 105:43, sparse form of Gash, Lloyd & "
-                     "Lachaud (1995) J. Hydrol. 170:79"});
+    soil_water_methods(sc.options, m);
     if (sc.options.runoff == RunoffMethod::curve_number)
         m.push_back({"runoff", "SCS curve number: USDA-SCS (1986) TR-55"});
     else

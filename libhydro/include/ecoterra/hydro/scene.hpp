@@ -80,8 +80,8 @@ HydroScene load_hydro_scene(const nlohmann::json& scene, const std::filesystem::
 
 struct HydroRunSummary {
     int days = 0;
-    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, runoff_out_mm = 0,
-           groundwater_out_mm = 0;
+    double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
+           runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0;
     double residual_relative = 0; ///< |cumulative residual| / cumulative throughput
     double seconds = 0;
 };

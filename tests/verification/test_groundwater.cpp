@@ -223,7 +223,7 @@ TEST_CASE("The implicit solver follows the CVODE reference on fractal and white-
     // seepage included, and both solvers close their budgets.
     const int terrain_kind = GENERATE(0, 1);
     const std::uint64_t seed = GENERATE(1, 2);
-    const GridSpec g{40, 40, 1.0, 0, 0};
+    const GridSpec g{32, 32, 1.0, 0, 0};
     RasterD dem = terrain_kind == 0
                       ? terrain::fbm_surface(g, terrain::FbmParams::from_dimension(2.3, 0.5), seed)
                       : RasterD(g, 0.0);

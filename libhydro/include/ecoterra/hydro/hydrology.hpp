@@ -2,28 +2,27 @@
 // The daily soil-water, runoff, catchment and evapotranspiration model (paper 002 s4), with a
 // water budget that must close.
 //
-// State: volumetric soil water theta per cell over a root zone of depth d (m), between the wilting
-// point and field capacity; standing water in catchments; optionally a water table (groundwater).
+// State: volumetric soil water theta per cell over a root zone of depth d (m), above the wilting
+// point and at most the porosity (field capacity under paper 002's `drainage = none`); the
+// surface layer's depletion De (FAO-56); standing water in catchments; optionally a water table.
 // One day (HydrologyModel::step), composed of the process kernels of kernels.hpp in this order:
 //  1. lake losses: standing water (as yesterday's equilibrium left it) evaporates at the open-water
-//     rate (Penman E0 over its wet cells) and infiltrates into the soil under it up to field
-//     capacity (and percolates to the water table);
+//     rate (Penman E0 over its wet cells) and infiltrates into the soil under it;
 //  2. rain on standing water joins it;
-//  3. rain elsewhere splits into runoff C P (runoff coefficient by vegetation x slope x texture, or
-//     SCS curve number) and infiltration (1 - C) P; water above field capacity percolates (at most
-//     Ksat x 1 day, groundwater on) or joins the runoff (saturation excess);
-//  4. run-on, highest cells first (D8 or MFD): a cell below field capacity absorbs up to its
-//     deficit, the rest reaches a catchment (joining or creating one at a pit) or leaves through
-//     the domain edge (counted);
-//  5. the standing water is brought to equilibrium (catchments grow, shrink, spill, merge, split);
-//  6. evapotranspiration from each dry cell: the larger of the Penman demand of its surface (bare
-//     soil 0.9 E0 below the grass density threshold, grass f E0 above) and the transpiration
-//     requested for the cell (from the ecosystem), never taking theta below the wilting point;
-//     reported as transpiration (up to the request) and evaporation;
-//  7. groundwater (optional, groundwater.hpp), seepage joining the standing water;
-//  8. the budget closes.
-// Budget (m3, whole domain): rain = evaporation + transpiration + runoff out + groundwater out
-// + d(soil) + d(surface) + d(groundwater) + residual.
+//  3. interception (`gash`): the canopy of each dry cell holds and evaporates part of the rain;
+//  4. the rest splits into runoff and infiltration (runoff coefficients or SCS curve number);
+//     water above the soil's ceiling runs off (or, under paper 002 with groundwater, percolates);
+//  5. run-on, highest cells first (D8 or MFD), then the standing water comes to equilibrium
+//     (catchments grow, shrink, spill, merge, split);
+//  6. evapotranspiration: FAO-56 two-stage soil evaporation plus transpiration, each limited
+//     (`fao56`), or the larger of the surface's Penman demand and the plants' request
+//     (`paper002`); never below the wilting point;
+//  7. drainage below the root zone at K(theta) (`gravity`), to the water table or out;
+//  8. groundwater (optional, groundwater.hpp), seepage joining the standing water;
+//  9. the budget closes.
+// Budget (m3, whole domain): rain = evaporation + transpiration + interception + runoff out +
+// drainage out + groundwater out + d(soil) + d(surface) + d(groundwater) + residual.
+// docs/hydrology.md s4 gives the equations and their sources.
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/groundwater.hpp"

@@ -6,13 +6,17 @@
 //                         open-water rate E0 and infiltrates into the soil under it (percolating
 //                         to the water table with groundwater on)
 //   2. rain_on_lakes      rain on standing water joins it
-//   3. partition_rain     rain elsewhere splits into runoff and infiltration; water above field
-//                         capacity percolates (groundwater) or runs off (saturation excess)
+//   3. partition_rain     rain elsewhere (less what canopy_interception held) splits into runoff
+//                         and infiltration; water above the soil's ceiling (porosity, or field
+//                         capacity under paper 002) percolates (paper 002 with groundwater) or
+//                         runs off (saturation excess)
 //   4. route_runoff       run-on, every cell after the cells above it; dry cells absorb up to
-//                         field capacity, the rest reaches a catchment or leaves through the edge
+//                         their ceiling, the rest reaches a catchment or leaves through the edge
 //   5. Catchments::equilibrate   the standing water settles (fills, spills, merges, splits)
-//   6. evapotranspiration each dry cell loses the larger of its surface demand and the plants'
-//                         request, never below the wilting point
+//   6. evapotranspiration FAO-56: soil evaporation plus transpiration, each limited
+//                         (evapotranspiration_fao56, after canopy_interception split the rain);
+//                         paper 002: the larger of the surface demand and the plants' request;
+//                         never below the wilting point; then gravity_drainage below the roots
 //   7. groundwater_exchange      the water table moves; where it reaches the surface it seeps out
 //                                into the standing water, which settles again
 //   8. close_budget       storage changes and the residual, checked against the tolerance

@@ -1,5 +1,6 @@
 // Hydrology benchmarks: cell-days/s of the daily update (soil, runoff, catchments, ET) on
-// multifractal terrain, groundwater separately, and ponding cells/s.
+// multifractal terrain, with the default soil water and with paper 002's, groundwater
+// separately, and ponding cells/s.
 // Usage: bench_hydro [--quick]   (--quick skips the 2048 x 2048 grid)
 #include "ecoterra/hydro/catchments.hpp"
 #include "ecoterra/hydro/groundwater.hpp"
@@ -43,13 +44,24 @@ int main(int argc, char** argv) {
         std::printf("%-44s %5d x %-5d %8s %9.2f s %10.3e cells/s\n",
                     "model setup (flow, depression hierarchy)", n, n, "-", setup_s,
                     double(n) * n / setup_s);
-        WeatherGenerator wg(climate_preset("humid_subtropical"), 5);
-        const int days = 365;
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int d = 0; d < days; ++d) m.step(wg.next());
-        const double s = seconds_since(t0);
-        std::printf("%-44s %5d x %-5d %8d %9.2f s %10.3e cell-days/s\n",
-                    "daily update, no groundwater", n, n, days, s, double(n) * n * days / s);
+        // The default soil water (FAO-56, drainage, interception), then paper 002's.
+        HydrologyOptions paper;
+        paper.evapotranspiration = EvapotranspirationMethod::paper002;
+        paper.drainage = DrainageMethod::none;
+        paper.interception = InterceptionMethod::none;
+        HydrologyModel mp(dem, soil, RasterD(dem.grid(), 0.5), paper,
+                          climate_preset("humid_subtropical"));
+        for (HydrologyModel* model : {&m, &mp}) {
+            WeatherGenerator wg(climate_preset("humid_subtropical"), 5);
+            const int days = 365;
+            const auto t0 = std::chrono::steady_clock::now();
+            for (int d = 0; d < days; ++d) model->step(wg.next());
+            const double s = seconds_since(t0);
+            std::printf("%-44s %5d x %-5d %8d %9.2f s %10.3e cell-days/s\n",
+                        model == &m ? "daily update, no groundwater"
+                                    : "  the same, paper 002's soil water",
+                        n, n, days, s, double(n) * n * days / s);
+        }
     }
     for (int n : {32, 64, 128}) {
         const RasterD dem = terrain_of(n);

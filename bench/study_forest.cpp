@@ -23,6 +23,7 @@
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
 //                     [--only-central | --only-thinning | --only-water]
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
 #include <cmath>
@@ -216,29 +217,25 @@ void self_thinning(const json& base, const std::filesystem::path& dir, int seeds
                 cohort_all.sd(), cohort_late.mean(), cohort_late.sd());
 }
 
-/// The water partition of years [first, last] (1-based) of a run's daily series, mm/yr.
+/// The water partition of years [first, last] (1-based) from a run's yearly series, mm/yr.
 struct Partition {
     double rain = 0, evaporation = 0, transpiration = 0, interception = 0, out = 0;
     double et() const { return evaporation + transpiration + interception; }
 };
 
-Partition partition(const Table& daily, int first, int last) {
+Partition partition(const Table& yearly, int first, int last) {
     Partition p;
-    const auto& year = daily.column("year");
-    const auto& rain = daily.column("rain_mm");
-    const auto& evap = daily.column("evaporation_mm");
-    const auto& tr = daily.column("transpiration_mm");
-    const auto& ic = daily.column("interception_mm");
-    const auto& ro = daily.column("runoff_out_mm");
-    const auto& dr = daily.column("drainage_out_mm");
-    const auto& gw = daily.column("groundwater_out_mm");
-    for (std::size_t d = 0; d < year.size(); ++d) {
-        if (year[d] < first || year[d] > last) continue;
-        p.rain += rain[d], p.evaporation += evap[d], p.transpiration += tr[d];
-        p.interception += ic[d], p.out += ro[d] + dr[d] + gw[d];
-    }
-    const double n = last - first + 1;
-    p.rain /= n, p.evaporation /= n, p.transpiration /= n, p.interception /= n, p.out /= n;
+    auto mean = [&](const char* column) {
+        const auto& v = yearly.column(column);
+        double sum = 0;
+        for (int y = first; y <= last; ++y) sum += v[static_cast<std::size_t>(y - 1)];
+        return sum / (last - first + 1);
+    };
+    p.rain = mean("rain_mm");
+    p.evaporation = mean("evaporation_mm");
+    p.transpiration = mean("transpiration_mm");
+    p.interception = mean("interception_mm");
+    p.out = mean("runoff_out_mm") + mean("drainage_out_mm") + mean("groundwater_out_mm");
     return p;
 }
 
@@ -266,22 +263,27 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         const auto sc = eco::load_eco_scene(q, dir);
         eco::Ecosystem e(sc);
         for (int y = 0; y < years; ++y) e.run_year();
-        const Partition a = partition(e.daily(), 1, std::min(10, years));
-        const Partition b = partition(e.daily(), late0, years);
+        const Partition a = partition(e.yearly(), 1, std::min(10, years));
+        const Partition b = partition(e.yearly(), late0, years);
         // Basal area by species (trees).
         const auto& pop = e.plants();
         const auto& species = sc.ecosystem.species;
-        std::vector<double> by(species.size(), 0.0);
+        std::vector<double> dbh;
+        std::vector<int> of;
         for (std::size_t k = 0; k < pop.size(); ++k)
-            if (species[pop.species[k]].life_form == eco::LifeForm::tree)
-                by[pop.species[k]] += 0.25 * M_PI * pop.dbh_m[k] * pop.dbh_m[k];
+            if (species[pop.species[k]].life_form == eco::LifeForm::tree) {
+                dbh.push_back(pop.dbh_m[k]);
+                of.push_back(pop.species[k]);
+            }
+        const auto by = eco::stand_metrics_by_species(
+            dbh, of, species.size(), e.plant_grid().width_m() * e.plant_grid().height_m());
         double total = 0;
         std::size_t best = 0;
         for (std::size_t k = 0; k < by.size(); ++k) {
-            total += by[k];
-            if (by[k] > by[best]) best = k;
+            total += by[k].basal_area_m2_per_ha;
+            if (by[k].basal_area_m2_per_ha > by[best].basal_area_m2_per_ha) best = k;
         }
-        const double share = total > 0 ? by[best] / total : 0.0;
+        const double share = total > 0 ? by[best].basal_area_m2_per_ha / total : 0.0;
         const double stand_ba = e.stand().basal_area_m2_per_ha;
         char label[32];
         std::snprintf(label, sizeof label, "%d-%d", late0, years);

@@ -61,12 +61,10 @@ struct ImplicitGroundwater final : Groundwater::Impl {
 
     bool evolving(std::int64_t c) const { return var_of_cell[c] >= 0; }
 
-    /// f(c) for every cell, in parallel (each cell's result its own).
+    /// f(c) for every cell, in parallel on large grids (each cell's result its own).
     template <class F>
     void for_cells(F&& f) const {
-        const std::int64_t n = grid.size();
-#pragma omp parallel for schedule(static) if (parallel_grid(n))
-        for (std::int64_t c = 0; c < n; ++c) f(c);
+        for_grid_cells(grid.size(), f);
     }
 
     template <class F>

@@ -284,20 +284,19 @@ void HydrologyModel::leaves_of_the_day(const RasterD* lai, const RasterD* cover)
         m_day_cover = cover->data();
         return;
     }
-    m_day_lai = m_lai.data();
-    m_day_cover = m_cover.data();
-    if (m_leaves_from_density) return; // unchanged since the density was set
-    const auto n = static_cast<std::size_t>(m_dem.size());
-    m_lai.resize(n);
-    m_cover.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const double v = std::min(m_veg.data()[k], 0.99);
-        m_cover[k] = v;
-        m_lai[k] = -std::log1p(-v) / m_opt.canopy_extinction;
+    if (!m_leaves_from_density) { // the density changed (or is new): its leaves
+        const auto n = static_cast<std::size_t>(m_dem.size());
+        m_lai.resize(n);
+        m_cover.resize(n);
+        for (std::size_t k = 0; k < n; ++k) {
+            const double v = std::min(m_veg.data()[k], 0.99);
+            m_cover[k] = v;
+            m_lai[k] = -std::log1p(-v) / m_opt.canopy_extinction;
+        }
+        m_leaves_from_density = true;
     }
     m_day_lai = m_lai.data();
     m_day_cover = m_cover.data();
-    m_leaves_from_density = true;
 }
 
 void HydrologyModel::set_vegetation_density(const RasterD& veg) {
@@ -383,7 +382,6 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
             m_kr[k] = std::clamp((tew - de[k]) / (tew - rew), 0.0, 1.0);
         }
     }
-    if (gash) std::fill(m_intercepted.begin(), m_intercepted.end(), 0.0);
 
     lake_losses(m_catch, m_dem, soil, e0_mm, recharge, f.evaporation, f.infiltration);
     if (rain_m > 0) {
@@ -400,7 +398,9 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
     m_catch.equilibrate();
-    soil_losses(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr, recharge);
+    // Today's interception (its energy is not the leaves' to transpire); none on a dry day.
+    const double* intercepted = gash && rain_m > 0 ? m_intercepted.data() : nullptr;
+    soil_losses(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr, intercepted, recharge);
     if (m_gw) {
         f.recharge =
             blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) { sum[0] += m_recharge[k]; })[0];
@@ -412,7 +412,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
 
 void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
                                  const et::DailyWeather& dw, const double* request_mm,
-                                 std::vector<double>* recharge) {
+                                 const double* intercepted_m, std::vector<double>* recharge) {
     const std::int64_t cells = m_dem.grid().size();
     if (m_opt.evapotranspiration == EvapotranspirationMethod::paper002) {
         const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
@@ -426,8 +426,7 @@ void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double
         day.kc_max = m_opt.kc_max;
         day.depletion_fraction = m_opt.depletion_fraction;
         day.cover = m_day_cover;
-        day.intercepted_m =
-            m_opt.interception == InterceptionMethod::gash ? m_intercepted.data() : nullptr;
+        day.intercepted_m = intercepted_m;
         day.tew_mm = m_tew.data();
         day.kr = m_kr.data();
         evapotranspiration_fao56(m_catch, soil, cells, day, request_mm, m_transp_supplied.data(),

@@ -150,22 +150,31 @@ void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::i
     evaporation_m3 += sums[1];
 }
 
-double gash_interception_mm(double rain_mm, double lai, double cover, const InterceptionParams& p) {
+namespace {
+/// Gash's loss, given ln(1 - e) (`log_dry`: the same for every cell, taken once a day).
+double gash_loss_mm(double rain_mm, double lai, double cover, const InterceptionParams& p,
+                    double log_dry) {
     if (!(rain_mm > 0) || !(lai > 0) || !(cover > 0)) return 0.0;
     const double e = p.evaporation_to_rain;
     const double sc = p.storage_per_lai_mm * lai / cover; // per unit of covered ground
-    const double saturating = -sc / e * std::log1p(-e);   // P'
+    const double saturating = -sc / e * log_dry;          // P'
     if (rain_mm < saturating) return cover * rain_mm;
     return cover * (saturating + e * (rain_mm - saturating));
+}
+} // namespace
+
+double gash_interception_mm(double rain_mm, double lai, double cover, const InterceptionParams& p) {
+    return gash_loss_mm(rain_mm, lai, cover, p, std::log1p(-p.evaporation_to_rain));
 }
 
 void canopy_interception(const Catchments& lakes, const double* lai, const double* cover,
                          double rain_mm, const InterceptionParams& p, double cell_area_m2,
                          std::vector<double>& intercepted_m, double& interception_m3) {
     const auto cells = static_cast<std::int64_t>(intercepted_m.size());
+    const double log_dry = std::log1p(-p.evaporation_to_rain);
     const auto sums = blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) {
         const double mm =
-            lakes.owner(k) != 0 ? 0.0 : gash_interception_mm(rain_mm, lai[k], cover[k], p);
+            lakes.owner(k) != 0 ? 0.0 : gash_loss_mm(rain_mm, lai[k], cover[k], p, log_dry);
         intercepted_m[k] = mm / kMmPerM;
         sum[0] += intercepted_m[k] * cell_area_m2;
     });

@@ -18,15 +18,11 @@ namespace {
 constexpr std::int64_t kCoarsestCells = 16; ///< stop aggregating at this many cells
 constexpr int kCoarsestSweeps = 24;         ///< symmetric sweep pairs on the coarsest level
 
-bool parallel_rows(std::int64_t cells) {
-    return parallel_grid(cells);
-}
-
 /// One red-black half sweep: cells with (i + j) % 2 == colour take their Gauss-Seidel value.
 void sweep(const CellOperator& a, const std::vector<double>& inv_diag, const double* b, double* x,
            int colour) {
     const int nx = a.nx, ny = a.ny;
-#pragma omp parallel for schedule(static) if (parallel_rows(a.size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(a.size()))
     for (int j = 0; j < ny; ++j) {
         const std::int64_t row = static_cast<std::int64_t>(j) * nx;
         for (int i = (colour + j) & 1; i < nx; i += 2) {
@@ -50,7 +46,7 @@ void coarsen(const CellOperator& f, CellOperator& c) {
     std::fill(c.cx.begin(), c.cx.end(), 0.0);
     std::fill(c.cy.begin(), c.cy.end(), 0.0);
     std::fill(c.active.begin(), c.active.end(), std::uint8_t{0});
-#pragma omp parallel for schedule(static) if (parallel_rows(f.size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(f.size()))
     for (int jc = 0; jc < c.ny; ++jc)
         for (int j = 2 * jc; j < std::min(f.ny, 2 * jc + 2); ++j)
             for (int i = 0; i < f.nx; ++i) {
@@ -63,12 +59,6 @@ void coarsen(const CellOperator& f, CellOperator& c) {
                 if (i % 2 == 1 && i + 1 < f.nx) c.cx[kc] += 0.5 * f.cx[k];
                 if (j % 2 == 1 && j + 1 < f.ny) c.cy[kc] += 0.5 * f.cy[k];
             }
-}
-
-template <class F>
-void for_cells(std::int64_t n, F&& f) {
-#pragma omp parallel for schedule(static) if (parallel_grid(n))
-    for (std::int64_t k = 0; k < n; ++k) f(k);
 }
 
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
@@ -84,7 +74,7 @@ CellOperator::CellOperator(int nx_, int ny_)
       active(static_cast<std::size_t>(size()), 0) {}
 
 void CellOperator::apply(const double* x, double* y) const {
-#pragma omp parallel for schedule(static) if (parallel_rows(size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(size()))
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
@@ -109,7 +99,7 @@ std::vector<double> CellOperator::diagonal() const {
 
 void CellOperator::diagonal_into(std::vector<double>& d) const {
     d.resize(static_cast<std::size_t>(size()));
-#pragma omp parallel for schedule(static) if (parallel_rows(size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(size()))
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
@@ -178,7 +168,7 @@ void MultigridSolver::set_operator(CellOperator fine) {
         throw InputError("multigrid: cell " + std::to_string(singular) +
                          " has no own term and no faces (a singular row)");
     for (Level& l : m_levels)
-        for_cells(l.op.size(), [&](std::int64_t k) { l.inv_diag[k] = 1.0 / l.inv_diag[k]; });
+        for_grid_cells(l.op.size(), [&](std::int64_t k) { l.inv_diag[k] = 1.0 / l.inv_diag[k]; });
     for (auto* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(static_cast<std::size_t>(n));
 }
 
@@ -203,7 +193,7 @@ void MultigridSolver::vcycle(std::size_t l) const {
     std::fill(C.b.begin(), C.b.end(), 0.0);
     const int nx = L.op.nx, ny = L.op.ny, cnx = C.op.nx;
     // Each coarse row gathers its two fine rows (a fixed order: the same bits on any threads).
-#pragma omp parallel for schedule(static) if (parallel_rows(L.op.size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(L.op.size()))
     for (int jc = 0; jc < C.op.ny; ++jc)
         for (int j = 2 * jc; j < std::min(ny, 2 * jc + 2); ++j)
             for (int i = 0; i < nx; ++i) {
@@ -212,7 +202,7 @@ void MultigridSolver::vcycle(std::size_t l) const {
                     C.b[static_cast<std::int64_t>(jc) * cnx + i / 2] += L.b[k] - L.r[k];
             }
     vcycle(l + 1);
-#pragma omp parallel for schedule(static) if (parallel_rows(L.op.size()))
+#pragma omp parallel for schedule(static) if (parallel_grid(L.op.size()))
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
@@ -230,7 +220,7 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
         throw InputError("multigrid: the right-hand side or the start does not match the grid");
     std::vector<double>&r = m_r, &z = m_z, &p = m_p, &q = m_q;
     a.apply(x.data(), q.data());
-    for_cells(n, [&](std::int64_t k) { r[k] = a.active[k] ? b[k] - q[k] : 0.0; });
+    for_grid_cells(n, [&](std::int64_t k) { r[k] = a.active[k] ? b[k] - q[k] : 0.0; });
     const double active_cells = std::max<double>(
         1.0, blocked_sums<1>(n, [&](std::int64_t k, auto& s) { s[0] += a.active[k]; })[0]);
     auto scaled = [&] {
@@ -245,7 +235,7 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
         const Level& L = m_levels.front();
         std::copy(r.begin(), r.end(), L.b.begin());
         vcycle(0);
-        for_cells(n, [&](std::int64_t k) { z[k] = a.active[k] ? L.x[k] : 0.0; });
+        for_grid_cells(n, [&](std::int64_t k) { z[k] = a.active[k] ? L.x[k] : 0.0; });
     };
     SolveReport rep;
     rep.residual_scaled = scaled();
@@ -258,11 +248,11 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
     double rz = dot(r, z);
     while (rep.iterations < max_iterations) {
         a.apply(p.data(), q.data());
-        for_cells(n, [&](std::int64_t k) {
+        for_grid_cells(n, [&](std::int64_t k) {
             if (!a.active[k]) q[k] = 0;
         });
         const double alpha = rz / dot(p, q);
-        for_cells(n, [&](std::int64_t k) {
+        for_grid_cells(n, [&](std::int64_t k) {
             x[k] += alpha * p[k];
             r[k] -= alpha * q[k];
         });
@@ -276,7 +266,7 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
         const double rz_new = dot(r, z);
         const double beta = rz_new / rz;
         rz = rz_new;
-        for_cells(n, [&](std::int64_t k) { p[k] = z[k] + beta * p[k]; });
+        for_grid_cells(n, [&](std::int64_t k) { p[k] = z[k] + beta * p[k]; });
     }
     return rep;
 }

@@ -154,7 +154,7 @@ private:
     /// Steps 6 and 6b (evapotranspiration, drainage) under the chosen methods.
     void soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
                      const et::DailyWeather& dw, const double* request_mm,
-                     std::vector<double>* recharge);
+                     const double* intercepted_m, std::vector<double>* recharge);
     /// Step 8: storage changes, the residual and the cumulative check.
     void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
                       double lost0);

@@ -27,6 +27,7 @@
 #include "ecoterra/hydro/routing.hpp"
 #include "ecoterra/hydro/runoff.hpp"
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -56,7 +57,7 @@ struct SoilColumns {
     void refill_surface(std::int64_t k, double m3) const {
         if (surface_depletion_mm)
             surface_depletion_mm[k] =
-                std::max(0.0, surface_depletion_mm[k] - m3 / cell_area_m2 * 1000.0);
+                std::max(0.0, surface_depletion_mm[k] - m3 / cell_area_m2 * kMmPerM);
     }
 };
 

@@ -30,6 +30,13 @@ namespace ecoterra::hydro {
 inline constexpr std::int64_t kGridParallelFactor = 16;
 bool parallel_grid(std::int64_t cells);
 
+/// f(k) for k in [0, n), in parallel on large grids (parallel_grid); each k's result its own.
+template <class F>
+void for_grid_cells(std::int64_t n, F&& f) {
+#pragma omp parallel for schedule(static) if (parallel_grid(n))
+    for (std::int64_t k = 0; k < n; ++k) f(k);
+}
+
 struct CellOperator {
     int nx = 0, ny = 0;
     std::vector<double> s;  ///< own term per cell, >= 0 (m2/s)

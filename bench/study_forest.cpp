@@ -21,15 +21,21 @@
 //     soil water (evapotranspiration, drainage and interception as the paper prescribes).
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
-//                     [--only-central | --only-thinning | --only-water]
+//                     [--only-central | --only-thinning | --only-water] [--set key=value ...]
+// --set changes a key of the quickstart scene for every run (as `ecoterra run --set`).
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -239,6 +245,148 @@ Partition partition(const Table& yearly, int first, int last) {
     return p;
 }
 
+/// Stand dynamics of one run (part C's second table): the species' shares of basal area at
+/// fixed ages, the yearly mortality of trees >= 5 cm over the closed stand (the last 40 years) and
+/// the diameter increment of dominant (tallest quarter) against suppressed (shortest quarter)
+/// trees >= 5 cm over the last 10 years.
+struct Dynamics {
+    static constexpr std::array<int, 6> kAges{10, 25, 50, 100, 150, 200};
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> share; // [age][species]
+    int years = 0, mortality_from = 0, increment_from = 0;
+    double at_risk = 0, deaths = 0;
+    std::unordered_map<std::int64_t, std::array<double, 3>> start; // id -> (dbh, height, shade)
+    std::array<double, 4> by_shade_mm{}, by_shade_n{};             // shade 0-.2-.5-.8-1
+    std::unordered_set<std::int64_t> risk;
+    double dominant_mm = 0, suppressed_mm = 0, all_mm = 0;
+
+    Dynamics(const std::vector<eco::Species>& species, int y) : years(y) {
+        for (const auto& s : species) names.push_back(s.name);
+        mortality_from = std::max(1, years - 39);
+        increment_from = std::max(1, years - 9);
+    }
+    static bool counted(const eco::Population& pop, std::size_t k,
+                        const std::vector<eco::Species>& sp) {
+        return pop.alive[k] && sp[pop.species[k]].life_form == eco::LifeForm::tree &&
+               pop.dbh_m[k] >= kThinningMinDbhM;
+    }
+    void before_year(const eco::Ecosystem& e) {
+        const int year = e.years_done() + 1;
+        const auto& pop = e.plants();
+        const auto& sp = e.scene().ecosystem.species;
+        risk.clear();
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            if (!counted(pop, k, sp)) continue;
+            if (year >= mortality_from) risk.insert(pop.id[k]);
+            if (year == increment_from)
+                start[pop.id[k]] = {pop.dbh_m[k], pop.height_m[k], pop.shade_fraction[k]};
+        }
+    }
+    void after_year(const eco::Ecosystem& e) {
+        const int year = e.years_done();
+        const auto& pop = e.plants();
+        const auto& sp = e.scene().ecosystem.species;
+        std::unordered_set<std::int64_t> alive;
+        for (std::size_t k = 0; k < pop.size(); ++k)
+            if (pop.alive[k]) alive.insert(pop.id[k]);
+        at_risk += static_cast<double>(risk.size());
+        for (const auto id : risk) deaths += alive.count(id) ? 0 : 1;
+        if (std::find(kAges.begin(), kAges.end(), year) != kAges.end()) {
+            std::vector<double> dbh;
+            std::vector<int> of;
+            for (std::size_t k = 0; k < pop.size(); ++k)
+                if (pop.alive[k] && sp[pop.species[k]].life_form == eco::LifeForm::tree) {
+                    dbh.push_back(pop.dbh_m[k]);
+                    of.push_back(pop.species[k]);
+                }
+            const auto by = eco::stand_metrics_by_species(
+                dbh, of, sp.size(), e.plant_grid().width_m() * e.plant_grid().height_m());
+            double total = 0;
+            for (const auto& m : by) total += m.basal_area_m2_per_ha;
+            std::vector<double> f;
+            for (const auto& m : by) f.push_back(total > 0 ? m.basal_area_m2_per_ha / total : 0);
+            share.push_back(f);
+        }
+        if (year == years) increments(pop);
+    }
+    void increments(const eco::Population& pop) {
+        std::vector<std::pair<double, double>> h_inc; // (start height, mm/yr)
+        const double span = years - increment_from + 1;
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            const auto it = start.find(pop.id[k]);
+            if (!pop.alive[k] || it == start.end()) continue;
+            const auto& [d0, h0, s0] = it->second;
+            const double mm = 1000 * (pop.dbh_m[k] - d0) / span;
+            h_inc.push_back({h0, mm});
+            const int b = s0 < 0.2 ? 0 : s0 < 0.5 ? 1 : s0 < 0.8 ? 2 : 3;
+            by_shade_mm[b] += mm;
+            by_shade_n[b] += 1;
+        }
+        std::sort(h_inc.begin(), h_inc.end());
+        const std::size_t q = h_inc.size() / 4;
+        if (q == 0) return;
+        double lo = 0, hi = 0, all = 0;
+        for (std::size_t i = 0; i < q; ++i) lo += h_inc[i].second;
+        for (std::size_t i = h_inc.size() - q; i < h_inc.size(); ++i) hi += h_inc[i].second;
+        for (const auto& v : h_inc) all += v.second;
+        suppressed_mm = lo / q, dominant_mm = hi / q;
+        all_mm = all / static_cast<double>(h_inc.size());
+    }
+    double mortality() const { return at_risk > 0 ? deaths / at_risk : 0; }
+};
+
+void print_dynamics(const std::vector<Dynamics>& runs, int years) {
+    if (runs.empty()) return;
+    const auto& names = runs[0].names;
+    std::printf("   stand dynamics: share of basal area by species at each age; mortality of trees "
+                ">= 5 cm per year over years %d-%d; diameter increment (mm/yr) of trees >= 5 cm "
+                "over years %d-%d, tallest and shortest quarter\n\n",
+                runs[0].mortality_from, years, runs[0].increment_from, years);
+    std::printf("%4s %-5s", "seed", "age");
+    for (const auto& n : names) std::printf(" %14.14s", n.c_str());
+    std::printf(" | %9s %7s %7s %7s %6s\n", "mortality", "all", "top", "bottom", "ratio");
+    std::vector<std::vector<Mean>> mean_share;
+    Mean mort, all, dom, sup, ratio;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+        const auto& d = runs[r];
+        mean_share.resize(d.share.size(), std::vector<Mean>(names.size()));
+        for (std::size_t a = 0; a < d.share.size(); ++a) {
+            std::printf("%4zu %-5d", r + 1, Dynamics::kAges[a]);
+            for (std::size_t s = 0; s < names.size(); ++s) {
+                std::printf(" %13.0f%%", 100 * d.share[a][s]);
+                mean_share[a][s].add(d.share[a][s]);
+            }
+            if (a + 1 == d.share.size())
+                std::printf(" | %8.2f%% %7.2f %7.2f %7.2f %6.1f", 100 * d.mortality(), d.all_mm,
+                            d.dominant_mm, d.suppressed_mm,
+                            d.dominant_mm / std::max(d.suppressed_mm, 1e-3));
+            if (a + 1 == d.share.size())
+                for (int b = 0; b < 4; ++b)
+                    std::printf(" s%d:%.0f/%.2f", b, d.by_shade_n[b],
+                                d.by_shade_mm[b] / std::max(d.by_shade_n[b], 1.0));
+            std::printf("\n");
+        }
+        mort.add(d.mortality());
+        all.add(d.all_mm);
+        dom.add(d.dominant_mm);
+        sup.add(d.suppressed_mm);
+        ratio.add(d.dominant_mm / std::max(d.suppressed_mm, 1e-3));
+    }
+    std::printf("mean share of basal area over %zu seeds (sd):\n", runs.size());
+    for (std::size_t a = 0; a < mean_share.size(); ++a) {
+        std::printf("  %3d yr:", Dynamics::kAges[a]);
+        for (std::size_t s = 0; s < names.size(); ++s)
+            std::printf(" %s %.0f%% (%.0f)", names[s].c_str(), 100 * mean_share[a][s].mean(),
+                        100 * mean_share[a][s].sd());
+        std::printf("\n");
+    }
+    std::printf(
+        "mean mortality %.2f%%/yr (sd %.2f); diameter increment %.2f mm/yr, tallest quarter "
+        "%.2f, shortest %.2f, ratio %.1f (sd %.1f)\n\n",
+        100 * mort.mean(), 100 * mort.sd(), all.mean(), dom.mean(), sup.mean(), ratio.mean(),
+        ratio.sd());
+}
+
 void water_and_stand(const json& base, const std::filesystem::path& dir, int seeds, int years,
                      bool paper) {
     std::printf("C. Water and stand over %d years (%s soil water), %d seeds\n", years,
@@ -250,6 +398,7 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
                 "seed", "years", "rain", "ET/P", "T/ET", "I/P", "E/P", "out/P", "years", "rain",
                 "ET/P", "T/ET", "I/P", "E/P", "out/P", "BA", "largest");
     Mean et, t_et, ip, ba, top;
+    std::vector<Dynamics> dynamics;
     const int late0 = std::max(1, years - 19);
     for (int seed = 1; seed <= seeds; ++seed) {
         json q = base;
@@ -262,7 +411,13 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         }
         const auto sc = eco::load_eco_scene(q, dir);
         eco::Ecosystem e(sc);
-        for (int y = 0; y < years; ++y) e.run_year();
+        Dynamics dyn(sc.ecosystem.species, years);
+        for (int y = 0; y < years; ++y) {
+            dyn.before_year(e);
+            e.run_year();
+            dyn.after_year(e);
+        }
+        dynamics.push_back(dyn);
         const Partition a = partition(e.yearly(), 1, std::min(10, years));
         const Partition b = partition(e.yearly(), late0, years);
         // Basal area by species (trees).
@@ -306,6 +461,21 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         "of it (sd %.0f)\n\n",
         seeds, late0, years, et.mean(), et.sd(), t_et.mean(), t_et.sd(), ip.mean(), ip.sd(), years,
         ba.mean(), ba.sd(), 100 * top.mean(), 100 * top.sd());
+    print_dynamics(dynamics, years);
+}
+
+/// --set a.b.c=value: sets the scene key (the value as JSON, else as a string).
+void set_key(json& scene, const std::string& assignment) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos) throw std::runtime_error("--set needs key=value: " + assignment);
+    json* node = &scene;
+    std::string path = assignment.substr(0, eq);
+    for (auto dot = path.find('.'); dot != std::string::npos; dot = path.find('.')) {
+        node = &(*node)[path.substr(0, dot)];
+        path = path.substr(dot + 1);
+    }
+    const std::string value = assignment.substr(eq + 1);
+    (*node)[path] = json::accept(value) ? json::parse(value) : json(value);
 }
 
 } // namespace
@@ -336,7 +506,9 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
-    const json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
+    json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
+    for (int i = 1; i + 1 < argc; ++i)
+        if (std::strcmp(argv[i], "--set") == 0) set_key(q, argv[++i]);
     if (central) central_result(q, data / "scenes", seeds);
     if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
     if (water) water_and_stand(q, data / "scenes", seeds, century, paper);

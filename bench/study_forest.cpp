@@ -18,7 +18,10 @@
 //     the last 20 years (mature): evapotranspiration / rain, transpiration / evapotranspiration,
 //     interception / rain, soil evaporation / rain, and runoff + drainage / rain; then the basal
 //     area at the end and the largest species' share of it. --paper002 runs it with paper 002's
-//     soil water (evapotranspiration, drainage and interception as the paper prescribes).
+//     soil water (evapotranspiration, drainage and interception as the paper prescribes). A
+//     second table gives the stand's dynamics from the same runs (struct Dynamics below:
+//     composition by age, mortality of trees >= 5 cm, increments of dominant and suppressed
+//     trees; docs/validation.md s2c).
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
 //                     [--only-central | --only-thinning | --only-water] [--set key=value ...]

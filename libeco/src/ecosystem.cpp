@@ -181,7 +181,7 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     const auto dw = hydro::et_weather(w, m_scene.hydro.climate);
     const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
     // Demand: the plants' through their root cells, then the ground layer's.
-    plant_water_demand(m_pop, species, day.phen, et0_m, m_demand);
+    plant_water_demand(m_pop, species, day.phen, et0_m, m_scene.growth, m_demand);
     const auto cells = static_cast<std::size_t>(m_request_mm.size());
     m_request.assign(cells, 0.0);
     scatter_demand(m_canopy.roots, m_demand, m_request);
@@ -227,7 +227,7 @@ hydro::DailyFluxes Ecosystem::coupled_day(const hydro::DayWeather& w) {
     const hydro::DailyFluxes f = m_hydro->step(w, &m_request_mm, &m_lai, &m_cover);
     supply_fractions(m_canopy.roots, m_request_mm, m_hydro->transpiration_supplied_mm(), m_ratio,
                      m_fraction);
-    carbon_balance(m_pop, species, day, m_fraction, m_demand, m_sum);
+    carbon_balance(m_pop, species, day, m_fraction, m_demand, m_scene.growth, m_sum);
     if (!m_ground.empty()) ground_layer_day(w, day);
     // The ground layer steps once a canopy interval and on the year's last day (the year end and
     // its checkpoint see no pending days); the canopy refreshes once an interval.

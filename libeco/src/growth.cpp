@@ -42,6 +42,11 @@ double shade_factor(const Preference& p, double s) {
     return s <= p.desired ? 1.0 : gauss(s - p.desired, p.tolerance);
 }
 
+double light_factor(double half_saturation, double light) {
+    const double i = std::clamp(light, 0.0, 1.0);
+    return i * (1.0 + half_saturation) / (i + half_saturation);
+}
+
 double water_factor(const Preference& p, double x) {
     return x >= p.desired ? 1.0 : gauss(p.desired - x, p.tolerance);
 }
@@ -85,12 +90,15 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
 }
 
 CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m, CarbonPools& p,
-                     double growth, double phen, double f_temp, double q10_factor) {
+                     double growth, double phen, double f_temp, double q10_factor,
+                     double tissue_kg) {
     CarbonDay c;
     c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen * f_temp;
     c.maintenance_kg =
         s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * height_m * q10_factor;
-    const double net = c.production_kg - c.maintenance_kg;
+    c.growth_respiration_kg = kGrowthRespiration * tissue_kg;
+    c.litter_kg = tissue_kg - c.growth_respiration_kg;
+    const double net = c.production_kg - c.maintenance_kg - tissue_kg;
     const double cap = s.reserve_capacity_kg_per_m2_leaf * la;
     if (net >= 0) {
         c.to_reserve_kg = std::clamp(cap - p.reserve_kg, 0.0, net);
@@ -98,8 +106,9 @@ CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m,
         const double w = wood_allocation(s, dbh_m);
         const double built = rest * w;
         c.turnover_kg = rest - built; // 0 below 0.9 D_max
-        c.growth_respiration_kg = kGrowthRespiration * built;
-        c.to_wood_kg = built - c.growth_respiration_kg;
+        const double wood_respiration = kGrowthRespiration * built;
+        c.growth_respiration_kg += wood_respiration;
+        c.to_wood_kg = built - wood_respiration;
         p.reserve_kg += c.to_reserve_kg;
         p.wood_kg += c.to_wood_kg;
         p.turnover_kg += c.turnover_kg;
@@ -109,6 +118,13 @@ CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m,
         if (p.reserve_kg <= 0) c.starved = true;
     }
     return c;
+}
+
+double tissue_cost_kg_per_day(const Species& s, double leaf_area_m2) {
+    const double leaf_mass = s.leaf_mass_per_area_kg_per_m2 * leaf_area_m2;
+    const double per_yr = leaf_mass * (1.0 / s.leaf_lifespan_yr +
+                                       s.fine_root_to_leaf_mass * s.fine_root_turnover_per_yr);
+    return per_yr / (1.0 - kGrowthRespiration) / kDaysPerYear;
 }
 
 double wood_allocation(const Species& s, double d) {

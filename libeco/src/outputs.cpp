@@ -52,7 +52,9 @@ const std::vector<Column<YearRow>>& yearly_columns() {
         column("transpiration_supplied_mm", &R::transpiration_supplied_mm, "mm",
                "plant water supplied by the soil"),
         column("turnover_kg", &R::turnover_kg, "kg",
-               "carbohydrate turned over by plants at their maximum stem diameter"),
+               "carbohydrate turned over by plants at their maximum stem diameter, and the "
+               "litter of rebuilt leaves and fine roots (vegetation.growth = "
+               "light_and_turnover)"),
         column("shrubs_per_ha", &R::shrubs_per_ha, "1/ha", "live shrubs (not in the tree metrics)"),
         column("ground_cover_fraction", &R::ground_cover_fraction, "1",
                "mean cover of the ground layer (grasses and herbs) at year end, 0..1"),

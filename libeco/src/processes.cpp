@@ -27,15 +27,17 @@ double SoilWater::relative(int i, int j) const {
 }
 
 void plant_water_demand(const Population& pop, const std::vector<Species>& species,
-                        const std::vector<double>& phen, double et0_m,
+                        const std::vector<double>& phen, double et0_m, GrowthModel model,
                         std::vector<double>& demand_m3) {
     const std::size_t n = pop.size();
     demand_m3.assign(n, 0.0);
+    const bool by_light = model != GrowthModel::paper002;
     for (std::size_t k = 0; k < n; ++k) {
         if (!pop.alive[k]) continue;
         const auto sp = pop.species[k];
-        demand_m3[k] =
-            species[sp].transpiration_per_leaf_area * pop.leaf_area_m2[k] * phen[sp] * et0_m;
+        const double light = by_light ? 1.0 - pop.shade_fraction[k] : 1.0;
+        demand_m3[k] = species[sp].transpiration_per_leaf_area * pop.leaf_area_m2[k] * phen[sp] *
+                       et0_m * light;
     }
 }
 
@@ -94,7 +96,7 @@ DayClimate day_climate(const std::vector<Species>& species, int doy, double tmea
 
 void carbon_balance(Population& pop, const std::vector<Species>& species, const DayClimate& day,
                     const std::vector<double>& fraction, const std::vector<double>& demand_m3,
-                    PlantSums& sums) {
+                    GrowthModel model, PlantSums& sums) {
     const auto n = static_cast<std::int64_t>(pop.size());
     std::vector<CarbonDay> cd(pop.size());
 #pragma omp parallel for schedule(static) if (n >= parallel_min_items())
@@ -103,15 +105,17 @@ void carbon_balance(Population& pop, const std::vector<Species>& species, const 
         const Species& s = species[pop.species[k]];
         if (!pop.alive[k] || s.life_form == LifeForm::object) continue;
         const double ph = day.phen[pop.species[k]];
-        const double g = shade_factor(s.shade, pop.shade_fraction[k]) *
+        const double g = light_or_shade_factor(s, model, pop.shade_fraction[k]) *
                          water_factor(s.water, fraction[k]) * pop.soil_factor[k];
         if (ph > 0) {
             pop.growth_sum[k] += g;
             pop.growth_days[k] += 1;
         }
         CarbonPools pools{pop.reserve_kg[k], pop.wood_kg[k], pop.turnover_kg[k]};
+        const double tissue =
+            model == GrowthModel::paper002 ? 0.0 : tissue_cost_kg_per_day(s, pop.leaf_area_m2[k]);
         cd[k] = carbon_day(s, pop.leaf_area_m2[k], pop.height_m[k], pop.dbh_m[k], pools, g, ph,
-                           day.ftemp[pop.species[k]], day.q10);
+                           day.ftemp[pop.species[k]], day.q10, tissue);
         pop.reserve_kg[k] = pools.reserve_kg;
         pop.wood_kg[k] = pools.wood_kg;
         pop.turnover_kg[k] = pools.turnover_kg;
@@ -121,7 +125,7 @@ void carbon_balance(Population& pop, const std::vector<Species>& species, const 
         sums.production += cd[k].production_kg;
         sums.maintenance += cd[k].maintenance_kg;
         sums.growth_resp += cd[k].growth_respiration_kg;
-        sums.turnover += cd[k].turnover_kg;
+        sums.turnover += cd[k].turnover_kg + cd[k].litter_kg;
         sums.demand_m3 += demand_m3[k];
         sums.supplied_m3 += demand_m3[k] * fraction[k];
         if (cd[k].starved) {

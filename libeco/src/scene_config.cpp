@@ -27,6 +27,14 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
              std::vector<std::pair<std::string, ShadingMode>>{
                  {"blocking", ShadingMode::blocking}, {"beer_lambert", ShadingMode::beer_lambert}},
              "shading rule"),
+         choice<E>("growth", &E::growth,
+                   std::vector<std::pair<std::string, GrowthModel>>{
+                       {"light_and_turnover", GrowthModel::light_and_turnover},
+                       {"paper002", GrowthModel::paper002}},
+                   "plant growth model: paper002 (the shade preference, no tissue turnover, paper "
+                   "002 s3) or light_and_turnover (experimental, not calibrated: production "
+                   "saturating in the light on the crown, leaves and fine roots rebuilt as they "
+                   "turn over, water demand following the crown's light), docs/ecosystem.md s3"),
          number<E>("extinction_coefficient", &E::extinction, "1", 0.01, 5,
                    "Beer-Lambert extinction coefficient k"),
          choice<E>("light_only_radius", &E::light_only_radius,
@@ -182,6 +190,12 @@ Methods scene_methods(const EcoScene& sc) {
                                                      "Sykes 2001)"});
         m.push_back({"seed production", "SORTIE-ND (Ribbens, Silander & Pacala 1994)"});
     }
+    if (sc.competition == Competition::coupled && sc.growth == GrowthModel::light_and_turnover)
+        m.push_back({"growth", "saturating in light (SORTIE-ND, Pacala et al. 1996); leaf and "
+                               "fine-root turnover (LPJ-GUESS; leaf mass per area from life span, "
+                               "Reich et al. 1997)"});
+    else if (sc.competition == Competition::coupled)
+        m.push_back({"growth", "shade preference, paper 002 s3"});
     if (sc.shading == ShadingMode::beer_lambert)
         m.push_back({"shading", "Beer-Lambert light extinction (Monsi & Saeki 1953)"});
     else

@@ -1,5 +1,6 @@
 #include "ecoterra/eco/species.hpp"
 
+#include "ecoterra/hydro/weather.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/units.hpp"
 
@@ -54,6 +55,13 @@ const nlohmann::json& life_form_defaults(LifeForm f) {
     return f == LifeForm::shrub ? shrub : f == LifeForm::grass ? grass : none;
 }
 
+/// How long a leaf lives, yr: an evergreen's life span, a deciduous leaf's season.
+double leaf_longevity_yr(const Species& s) {
+    if (s.evergreen) return s.leaf_lifespan_yr;
+    const int days = s.leaf_off_doy - s.leaf_on_doy;
+    return std::max(days, 1) / static_cast<double>(hydro::kDaysPerYear);
+}
+
 /// Sets the life-form defaults of the keys `s.defaulted` lists.
 void apply_life_form_defaults(Species& s) {
     const auto& d = s.defaulted;
@@ -78,6 +86,9 @@ void apply_life_form_defaults(Species& s) {
     if (defaulted("maturity_age_yr"))
         s.maturity_age_yr = s.life_form == LifeForm::shrub ? std::min(3.0, 0.2 * s.max_age_yr)
                                                            : std::min(15.0, 0.2 * s.max_age_yr);
+    if (defaulted("leaf_lifespan_yr")) s.leaf_lifespan_yr = s.evergreen ? 2.0 : 1.0;
+    if (defaulted("leaf_mass_per_area_kg_per_m2"))
+        s.leaf_mass_per_area_kg_per_m2 = leaf_mass_per_area_from_longevity(leaf_longevity_yr(s));
     if (s.life_form == LifeForm::shrub && defaulted("max_crown_radius_m"))
         s.max_crown_radius_m = std::clamp(0.6 * s.max_height_m, 0.3, 5.0);
 }
@@ -509,7 +520,24 @@ const ParamCatalog<Species>& physiology_catalog() {
         auto add = [&](std::vector<Param<S>> more) {
             for (auto& p : more) v.push_back(std::move(p));
         };
-        add(preference<&S::shade>("shade", "1", 0, 1, "shade preference (fraction shaded)"));
+        add(preference<&S::shade>("shade", "1", 0, 1,
+                                  "shade preference (fraction shaded); vegetation.growth = "
+                                  "paper002"));
+        add({number<S>("light_half_saturation", &S::light_half_saturation, "1", 0.001, 100,
+                       "light (fraction of full sun) at which production per m2 of leaf is half "
+                       "its saturated rate; low for shade-tolerant species (vegetation.growth = "
+                       "light_and_turnover)"),
+             number<S>("leaf_lifespan_yr", &S::leaf_lifespan_yr, "yr", 0.05, 50,
+                       "years between a leaf's building and its fall; the crown is rebuilt every "
+                       "leaf_lifespan_yr (light_and_turnover)")
+                 .with_note("2 evergreen (LPJ-GUESS leaflong), 1 deciduous"),
+             number<S>("leaf_mass_per_area_kg_per_m2", &S::leaf_mass_per_area_kg_per_m2, "kg/m2",
+                       0.005, 2, "dry mass of a m2 of leaf (light_and_turnover)")
+                 .with_note("from leaf longevity, Reich et al. 1997"),
+             number<S>("fine_root_to_leaf_mass", &S::fine_root_to_leaf_mass, "1", 0, 20,
+                       "fine-root mass per leaf mass (LPJ-GUESS ltor_max)"),
+             number<S>("fine_root_turnover_per_yr", &S::fine_root_turnover_per_yr, "1/yr", 0, 20,
+                       "share of the fine roots renewed a year (LPJ-GUESS turnover_root)")});
         add(preference<&S::water>("water", "1", 0, 1,
                                   "water preference (fraction of demand supplied)"));
         add(preference<&S::ph>("ph", "pH", 0, 14, "soil pH preference"));

@@ -366,3 +366,90 @@ TEST_CASE("species files: MAVS entries load with reported defaults, bad values a
     CHECK_THROWS_WITH(parse_ecosystem(nameless, "eco.json"),
                       Catch::Contains("'Species Name' is empty"));
 }
+
+TEST_CASE("light response: a normalised rectangular hyperbola that favours tolerant species in "
+          "shade",
+          "[eco][growth]") {
+    for (const double k : {0.05, 0.1, 0.3, 1.0, 3.0}) {
+        CHECK(light_factor(k, 0.0) == 0.0);
+        CHECK(light_factor(k, 1.0) == Approx(1.0));
+        CHECK(light_factor(k, 1.5) == Approx(1.0)); // light is clamped to full sun
+        if (k <= 1) CHECK(light_factor(k, k) == Approx(0.5 * (1.0 + k))); // half of 1 + K
+        double last = 0;
+        for (int i = 1; i <= 100; ++i) {
+            const double f = light_factor(k, i / 100.0);
+            CHECK(f > last);                                 // rises with light
+            CHECK(f >= i / 100.0);                           // above the linear response
+            CHECK(f <= (1.0 + k) / k * (i / 100.0) + 1e-12); // below its slope at 0
+            last = f;
+        }
+    }
+    // At 5 % of full sun a tolerant species (K 0.1) keeps several times an intolerant one's
+    // (K 1) share of its production.
+    CHECK(light_factor(0.1, 0.05) / light_factor(1.0, 0.05) > 3.5);
+}
+
+TEST_CASE("tissue turnover: leaf mass from longevity (Reich et al. 1997) and its daily cost",
+          "[eco][growth]") {
+    // SLA = exp(6.15) (12 L)^-0.46 cm2/g: 469 cm2/g at one month, so LMA = 0.0213 kg/m2.
+    CHECK(leaf_mass_per_area_from_longevity(1.0 / 12) == Approx(10.0 / std::exp(6.15)));
+    // Longer-lived leaves are heavier: x 2^0.46 per doubling of longevity.
+    for (const double l : {0.25, 0.5, 1.0, 2.0, 4.0})
+        CHECK(leaf_mass_per_area_from_longevity(2 * l) / leaf_mass_per_area_from_longevity(l) ==
+              Approx(std::pow(2.0, 0.46)));
+    Species s;
+    s.leaf_mass_per_area_kg_per_m2 = 0.08;
+    s.leaf_lifespan_yr = 2.0;
+    s.fine_root_to_leaf_mass = 1.0;
+    s.fine_root_turnover_per_yr = 0.7;
+    // 10 m2 of leaf: 0.8 kg of leaves (0.4 kg a year) and 0.8 kg of fine roots (0.56 kg a year),
+    // built at 1 / (1 - 0.25) kg of carbohydrate per kg.
+    CHECK(tissue_cost_kg_per_day(s, 10.0) * 365.0 == Approx((0.4 + 0.56) / 0.75));
+    // The cost is paid first: a plant in the dark loses production - maintenance - cost a day,
+    // and the cost goes to growth respiration and litter, closing the day's carbon.
+    Plant p;
+    p.dbh_m = 0.05;
+    allometry::apply(s, p);
+    p.wood_kg = allometry::stem_mass_kg(s, p.dbh_m);
+    p.reserve_kg = 1.0;
+    CarbonPools pools{p.reserve_kg, p.wood_kg, 0.0};
+    const double cost = tissue_cost_kg_per_day(s, p.leaf_area_m2);
+    const auto c =
+        carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, 0.0, 1.0, 1.0, 1.0, cost);
+    CHECK(c.growth_respiration_kg == Approx(0.25 * cost));
+    CHECK(c.litter_kg == Approx(0.75 * cost));
+    CHECK(1.0 - pools.reserve_kg == Approx(c.maintenance_kg + cost));
+    CHECK(pools.wood_kg == p.wood_kg);
+}
+
+TEST_CASE("tissue turnover: the light compensation point is where production meets the costs, "
+          "lower for shade-tolerant species",
+          "[eco][growth]") {
+    // Net carbon of a day at light I: p_max LA f_L(I) - R - Q. Its root, found by bisection on
+    // carbon_day, equals the analytic one of I (1 + K) / (I + K) = (R + Q) / (p_max LA).
+    auto compensation = [](double k) {
+        Species s;
+        s.light_half_saturation = k;
+        s.leaf_mass_per_area_kg_per_m2 = 0.05;
+        Plant p;
+        p.dbh_m = 0.03;
+        allometry::apply(s, p);
+        const double cost = tissue_cost_kg_per_day(s, p.leaf_area_m2);
+        auto net = [&](double light) {
+            CarbonPools pools{1.0, 1.0, 0.0};
+            const auto c = carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools,
+                                      light_factor(k, light), 1.0, 1.0, 1.0, cost);
+            return c.production_kg - c.maintenance_kg - cost;
+        };
+        double lo = 0, hi = 1;
+        for (int i = 0; i < 60; ++i) (net(0.5 * (lo + hi)) > 0 ? hi : lo) = 0.5 * (lo + hi);
+        const double need = (s.respiration_kg_per_m2_leaf_per_m_per_yr / 365.0 * p.height_m +
+                             cost / p.leaf_area_m2) /
+                            s.max_production_kg_per_m2_leaf_per_day;
+        CHECK(lo == Approx(need * k / (1.0 + k - need)).epsilon(1e-9));
+        return lo;
+    };
+    const double tolerant = compensation(0.1), intolerant = compensation(1.0);
+    CHECK(tolerant > 0.0);
+    CHECK(tolerant < intolerant);
+}

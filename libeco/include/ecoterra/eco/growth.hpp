@@ -10,7 +10,19 @@
 //   pH       f_p = exp(-((pH - pH*)/tol)^2 / 2)
 //   texture  f_t = 1 in the desired USDA class, else exp(-(d/tol)^2 / 2), d = distance in
 //            percentage points (sand, silt, clay) from the cell's composition to the class centroid
-//   growth percentage  G = f_s f_w f_t f_p
+//   growth percentage  G = f_s f_w f_t f_p       (vegetation.growth = paper002, the default)
+//   or, with light_and_turnover (experimental), the light itself in place of the preference:
+//   light    f_L = I (1 + K) / (I + K)       I = 1 - s, the fraction of full sun on the crown;
+//            K = light_half_saturation. A rectangular hyperbola (Michaelis-Menten), normalised to 1
+//            in full sun, as SORTIE-ND's growth in light (Pacala et al. 1994, 1996): shade-tolerant
+//            species (low K) keep more of their production in shade, intolerant ones (high K)
+//            lose it, and with a higher p_max they outgrow the tolerant ones in the open.
+//   growth percentage  G = f_L f_w f_t f_p
+//   and leaves and fine roots turn over and are rebuilt (light_and_turnover; none in paper 002's):
+//   tissue  Q = LA LMA (1/L_leaf + r_fr k_fr) / (1 - g) / 365 a day, LMA = leaf mass per area,
+//           L_leaf = leaf life span (yr), r_fr = fine-root mass per leaf mass, k_fr = fine-root
+//           turnover (1/yr), g = kGrowthRespiration; paid before the reserve and wood, so a
+//           plant in shade has a light compensation point below which it loses carbon
 // Daily carbohydrate (kg CH2O) of a plant of leaf area LA (m2, in leaf) and height H (m):
 //   production   P = p_max LA G phen(doy) f_T(T)          f_T = clamp((T - T_b)/(T_o - T_b), 0, 1)
 //   maintenance  R = r_m / 365 LA H Q10^((T - 20)/10)     pipe model: sapwood ~ LA x H (Shinozaki
@@ -18,7 +30,7 @@
 //   with p_max = max_production_kg_per_m2_leaf_per_day, r_m =
 //   respiration_kg_per_m2_leaf_per_m_per_yr, T_b = temperature_base_c, T_o = temperature_optimum_c
 //   and T the day's mean air temperature (degC).
-//   A surplus P - R fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; of the
+//   A surplus P - R - Q fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; of the
 //   rest the share w(D) builds wood after growth respiration (the fraction kGrowthRespiration of
 //   it, Penning de Vries 1975) and 1 - w(D) is turned over (litter), with
 //   w(D) = clamp((D_max - D) / (0.1 D_max), 0, 1), D_max = max_stem_diameter_m (1 when 0): full
@@ -42,6 +54,17 @@ inline constexpr double kRespirationRefC = 20.0;   ///< reference temperature of
 using hydro::kDaysPerYear;
 
 double shade_factor(const Preference& p, double shade_fraction);
+/// The growth model (vegetation.growth): paper 002's (the default: the shade preference, no tissue
+/// turnover) or light_and_turnover (experimental: production saturating in light; leaves and fine
+/// roots rebuilt as they turn over; water demand in proportion to the crown's light).
+enum class GrowthModel { paper002, light_and_turnover };
+/// f_L(I) = I (1 + K) / (I + K), I clamped to [0, 1]: 0 in the dark, 1 in full sun.
+double light_factor(double half_saturation, double light);
+/// The factor the growth model chooses for a plant with this shade fraction.
+inline double light_or_shade_factor(const Species& s, GrowthModel r, double shade_fraction) {
+    return r == GrowthModel::paper002 ? shade_factor(s.shade, shade_fraction)
+                                      : light_factor(s.light_half_saturation, 1.0 - shade_fraction);
+}
 double water_factor(const Preference& p, double supply_fraction);
 double ph_factor(const Preference& p, double ph);
 double texture_factor(hydro::Texture desired, double tolerance_pct, double sand_pct,
@@ -61,6 +84,8 @@ double wood_allocation(const Species& s, double dbh_m);
 struct CarbonDay {
     double production_kg = 0, maintenance_kg = 0, growth_respiration_kg = 0;
     double to_reserve_kg = 0, to_wood_kg = 0, turnover_kg = 0;
+    double litter_kg = 0; ///< leaves and fine roots rebuilt today (their construction less growth
+                          ///< respiration), shed as litter
     bool starved = false;
 };
 
@@ -71,9 +96,14 @@ struct CarbonPools {
 /// One day of the carbohydrate balance of a plant of leaf area `leaf_area_m2` (in leaf), height
 /// `height_m` and diameter `dbh_m`, with the day's temperature responses precomputed (`f_temp` =
 /// f_T(T) of the species, `q10_factor` = Q10^((T - 20)/10)); updates `pools`.
+/// `tissue_kg` is the day's cost of rebuilding leaves and fine roots (tissue_cost_kg_per_day; 0
+/// in paper 002's model), paid before the reserve and wood.
 CarbonDay carbon_day(const Species& s, double leaf_area_m2, double height_m, double dbh_m,
                      CarbonPools& pools, double growth, double phen, double f_temp,
-                     double q10_factor);
+                     double q10_factor, double tissue_kg = 0);
+/// Carbohydrate a plant of this leaf area spends a day rebuilding the leaves and fine roots that
+/// turn over (vegetation.growth = light_and_turnover), growth respiration included, kg/day.
+double tissue_cost_kg_per_day(const Species& s, double leaf_area_m2);
 /// One day of the carbohydrate balance of plant `p` (its in-leaf leaf_area_m2 and height_m):
 /// `growth` is the growth percentage G, `phen` the leaf-on fraction phen(doy), `tmean_c` the
 /// day's mean air temperature. Updates the plant's reserve and wood.

@@ -59,9 +59,10 @@ struct SoilWater {
 
 // --- daily, coupled ----------------------------------------------------------------------------
 
-/// Each living plant's transpiration demand, m3 per day (`phen` per species, `et0_m` in m).
+/// Each living plant's transpiration demand, m3 per day (`phen` per species, `et0_m` in m); with
+/// light_and_turnover in proportion to the light on its crown (1 - shade fraction).
 void plant_water_demand(const Population& pop, const std::vector<Species>& species,
-                        const std::vector<double>& phen, double et0_m,
+                        const std::vector<double>& phen, double et0_m, GrowthModel model,
                         std::vector<double>& demand_m3);
 
 /// The ground layer's demand per hydrology cell (`demand_m3`) and what it asks of the soil
@@ -87,11 +88,12 @@ struct DayClimate {
 DayClimate day_climate(const std::vector<Species>& species, int doy, double tmean_c);
 
 /// The day's carbohydrate balance of every living plant (growth.hpp: carbon_day) with the growth
-/// percentage shade x water x soil factors; the year's growth-percentage sum; the water demand
-/// and supply sums; starvation (`alive` cleared, counted). Plants in parallel, sums in plant order.
+/// percentage light (or shade, by `model`) x water x soil factors and, by `model`, the tissue cost;
+/// the year's growth-percentage sum; the water demand and supply sums; starvation (`alive` cleared,
+/// counted). Plants in parallel, sums in plant order.
 void carbon_balance(Population& pop, const std::vector<Species>& species, const DayClimate& day,
                     const std::vector<double>& fraction, const std::vector<double>& demand_m3,
-                    PlantSums& sums);
+                    GrowthModel model, PlantSums& sums);
 
 /// The ground layer's state of each hydrology cell for a step: crown shade, relative water,
 /// ponding and, with `ratio` (coupled), the share of its demand supplied.

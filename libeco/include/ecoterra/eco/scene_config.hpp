@@ -3,6 +3,7 @@
 // "vegetation" block and extra "simulation" keys. docs/formats.md lists every key, its unit,
 // default and range; unknown keys are errors.
 #include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
 
@@ -31,6 +32,7 @@ struct EcoScene {
     EcosystemDef ecosystem;
     Competition competition = Competition::coupled;
     ShadingMode shading = ShadingMode::blocking;
+    GrowthModel growth = GrowthModel::paper002;
     double extinction = 0.5; ///< Beer-Lambert k
     LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -96,6 +97,14 @@ struct Species {
 
     // --- environment preferences (paper 002 s3: shade, water, soil type, pH) ---
     Preference shade{0.0, 0.5}; ///< shade fraction, 0..1 (more shade than desired hurts)
+    /// Light response (vegetation.growth = light_and_turnover, growth.hpp's light_factor): the
+    /// light, as a fraction of full sun, at which production is half its light-saturated rate.
+    double light_half_saturation = 0.3;
+    // Tissue turnover (vegetation.growth = light_and_turnover, growth.hpp's tissue cost).
+    double leaf_lifespan_yr = 1.0;              ///< default 2 evergreen, 1 deciduous
+    double leaf_mass_per_area_kg_per_m2 = 0.05; ///< default from leaf longevity (Reich 1997)
+    double fine_root_to_leaf_mass = 1.0;        ///< LPJ-GUESS ltor_max
+    double fine_root_turnover_per_yr = 0.7;     ///< LPJ-GUESS turnover_root
     Preference water{1.0, 0.3}; ///< fraction of the transpiration demand met (less hurts)
     Preference ph{6.5, 1.0};    ///< soil pH (two-sided)
     hydro::Texture texture = hydro::Texture::silt_loam; ///< desired USDA class
@@ -123,6 +132,13 @@ struct Species {
     /// Physiology keys that took their default (for the report).
     std::vector<std::string> defaulted;
 };
+
+/// Leaf mass per area (kg/m2) from leaf longevity (yr): Reich, Walters & Ellsworth 1997 (PNAS
+/// 94:13730, Fig 1f), SLA = exp(6.15) (12 L)^-0.46 cm2/g, as LPJ and LPJ-GUESS derive it.
+inline double leaf_mass_per_area_from_longevity(double longevity_yr) {
+    const double sla_cm2_per_g = std::exp(6.15 - 0.46 * std::log(12.0 * longevity_yr));
+    return 10.0 / sla_cm2_per_g; // 1 g/cm2 = 10 kg/m2
+}
 
 struct EcosystemDef {
     std::string name;

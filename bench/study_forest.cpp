@@ -29,13 +29,13 @@
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/json_util.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -248,6 +248,26 @@ Partition partition(const Table& yearly, int first, int last) {
     return p;
 }
 
+/// Each species' share of the basal area of the living trees (0 where there is none).
+std::vector<double> basal_area_shares(const eco::Ecosystem& e) {
+    const auto& pop = e.plants();
+    const auto& species = e.scene().ecosystem.species;
+    std::vector<double> dbh;
+    std::vector<int> of;
+    for (std::size_t k = 0; k < pop.size(); ++k)
+        if (pop.alive[k] && species[pop.species[k]].life_form == eco::LifeForm::tree) {
+            dbh.push_back(pop.dbh_m[k]);
+            of.push_back(pop.species[k]);
+        }
+    const auto by = eco::stand_metrics_by_species(
+        dbh, of, species.size(), e.plant_grid().width_m() * e.plant_grid().height_m());
+    double total = 0;
+    for (const auto& m : by) total += m.basal_area_m2_per_ha;
+    std::vector<double> share;
+    for (const auto& m : by) share.push_back(total > 0 ? m.basal_area_m2_per_ha / total : 0.0);
+    return share;
+}
+
 /// Stand dynamics of one run (part C's second table): the species' shares of basal area at
 /// fixed ages, the yearly mortality of trees >= 5 cm over the closed stand (the last 40 years) and
 /// the diameter increment of dominant (tallest quarter) against suppressed (shortest quarter)
@@ -288,28 +308,13 @@ struct Dynamics {
     void after_year(const eco::Ecosystem& e) {
         const int year = e.years_done();
         const auto& pop = e.plants();
-        const auto& sp = e.scene().ecosystem.species;
         std::unordered_set<std::int64_t> alive;
         for (std::size_t k = 0; k < pop.size(); ++k)
             if (pop.alive[k]) alive.insert(pop.id[k]);
         at_risk += static_cast<double>(risk.size());
         for (const auto id : risk) deaths += alive.count(id) ? 0 : 1;
-        if (std::find(kAges.begin(), kAges.end(), year) != kAges.end()) {
-            std::vector<double> dbh;
-            std::vector<int> of;
-            for (std::size_t k = 0; k < pop.size(); ++k)
-                if (pop.alive[k] && sp[pop.species[k]].life_form == eco::LifeForm::tree) {
-                    dbh.push_back(pop.dbh_m[k]);
-                    of.push_back(pop.species[k]);
-                }
-            const auto by = eco::stand_metrics_by_species(
-                dbh, of, sp.size(), e.plant_grid().width_m() * e.plant_grid().height_m());
-            double total = 0;
-            for (const auto& m : by) total += m.basal_area_m2_per_ha;
-            std::vector<double> f;
-            for (const auto& m : by) f.push_back(total > 0 ? m.basal_area_m2_per_ha / total : 0);
-            share.push_back(f);
-        }
+        if (std::find(kAges.begin(), kAges.end(), year) != kAges.end())
+            share.push_back(basal_area_shares(e));
         if (year == years) increments(pop);
     }
     void increments(const eco::Population& pop) {
@@ -359,14 +364,14 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
                 std::printf(" %13.0f%%", 100 * d.share[a][s]);
                 mean_share[a][s].add(d.share[a][s]);
             }
-            if (a + 1 == d.share.size())
+            if (a + 1 == d.share.size()) {
                 std::printf(" | %8.2f%% %7.2f %7.2f %7.2f %6.1f", 100 * d.mortality(), d.all_mm,
                             d.dominant_mm, d.suppressed_mm,
                             d.dominant_mm / std::max(d.suppressed_mm, 1e-3));
-            if (a + 1 == d.share.size())
                 for (int b = 0; b < 4; ++b)
                     std::printf(" s%d:%.0f/%.2f", b, d.by_shade_n[b],
                                 d.by_shade_mm[b] / std::max(d.by_shade_n[b], 1.0));
+            }
             std::printf("\n");
         }
         mort.add(d.mortality());
@@ -423,25 +428,11 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         dynamics.push_back(dyn);
         const Partition a = partition(e.yearly(), 1, std::min(10, years));
         const Partition b = partition(e.yearly(), late0, years);
-        // Basal area by species (trees).
-        const auto& pop = e.plants();
         const auto& species = sc.ecosystem.species;
-        std::vector<double> dbh;
-        std::vector<int> of;
-        for (std::size_t k = 0; k < pop.size(); ++k)
-            if (species[pop.species[k]].life_form == eco::LifeForm::tree) {
-                dbh.push_back(pop.dbh_m[k]);
-                of.push_back(pop.species[k]);
-            }
-        const auto by = eco::stand_metrics_by_species(
-            dbh, of, species.size(), e.plant_grid().width_m() * e.plant_grid().height_m());
-        double total = 0;
-        std::size_t best = 0;
-        for (std::size_t k = 0; k < by.size(); ++k) {
-            total += by[k].basal_area_m2_per_ha;
-            if (by[k].basal_area_m2_per_ha > by[best].basal_area_m2_per_ha) best = k;
-        }
-        const double share = total > 0 ? by[best].basal_area_m2_per_ha / total : 0.0;
+        const auto shares = basal_area_shares(e);
+        const auto best = static_cast<std::size_t>(std::max_element(shares.begin(), shares.end()) -
+                                                   shares.begin());
+        const double share = shares[best];
         const double stand_ba = e.stand().basal_area_m2_per_ha;
         char label[32];
         std::snprintf(label, sizeof label, "%d-%d", late0, years);
@@ -465,20 +456,6 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         seeds, late0, years, et.mean(), et.sd(), t_et.mean(), t_et.sd(), ip.mean(), ip.sd(), years,
         ba.mean(), ba.sd(), 100 * top.mean(), 100 * top.sd());
     print_dynamics(dynamics, years);
-}
-
-/// --set a.b.c=value: sets the scene key (the value as JSON, else as a string).
-void set_key(json& scene, const std::string& assignment) {
-    const auto eq = assignment.find('=');
-    if (eq == std::string::npos) throw std::runtime_error("--set needs key=value: " + assignment);
-    json* node = &scene;
-    std::string path = assignment.substr(0, eq);
-    for (auto dot = path.find('.'); dot != std::string::npos; dot = path.find('.')) {
-        node = &(*node)[path.substr(0, dot)];
-        path = path.substr(dot + 1);
-    }
-    const std::string value = assignment.substr(eq + 1);
-    (*node)[path] = json::accept(value) ? json::parse(value) : json(value);
 }
 
 } // namespace
@@ -510,8 +487,10 @@ int main(int argc, char** argv) {
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
     json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
+    std::vector<std::string> overrides;
     for (int i = 1; i + 1 < argc; ++i)
-        if (std::strcmp(argv[i], "--set") == 0) set_key(q, argv[++i]);
+        if (std::strcmp(argv[i], "--set") == 0) overrides.emplace_back(argv[++i]);
+    apply_overrides(q, overrides);
     if (central) central_result(q, data / "scenes", seeds);
     if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
     if (water) water_and_stand(q, data / "scenes", seeds, century, paper);

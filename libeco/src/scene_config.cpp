@@ -189,13 +189,12 @@ Methods scene_methods(const EcoScene& sc) {
         m.push_back({"growth suppression mortality", "LPJ-GUESS's greff_min (Smith, Prentice & "
                                                      "Sykes 2001)"});
         m.push_back({"seed production", "SORTIE-ND (Ribbens, Silander & Pacala 1994)"});
+        m.push_back({"growth", sc.growth == GrowthModel::light_and_turnover
+                                   ? "saturating in light (SORTIE-ND, Pacala et al. 1996); leaf "
+                                     "and fine-root turnover (LPJ-GUESS; leaf mass per area from "
+                                     "life span, Reich et al. 1997)"
+                                   : "shade preference, paper 002 s3"});
     }
-    if (sc.competition == Competition::coupled && sc.growth == GrowthModel::light_and_turnover)
-        m.push_back({"growth", "saturating in light (SORTIE-ND, Pacala et al. 1996); leaf and "
-                               "fine-root turnover (LPJ-GUESS; leaf mass per area from life span, "
-                               "Reich et al. 1997)"});
-    else if (sc.competition == Competition::coupled)
-        m.push_back({"growth", "shade preference, paper 002 s3"});
     if (sc.shading == ShadingMode::beer_lambert)
         m.push_back({"shading", "Beer-Lambert light extinction (Monsi & Saeki 1953)"});
     else

@@ -61,9 +61,10 @@ enum class GrowthModel { paper002, light_and_turnover };
 /// f_L(I) = I (1 + K) / (I + K), I clamped to [0, 1]: 0 in the dark, 1 in full sun.
 double light_factor(double half_saturation, double light);
 /// The factor the growth model chooses for a plant with this shade fraction.
-inline double light_or_shade_factor(const Species& s, GrowthModel r, double shade_fraction) {
-    return r == GrowthModel::paper002 ? shade_factor(s.shade, shade_fraction)
-                                      : light_factor(s.light_half_saturation, 1.0 - shade_fraction);
+inline double light_or_shade_factor(const Species& s, GrowthModel model, double shade_fraction) {
+    return model == GrowthModel::paper002
+               ? shade_factor(s.shade, shade_fraction)
+               : light_factor(s.light_half_saturation, 1.0 - shade_fraction);
 }
 double water_factor(const Preference& p, double supply_fraction);
 double ph_factor(const Preference& p, double ph);

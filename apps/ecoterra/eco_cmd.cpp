@@ -1,4 +1,4 @@
-// `ecoterra run`, `ecoterra stand`, `ecoterra export vegetation`.
+// `ecoterra run`, `ecoterra stand`, `ecoterra export vegetation` and `ecoterra export deadwood`.
 #include "common.hpp"
 #include "subcommands.hpp"
 
@@ -236,6 +236,19 @@ void run_export_vegetation(const ExportArgs& a) {
                 s.year, a.output.c_str());
 }
 
+void run_export_deadwood(const ExportArgs& a) {
+    refuse_output_over_input("-o", a.output, {a.run});
+    claim_output("-o", a.output, a.force);
+    const auto info = run::read_run_info(a.run);
+    const auto s = run::read_snapshot_deadwood(a.run, a.snapshot);
+    io::write_text_atomic(a.output, run::deadwood_csv(s.pieces, info.species));
+    const auto snags = std::count_if(s.pieces.begin(), s.pieces.end(),
+                                     [](const run::DeadWoodRecord& r) { return r.standing != 0; });
+    std::printf("wrote %td snags and %td logs of snapshot %d (year %d) to %s\n", snags,
+                static_cast<std::ptrdiff_t>(s.pieces.size()) - snags, s.index, s.year,
+                a.output.c_str());
+}
+
 } // namespace
 
 void add_eco_commands(CLI::App& app) {
@@ -288,6 +301,14 @@ void add_eco_commands(CLI::App& app) {
     veg->add_option("-o,--output", e->output, "CSV file")->required();
     add_force_flag(veg, e->force);
     veg->callback([e] { run_export_vegetation(*e); });
+    CLI::App* dead = exp->add_subcommand(
+        "deadwood", "one CSV row per snag or log (docs/formats.md, the dead-wood table)");
+    dead->add_option("run", e->run, "HDF5 run file")->required();
+    dead->add_option("--snapshot", e->snapshot, "snapshot index (negative: from the last)")
+        ->capture_default_str();
+    dead->add_option("-o,--output", e->output, "CSV file")->required();
+    add_force_flag(dead, e->force);
+    dead->callback([e] { run_export_deadwood(*e); });
     add_export_scene_commands(*exp);
 }
 

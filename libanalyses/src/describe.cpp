@@ -133,6 +133,10 @@ std::vector<Section> output_sections() {
     return {
         outputs("Output: snapshot plants", "One row per live plant.", "/snapshots/NNNN/plants/",
                 plant_columns()),
+        outputs("Output: snapshot dead wood",
+                "One row per snag or log (vegetation.deadwood; `ecoterra export deadwood` writes "
+                "the same columns as CSV, with species_name last).",
+                "/snapshots/NNNN/deadwood/", run::deadwood_columns()),
         outputs("Output: yearly series", "One row per simulated year.", "/series/yearly/",
                 yearly_columns()),
         outputs("Output: daily series", "One row per day; the water budget over the whole domain.",

@@ -24,6 +24,7 @@ constexpr double kMinRemainder = 1e-9;
 /// throughput (at least 1 kg of it) plus kCarbonStockRounding of the stock.
 constexpr double kCarbonTolerance = 1e-9;
 constexpr double kCarbonStockRounding = 1e-12;
+constexpr char kAge = static_cast<char>(DeathCause::age);
 
 /// The diameter at which H = kLightOnlyHeightFraction * Hmax, m.
 double light_only_d95_m(const Species& s) {
@@ -91,7 +92,7 @@ std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Specie
         pop.age_yr[k] += 1;
         if (s.life_form == LifeForm::object) { // no growth, no background death: removed at Max Age
             if (pop.age_yr[k] >= s.max_age_yr) {
-                dead[k] = 1;
+                dead[k] = kAge;
                 sums.deaths_age += 1;
             }
             continue;
@@ -101,13 +102,13 @@ std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Specie
                                  pop.growth_efficiency[k]);
         const double suppression = suppression_mortality(s, pop.growth_efficiency[k]);
         if (pop.age_yr[k] >= s.max_age_yr) {
-            dead[k] = 1;
+            dead[k] = kAge;
             sums.deaths_age += 1;
         } else if (u < s.background_mortality_per_yr) {
-            dead[k] = 1;
+            dead[k] = static_cast<char>(DeathCause::background);
             sums.deaths_background += 1;
         } else if (u < s.background_mortality_per_yr + suppression) {
-            dead[k] = 1;
+            dead[k] = static_cast<char>(DeathCause::suppression);
             sums.deaths_suppression += 1;
         }
     }
@@ -189,7 +190,7 @@ std::vector<char> light_only_growth(Population& pop, const std::vector<Species>&
         const Species& s = species[pop.species[k]];
         pop.age_yr[k] += 1;
         if (pop.age_yr[k] >= s.max_age_yr) {
-            dead[k] = 1;
+            dead[k] = kAge;
             sums.deaths_age += 1;
             continue;
         }
@@ -258,7 +259,7 @@ void overlap_thinning(const Population& pop, std::vector<char>& dead,
         const int cx = static_cast<int>((pop.x_m[k] - g.origin_x_m) / bucket);
         const int cy = static_cast<int>((pop.y_m[k] - g.origin_y_m) / bucket);
         if (overlaps_kept(k, cx, cy)) {
-            dead[k] = 1;
+            dead[k] = static_cast<char>(DeathCause::overlap);
             sums.deaths_overlap += 1;
         } else {
             kept[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
@@ -266,20 +267,21 @@ void overlap_thinning(const Population& pop, std::vector<char>& dead,
     }
 }
 
-CarbonStocks close_carbon_budget(const Population& pop, const PlantSums& sums, int year,
-                                 CarbonLedger& ledger) {
+CarbonStocks close_carbon_budget(const Population& pop, const PlantSums& sums,
+                                 const DeadWoodBudget& dw, int year, CarbonLedger& ledger) {
     CarbonStocks c;
     for (std::size_t k = 0; k < pop.size(); ++k)
         c.wood_kg += pop.wood_kg[k], c.reserve_kg += pop.reserve_kg[k];
-    const double stock = c.wood_kg + c.reserve_kg;
+    c.deadwood_kg = dw.stock_kg;
+    const double stock = c.wood_kg + c.reserve_kg + c.deadwood_kg;
     const double expected = ledger.stock_at_year_start_kg + sums.production - sums.maintenance -
                             sums.growth_resp + sums.recruit_carbon - sums.dead_carbon -
-                            sums.turnover;
+                            sums.turnover + dw.input_kg - dw.decay_kg;
     c.residual_kg = stock - expected;
     ledger.cumulative_residual_kg += c.residual_kg;
     ledger.cumulative_throughput_kg += sums.production + sums.maintenance + sums.growth_resp +
                                        sums.recruit_carbon + std::abs(sums.dead_carbon) +
-                                       sums.turnover;
+                                       sums.turnover + dw.input_kg + dw.decay_kg;
     if (std::abs(ledger.cumulative_residual_kg) >
         kCarbonTolerance * std::max(ledger.cumulative_throughput_kg, 1.0) +
             kCarbonStockRounding * stock)

@@ -27,8 +27,9 @@ constexpr std::uint32_t kSectionCanopy = 1; // the ground shade
 constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 // the hydrology's state and vegetation density (2: with the surface layer's depletion)
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
-constexpr std::uint32_t kSectionSeries = 1; // the daily and yearly series, by column name
-constexpr std::uint32_t kSectionBudget = 1; // the year's sums and the carbon ledger
+constexpr std::uint32_t kSectionSeries = 1;   // the daily and yearly series, by column name
+constexpr std::uint32_t kSectionBudget = 1;   // the year's sums and the carbon ledger
+constexpr std::uint32_t kSectionDeadWood = 1; // snags and logs (optional: none before it)
 
 /// The daily columns of the processes that came with hydrology state version 2 (interception,
 /// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".
@@ -41,6 +42,12 @@ void zero_surface_layer_era_columns(Table& daily) {
         if (!is_surface_layer_era_column(daily.names[c])) rows = daily.columns[c].size();
     for (std::size_t c = 0; c < daily.columns.size(); ++c)
         if (is_surface_layer_era_column(daily.names[c])) daily.columns[c].assign(rows, 0.0);
+}
+
+/// The yearly dead-wood columns (outputs.cpp), absent from format-6 checkpoints.
+bool is_dead_wood_column(const std::string& name) {
+    return name.starts_with("snag") || name.starts_with("log_") || name.starts_with("logs_") ||
+           name.starts_with("deadwood_");
 }
 
 /// The yearly water columns, each the sum of a daily budget column.
@@ -91,7 +98,8 @@ void yearly_water_from_daily(const Table& daily, Table& yearly, std::size_t firs
 
 Ecosystem::Ecosystem(const EcoScene& scene)
     : m_scene(scene), m_gen(scene.hydro.climate, scene.seed), m_rng_seed(scene.seed, "eco.seeding"),
-      m_rng_mort(scene.seed, "eco.mortality"), m_rng_arrival(scene.seed, "eco.arrival") {
+      m_rng_mort(scene.seed, "eco.mortality"), m_rng_arrival(scene.seed, "eco.arrival"),
+      m_dead(scene.deadwood, scene.seed) {
     const auto& hg = scene.hydro.dem.grid();
     CellMap& map = m_canopy.map;
     map.factor = static_cast<int>(std::lround(hg.cell_size_m / scene.plant_cell_m));
@@ -133,6 +141,7 @@ Seedbed Ecosystem::seedbed() const {
 }
 
 void Ecosystem::refresh_canopy() {
+    take_dead(nullptr);
     remove_dead(m_pop, m_sum);
     if (m_scene.competition == Competition::coupled)
         refresh_structure(m_pop, m_scene.ecosystem.species);
@@ -262,6 +271,7 @@ void Ecosystem::year_end_coupled() {
     std::vector<Plant> recruits =
         seed_dispersal(m_pop, dead, species, plant_grid(), bed, make, m_rng_seed, m_sum);
     background_arrivals(species, plant_grid(), bed, make, m_rng_arrival, recruits);
+    take_dead(&dead);
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
         m_pop.growth_sum[k] = m_pop.growth_days[k] = 0;
         if (dead[k]) m_pop.alive[k] = 0;
@@ -287,17 +297,27 @@ void Ecosystem::year_end_light_only() {
     std::vector<char> dead = light_only_growth(m_pop, species, m_sum);
     light_only_arrivals(m_pop, dead, species, plant_grid(), nursery(), m_rng_arrival, m_sum);
     overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
+    take_dead(&dead);
     for (char& d : dead) d = !d;
     m_pop.keep_if(dead);
     refresh_canopy();
 }
 
+void Ecosystem::take_dead(const std::vector<char>* causes) {
+    m_dead.take_dead(m_pop, m_scene.ecosystem.species, causes,
+                     m_scene.competition == Competition::light_only, m_years_done + 1);
+}
+
 void Ecosystem::year_end_common() {
     ++m_years_done;
+    m_dead.step_year(m_scene.ecosystem.species, m_scene.hydro.dem, m_years_done);
     m_hydro->set_vegetation_density(
         m_canopy.vegetation_density(m_ground, m_scene.hydro.dem.grid()));
-    record_year(close_carbon_budget(m_pop, m_sum, m_years_done, m_ledger));
+    const DeadWoodSums& d = m_dead.sums();
+    record_year(close_carbon_budget(m_pop, m_sum, {m_dead.stock_kg(), d.input_kg, d.decay_kg},
+                                    m_years_done, m_ledger));
     m_sum = PlantSums{};
+    m_dead.reset_sums();
 }
 
 void Ecosystem::record_year(const CarbonStocks& c) {
@@ -336,6 +356,22 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.ground_cover_fraction = u.ground_cover_fraction;
     row.ground_transpiration_demand_mm = m_sum.ground_demand_m3 * to_mm;
     row.ground_transpiration_supplied_mm = m_sum.ground_supplied_m3 * to_mm;
+    const DeadWoodMetrics dm =
+        deadwood_metrics(m_dead, m_scene.ecosystem.species, hg.width_m() * hg.height_m());
+    const DeadWoodSums& ds = m_dead.sums();
+    row.snags_per_ha = dm.snags_per_ha;
+    row.logs_per_ha = dm.logs_per_ha;
+    row.snag_volume_m3_per_ha = dm.snag_volume_m3_per_ha;
+    row.log_volume_m3_per_ha = dm.log_volume_m3_per_ha;
+    row.deadwood_volume_class1_m3_per_ha = dm.volume_by_class_m3_per_ha[0];
+    row.deadwood_volume_class2_m3_per_ha = dm.volume_by_class_m3_per_ha[1];
+    row.deadwood_volume_class3_m3_per_ha = dm.volume_by_class_m3_per_ha[2];
+    row.deadwood_volume_class4_m3_per_ha = dm.volume_by_class_m3_per_ha[3];
+    row.deadwood_volume_class5_m3_per_ha = dm.volume_by_class_m3_per_ha[4];
+    row.deadwood_stock_kg = c.deadwood_kg;
+    row.deadwood_input_kg = ds.input_kg;
+    row.deadwood_decay_kg = ds.decay_kg;
+    row.snags_fallen = ds.snags_fallen;
     m_yearly.push(row, yearly_columns());
     yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }
@@ -439,6 +475,7 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
         s.put(m_sum);
         s.put(m_ledger);
     });
+    w.section("deadwood", kSectionDeadWood, [&](ArchiveWriter& s) { m_dead.save(s); });
 }
 
 namespace {
@@ -530,6 +567,10 @@ void Ecosystem::load_sections(ArchiveReader& a) {
         m_sum = s.get<PlantSums>();
         m_ledger = s.get<CarbonLedger>();
     });
+    // Checkpoints from before dead wood have none: the trees that died then left nothing.
+    if (r.version("deadwood") != 0)
+        r.read("deadwood", kSectionDeadWood, kSectionDeadWood,
+               [&](ArchiveReader& s, std::uint32_t) { m_dead.load(s); });
     r.finish();
 }
 
@@ -558,11 +599,17 @@ void Ecosystem::load_version6(ArchiveReader& a) {
         if (!is_surface_layer_era_column(m_daily.names[c]))
             m_daily.columns[c] = a.get_vector<double>();
     zero_surface_layer_era_columns(m_daily);
-    // ... and the yearly water columns, summed from the daily series.
-    for (std::size_t c = 0; c < m_yearly.columns.size(); ++c)
-        if (std::none_of(kYearlyWater.begin(), kYearlyWater.end(),
-                         [&](const auto& w) { return m_yearly.names[c] == w.first; }))
+    // ... and the yearly water columns, summed from the daily series, and dead wood (there was
+    // none: its columns hold 0).
+    std::vector<std::size_t> dead_wood_columns;
+    for (std::size_t c = 0; c < m_yearly.columns.size(); ++c) {
+        if (is_dead_wood_column(m_yearly.names[c]))
+            dead_wood_columns.push_back(c);
+        else if (std::none_of(kYearlyWater.begin(), kYearlyWater.end(),
+                              [&](const auto& w) { return m_yearly.names[c] == w.first; }))
             m_yearly.columns[c] = a.get_vector<double>();
+    }
+    for (const std::size_t c : dead_wood_columns) m_yearly.columns[c].assign(m_yearly.rows(), 0.0);
     yearly_water_from_daily(m_daily, m_yearly, 0);
     m_sum = a.get<PlantSums>();
     m_ledger.stock_at_year_start_kg = a.get<double>();

@@ -46,7 +46,19 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
                    "of times")
              .with_note("min(1, terrain cell)"),
          integer<E>("canopy_interval_days", &E::canopy_interval_days, "day", 1, 365,
-                    "days between refreshes of structure, crowns and shading")});
+                    "days between refreshes of structure, crowns and shading"),
+         flag<E>(
+             "deadwood.enabled", +[](E& e) -> bool& { return e.deadwood.enabled; },
+             "trees that die become snags and logs (docs/ecosystem.md s8); false: they vanish"),
+         number<E>(
+             "deadwood.min_dbh_m", +[](E& e) -> double& { return e.deadwood.min_dbh_m; }, "m", 0,
+             10,
+             "smallest DBH of a dead tree kept as a snag or log (FIA's coarse woody debris: "
+             "7.62 cm)"),
+         number<E>(
+             "deadwood.removal_mass_fraction",
+             +[](E& e) -> double& { return e.deadwood.removal_mass_fraction; }, "1", 0, 0.99,
+             "a piece vanishes when less than this share of its mass is left (iLand: 0.05)")});
     return c;
 }
 

@@ -577,7 +577,15 @@ const ParamCatalog<Species>& physiology_catalog() {
                        &S::suppression_growth_efficiency_kg_per_m2_leaf_per_yr, "kg/(m2 yr)", 0, 10,
                        "growth efficiency below which a plant is suppressed"),
              number<S>("suppression.mortality_per_yr", &S::suppression_mortality_per_yr, "1/yr", 0,
-                       1, "yearly death probability of a fully suppressed plant")});
+                       1, "yearly death probability of a fully suppressed plant"),
+             number<S>("deadwood.decay_rate_per_yr", &S::deadwood_decay_rate_per_yr, "1/yr", 0, 2,
+                       "exponential mass loss of a log, k of m = m0 exp(-k t); hardwoods "
+                       "0.043-0.064, conifers 0.024-0.040 (Russell et al. 2014)"),
+             number<S>("deadwood.snag_decay_rate_per_yr", &S::snag_decay_rate_per_yr, "1/yr", 0, 2,
+                       "exponential mass loss of a standing snag (drier than a log, slower; "
+                       "Harmon et al. 2011); the default is iLand's ksw"),
+             number<S>("deadwood.snag_fall_multiplier", &S::snag_fall_multiplier, "1", 0.01, 100,
+                       "multiplies FVS-FFE's size-dependent snag fall rate (FALLX)")});
         return ParamCatalog<S>("physiology", std::move(v));
     }();
     return c;

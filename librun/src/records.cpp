@@ -1,5 +1,6 @@
 #include "ecoterra/run/records.hpp"
 
+#include <cmath>
 #include <sstream>
 
 namespace ecoterra::run {
@@ -95,6 +96,87 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
          [](const R& r, const N&) { return number_text(r.crown_radius_m); }},
     };
     return c;
+}
+
+DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
+    namespace dw = eco::deadwood;
+    DeadWoodRecord r;
+    const int cls = dw::decay_class(d.mass0_kg > 0 ? d.mass_kg / d.mass0_kg : 0.0);
+    r.id = d.id;
+    r.species = d.species;
+    r.standing = d.standing;
+    r.cause = d.cause;
+    r.decay_class = cls;
+    r.year_died = d.year_died;
+    r.year_down = d.year_down;
+    r.x_m = d.x_m;
+    r.y_m = d.y_m;
+    r.z_m = d.z_m;
+    r.dbh_m = d.dbh_m;
+    r.length_m = d.length_m;
+    r.azimuth_rad = d.standing ? 0.0 : d.azimuth_rad;
+    r.end_x_m = d.x_m + (d.standing ? 0.0 : d.length_m * std::cos(d.azimuth_rad));
+    r.end_y_m = d.y_m + (d.standing ? 0.0 : d.length_m * std::sin(d.azimuth_rad));
+    r.height_m = d.standing ? d.length_m : d.dbh_m * dw::log_collapse(cls);
+    r.mass_kg = d.mass_kg;
+    r.volume_m3 = dw::volume_m3(s, d);
+    return r;
+}
+
+const std::vector<Column<DeadWoodRecord>>& deadwood_columns() {
+    using R = DeadWoodRecord;
+    using T = ColumnType;
+    static const std::vector<Column<R>> c = {
+        column("id", &R::id, "1", "plant id of the tree that died", T::int64),
+        column("species", &R::species, "1", "index into /species of the run file", T::int32),
+        column("standing", &R::standing, "1", "1 a snag (standing), 0 a log (fallen)", T::int32),
+        column("cause", &R::cause, "1",
+               "cause of death: 1 starvation, 2 age, 3 background, 4 suppression, 5 overlap",
+               T::int32),
+        column("decay_class", &R::decay_class, "1",
+               "1 (sound) .. 5, from the share of the mass left (0.9, 0.7, 0.4, 0.2)", T::int32),
+        column("year_died", &R::year_died, "yr", "simulation year in which the tree died",
+               T::int32),
+        column("year_down", &R::year_down, "yr", "year the snag fell; -1 while standing", T::int32),
+        column("x_m", &R::x_m, "m", "stem base, east"),
+        column("y_m", &R::y_m, "m", "stem base, north"),
+        column("z_m", &R::z_m, "m", "ground elevation at the stem base"),
+        column("end_x_m", &R::end_x_m, "m", "a log's top end, east (a snag: its base)"),
+        column("end_y_m", &R::end_y_m, "m", "a log's top end, north (a snag: its base)"),
+        column("dbh_m", &R::dbh_m, "m",
+               "diameter at breast height at death; a log's diameter tapers linearly from 1.3 m "
+               "to 0 at the tree's height"),
+        column("length_m", &R::length_m, "m", "a snag's standing height, a log's length"),
+        column("azimuth_rad", &R::azimuth_rad, "rad",
+               "a log's direction from base to top, counterclockwise from east (a snag: 0)"),
+        column("height_m", &R::height_m, "m",
+               "height above the ground: a snag's top; a log's at its base (its diameter, less "
+               "as it collapses in decay classes 3-5)"),
+        column("mass_kg", &R::mass_kg, "kg", "dry mass left"),
+        column("volume_m3", &R::volume_m3, "m3",
+               "volume: mass over the decay class's density (Domke et al. 2011)"),
+    };
+    return c;
+}
+
+std::string deadwood_csv(const std::vector<DeadWoodRecord>& pieces,
+                         const std::vector<std::string>& species) {
+    const auto& cols = deadwood_columns();
+    std::string out;
+    for (std::size_t k = 0; k < cols.size(); ++k) out.append(k ? "," : "").append(cols[k].name);
+    out += ",species_name\n";
+    for (const auto& p : pieces) {
+        for (std::size_t k = 0; k < cols.size(); ++k) {
+            const double v = cols[k].get(p);
+            out.append(k ? "," : "")
+                .append(cols[k].type == ColumnType::float64
+                            ? number_text(v)
+                            : std::to_string(static_cast<long long>(v)));
+        }
+        const auto sp = static_cast<std::size_t>(p.species);
+        out.append(",").append(sp < species.size() ? species[sp] : std::to_string(sp)).append("\n");
+    }
+    return out;
 }
 
 std::string stem_csv(const std::vector<PlantRecord>& plants,

@@ -42,17 +42,13 @@ std::string snapshot_group(int index) {
     return name;
 }
 
-void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
-    io::Hdf5Writer h5(path);
-    const std::string g = snapshot_group(index);
-    const auto& w = eco.last_weather();
-    std::vector<PlantRecord> rows;
-    rows.reserve(eco.plants().size());
-    const auto& species = eco.scene().ecosystem.species;
-    for (const Plant& p : eco::rows(eco.plants()))
-        rows.push_back(plant_record(p, species[p.species]));
-    for (const auto& c : plant_columns()) {
-        const std::string dataset = g + "/plants/" + c.name;
+namespace {
+/// Writes `rows` as one dataset per column under `group`.
+template <class R>
+void write_records(io::Hdf5Writer& h5, const std::string& group, const std::vector<R>& rows,
+                   const std::vector<Column<R>>& columns) {
+    for (const auto& c : columns) {
+        const std::string dataset = group + "/" + c.name;
         auto write = [&]<class T>(T) {
             std::vector<T> v;
             v.reserve(rows.size());
@@ -66,6 +62,24 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
         else
             write(double{});
     }
+}
+} // namespace
+
+void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
+    io::Hdf5Writer h5(path);
+    const std::string g = snapshot_group(index);
+    const auto& w = eco.last_weather();
+    std::vector<PlantRecord> rows;
+    rows.reserve(eco.plants().size());
+    const auto& species = eco.scene().ecosystem.species;
+    for (const Plant& p : eco::rows(eco.plants()))
+        rows.push_back(plant_record(p, species[p.species]));
+    write_records(h5, g + "/plants", rows, plant_columns());
+    std::vector<DeadWoodRecord> dead;
+    dead.reserve(eco.dead_wood().pieces().size());
+    for (const auto& d : eco.dead_wood().pieces())
+        dead.push_back(deadwood_record(d, species[d.species]));
+    write_records(h5, g + "/deadwood", dead, deadwood_columns());
     const auto& hy = eco.hydrology();
     write_layers(h5, g, hydro::water_state_layers(), hy);
     h5.raster(g + "/shade_fraction", eco.ground_shade(), "1",

@@ -190,6 +190,52 @@ SnapshotPlants read_snapshot_plants(const fs::path& run, int index) {
     return s;
 }
 
+SnapshotDeadWood read_snapshot_deadwood(const fs::path& run, int index) {
+    const int k = resolve_snapshot_index(run, index);
+    SnapshotDeadWood s;
+    s.index = k;
+    open_snapshot(run, k, [&](const H5::Group& g) {
+        s.year = static_cast<int>(read_double_attr(g, "year"));
+        if (!H5Lexists(g.getId(), "deadwood", H5P_DEFAULT)) return;
+        const H5::Group p = g.openGroup("deadwood");
+        for (const auto& c : deadwood_columns()) {
+            auto read = [&]<class T>(const H5::PredType& type, T) {
+                const auto v = read_vector<T>(p, c.name, type);
+                if (&c == &deadwood_columns().front()) s.pieces.resize(v.size());
+                if (v.size() != s.pieces.size())
+                    throw InputError(run.string() + ": snapshot " + std::to_string(k) +
+                                     ": deadwood/" + c.name + " has " + std::to_string(v.size()) +
+                                     " rows, deadwood/id " + std::to_string(s.pieces.size()));
+                for (std::size_t r = 0; r < v.size(); ++r) {
+                    const double x = static_cast<double>(v[r]);
+                    if (!std::isfinite(x))
+                        throw InputError(run.string() + ": snapshot " + std::to_string(k) +
+                                         ": deadwood/" + c.name + " row " + std::to_string(r) +
+                                         " is not a finite number");
+                    c.set(s.pieces[r], x);
+                }
+            };
+            if (c.type == ColumnType::int64)
+                read(H5::PredType::NATIVE_INT64, std::int64_t{});
+            else if (c.type == ColumnType::int32)
+                read(H5::PredType::NATIVE_INT32, std::int32_t{});
+            else
+                read(H5::PredType::NATIVE_DOUBLE, double{});
+        }
+        for (const auto& r : s.pieces)
+            for (const auto& [column, v] : {std::pair{"dbh_m", r.dbh_m},
+                                            {"length_m", r.length_m},
+                                            {"height_m", r.height_m},
+                                            {"mass_kg", r.mass_kg},
+                                            {"volume_m3", r.volume_m3}})
+                if (v < 0)
+                    throw InputError(run.string() + ": snapshot " + std::to_string(k) +
+                                     ": dead wood of plant " + std::to_string(r.id) + ": " +
+                                     column + " = " + format_number(v) + " is negative");
+    });
+    return s;
+}
+
 UndergrowthMetrics read_snapshot_undergrowth(const fs::path& run, int index) {
     const RunInfo info = read_run_info(run);
     const SnapshotPlants s = read_snapshot_plants(run, index);

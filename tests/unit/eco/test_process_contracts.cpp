@@ -257,13 +257,21 @@ TEST_CASE("mortality: one draw per plant, deaths counted by one cause each",
         const auto dead = ageing_and_mortality(pop, w.species, rng, sums);
         for (std::size_t k = 0; k < pop.size(); ++k) twin.uniform();
         CHECK(rng.state() == twin.state());
-        const double flagged = static_cast<double>(std::count(dead.begin(), dead.end(), 1));
+        auto count = [&](DeathCause c) {
+            return static_cast<double>(std::count(dead.begin(), dead.end(), static_cast<char>(c)));
+        };
+        const double flagged =
+            static_cast<double>(dead.size() - static_cast<std::size_t>(count(DeathCause::none)));
         CHECK(flagged == sums.deaths_age + sums.deaths_background + sums.deaths_suppression);
+        CHECK(count(DeathCause::age) == sums.deaths_age);
+        CHECK(count(DeathCause::background) == sums.deaths_background);
+        CHECK(count(DeathCause::suppression) == sums.deaths_suppression);
         CHECK(dead[5] == 0);
         CHECK(pop.age_yr[5] == before.age_yr[5]);
         for (std::size_t k = 0; k < pop.size(); ++k) {
             if (k != 5) CHECK(pop.age_yr[k] == before.age_yr[k] + 1);
-            if (pop.age_yr[k] >= 50 && pop.alive[k]) CHECK(dead[k] == 1);
+            if (pop.age_yr[k] >= 50 && pop.alive[k])
+                CHECK(dead[k] == static_cast<char>(DeathCause::age));
         }
         // Removing the dead moves exactly their carbon into the dead carbon.
         for (std::size_t k = 0; k < pop.size(); ++k)
@@ -334,8 +342,12 @@ TEST_CASE("light-only: thinning leaves no two circles overlapping and counts wha
                 if (!dead[i] && !dead[k])
                     CHECK(std::hypot(pop.x_m[i] - pop.x_m[k], pop.y_m[i] - pop.y_m[k]) >=
                           radius(i) + radius(k));
-        CHECK(static_cast<double>(std::count(dead.begin(), dead.end(), 1)) ==
-              sums.deaths_age + sums.deaths_overlap);
+        CHECK(static_cast<double>(
+                  std::count(dead.begin(), dead.end(), static_cast<char>(DeathCause::overlap))) ==
+              sums.deaths_overlap);
+        CHECK(static_cast<double>(
+                  std::count(dead.begin(), dead.end(), static_cast<char>(DeathCause::age))) ==
+              sums.deaths_age);
         // An initial stem's age on the growth curve is the first whole year that reaches its
         // diameter.
         const Species& s = w.species[0];
@@ -355,11 +367,11 @@ TEST_CASE("carbon budget: closes on consistent sums and names the year when a ki
     carbon_balance(pop, w.species, day_climate(w.species, 200, 20.0),
                    std::vector<double>(pop.size(), 1.0), std::vector<double>(pop.size(), 0.0),
                    GrowthModel::light_and_turnover, sums);
-    const CarbonStocks c = close_carbon_budget(pop, sums, 1, ledger);
+    const CarbonStocks c = close_carbon_budget(pop, sums, DeadWoodBudget{}, 1, ledger);
     CHECK(std::abs(c.residual_kg) < 1e-9 * std::max(1.0, c.wood_kg));
     CHECK(ledger.stock_at_year_start_kg == Approx(c.wood_kg + c.reserve_kg));
     pop.wood_kg[0] += 1.0;
-    CHECK_THROWS_WITH(close_carbon_budget(pop, PlantSums{}, 2, ledger),
+    CHECK_THROWS_WITH(close_carbon_budget(pop, PlantSums{}, DeadWoodBudget{}, 2, ledger),
                       Catch::Contains("carbon budget broke in year 2"));
 }
 

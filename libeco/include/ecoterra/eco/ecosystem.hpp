@@ -9,10 +9,13 @@
 //   year end         coupled: ageing_and_mortality, seed_dispersal, background_arrivals, then the
 //                    dead removed, the recruits added and the canopy refreshed; light-only (Deussen
 //                    et al. 1998 / MAVS, docs/ecosystem.md s7): light_only_growth,
-//                    light_only_arrivals, overlap_thinning; both: the vegetation density for the
-//                    hydrology, close_carbon_budget, the yearly row
+//                    light_only_arrivals, overlap_thinning; both: the dead trees into dead wood
+//                    (deadwood.hpp; the starved also at each canopy refresh), the dead wood's
+//                    year, the vegetation density for the hydrology, close_carbon_budget, the
+//                    yearly row
 // The year ends on day 365, or on 31 December with observed weather.
 #include "ecoterra/archive.hpp"
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/ground_layer.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/outputs.hpp"
@@ -43,6 +46,8 @@ public:
     int days_done() const { return m_days_done; }
     const hydro::DayWeather& last_weather() const { return m_weather; }
     const Population& plants() const { return m_pop; }
+    /// Snags and logs (empty with vegetation.deadwood.enabled false).
+    const DeadWood& dead_wood() const { return m_dead; }
     const EcoScene& scene() const { return m_scene; }
     const hydro::HydrologyModel& hydrology() const { return *m_hydro; }
     const GridSpec& plant_grid() const { return m_canopy.plant_grid; }
@@ -80,6 +85,8 @@ private:
     hydro::DailyFluxes light_only_day(const hydro::DayWeather& w);
     /// The ground layer's day in coupled mode: its environment, water sums and growth.
     void ground_layer_day(const hydro::DayWeather& w, const DayClimate& day);
+    /// The trees that died (not alive, or with a cause in `causes`) into the dead wood.
+    void take_dead(const std::vector<char>* causes);
     /// Removes the dead, refreshes the structure (coupled) and the canopy.
     void refresh_canopy();
     void year_end_coupled();
@@ -106,6 +113,7 @@ private:
     hydro::DayWeather m_weather;
     Rng m_rng_seed, m_rng_mort, m_rng_arrival;
     Population m_pop;
+    DeadWood m_dead;
     std::int64_t m_next_id = 1;
     Canopy m_canopy;
     GroundLayer m_ground;

@@ -26,6 +26,12 @@ struct YearRow {
            transpiration_demand_mm = 0, transpiration_supplied_mm = 0, shrubs_per_ha = 0,
            ground_cover_fraction = 0, ground_transpiration_demand_mm = 0,
            ground_transpiration_supplied_mm = 0, turnover_kg = 0;
+    // Dead wood at year end, and the year's fluxes (deadwood.hpp).
+    double snags_per_ha = 0, logs_per_ha = 0, snag_volume_m3_per_ha = 0, log_volume_m3_per_ha = 0,
+           deadwood_volume_class1_m3_per_ha = 0, deadwood_volume_class2_m3_per_ha = 0,
+           deadwood_volume_class3_m3_per_ha = 0, deadwood_volume_class4_m3_per_ha = 0,
+           deadwood_volume_class5_m3_per_ha = 0, deadwood_stock_kg = 0, deadwood_input_kg = 0,
+           deadwood_decay_kg = 0, snags_fallen = 0;
     // The year's water budget: the daily series summed over the year's days, mm.
     double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
            runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0;

@@ -23,6 +23,7 @@
 //   light_only_growth, light_only_arrivals, overlap_thinning
 // Both modes: vegetation_density for the hydrology; close_carbon_budget.
 #include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/ground_layer.hpp"
 #include "ecoterra/eco/population.hpp"
 #include "ecoterra/eco/roots.hpp"
@@ -160,8 +161,8 @@ struct Seedbed {
 };
 
 /// Ageing, the growth-efficiency update and death by age, background and suppression (one draw of
-/// `rng` per plant, dead or alive); returns the plants that die (starved plants are not counted
-/// again).
+/// `rng` per plant, dead or alive); returns per plant its DeathCause (deadwood.hpp) as a char, 0
+/// for the living (starved plants are not counted again).
 std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Species>& species,
                                        Rng& rng, PlantSums& sums);
 
@@ -184,7 +185,8 @@ void remove_dead(Population& pop, PlantSums& sums);
 
 // --- light-only mode ---------------------------------------------------------------------------
 
-/// Ageing and growth on the light-only curve D(t) = D95 (1 - exp(-r t)); death at the maximum age.
+/// Ageing and growth on the light-only curve D(t) = D95 (1 - exp(-r t)); death at the maximum age
+/// (the returned causes as ageing_and_mortality's).
 std::vector<char> light_only_growth(Population& pop, const std::vector<Species>& species,
                                     PlantSums& sums);
 /// The light-only curve's diameter at `age_yr`, and the age an initial stem of `dbh_m` gets.
@@ -196,7 +198,7 @@ void light_only_arrivals(Population& pop, std::vector<char>& dead,
                          const std::vector<Species>& species, const GridSpec& grid,
                          const Nursery& nursery, Rng& rng, PlantSums& sums);
 
-/// From the largest circle down, a plant overlapping a kept larger one dies.
+/// From the largest circle down, a plant overlapping a kept larger one dies (cause overlap).
 void overlap_thinning(const Population& pop, std::vector<char>& dead,
                       const std::vector<Species>& species, const GridSpec& grid,
                       LightOnlyRadius rule, PlantSums& sums);
@@ -216,11 +218,17 @@ struct CarbonLedger {
     double cumulative_residual_kg = 0, cumulative_throughput_kg = 0;
 };
 struct CarbonStocks {
-    double wood_kg = 0, reserve_kg = 0, residual_kg = 0;
+    double wood_kg = 0, reserve_kg = 0, deadwood_kg = 0, residual_kg = 0;
 };
-/// The year's carbon budget: stock = last stock + production - respiration + recruits - dead -
-/// turnover; throws Error naming `year` when the cumulative residual exceeds its tolerance.
-CarbonStocks close_carbon_budget(const Population& pop, const PlantSums& sums, int year,
-                                 CarbonLedger& ledger);
+/// The dead wood's part of the budget (deadwood.hpp): its stock at year end and the year's input
+/// (the stems of trees that died) and decay, kg.
+struct DeadWoodBudget {
+    double stock_kg = 0, input_kg = 0, decay_kg = 0;
+};
+/// The year's carbon budget of the plants and their dead wood: stock = last stock + production -
+/// respiration + recruits - dead + dead wood's input - its decay - turnover; throws Error naming
+/// `year` when the cumulative residual exceeds its tolerance.
+CarbonStocks close_carbon_budget(const Population& pop, const PlantSums& sums,
+                                 const DeadWoodBudget& dead_wood, int year, CarbonLedger& ledger);
 
 } // namespace ecoterra::eco

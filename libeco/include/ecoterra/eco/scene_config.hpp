@@ -3,6 +3,7 @@
 // "vegetation" block and extra "simulation" keys. docs/formats.md lists every key, its unit,
 // default and range; unknown keys are errors.
 #include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
@@ -33,6 +34,7 @@ struct EcoScene {
     Competition competition = Competition::coupled;
     ShadingMode shading = ShadingMode::blocking;
     GrowthModel growth = GrowthModel::paper002;
+    DeadWoodOptions deadwood;
     double extinction = 0.5; ///< Beer-Lambert k
     LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell

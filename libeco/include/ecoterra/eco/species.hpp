@@ -128,6 +128,11 @@ struct Species {
     /// suppression_mortality_per_yr * (1 - efficiency / threshold) per year.
     double suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.15;
     double suppression_mortality_per_yr = 0.3;
+    // Dead wood (deadwood.hpp): exponential mass loss of logs and of snags, per year, and FVS-FFE's
+    // snag fall-rate multiplier (FALLX).
+    double deadwood_decay_rate_per_yr = 0.045;
+    double snag_decay_rate_per_yr = 0.015;
+    double snag_fall_multiplier = 1.0;
 
     /// Physiology keys that took their default (for the report).
     std::vector<std::string> defaulted;

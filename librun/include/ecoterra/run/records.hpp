@@ -5,7 +5,10 @@
 //
 //   /snapshots/NNNN/plants/*   plant_columns(), one row per live plant (PlantRecord)
 //   stem CSV                   stem_csv_columns() (`ecoterra export vegetation`)
+//   /snapshots/NNNN/deadwood/* deadwood_columns(), one row per snag or log (DeadWoodRecord)
+//   dead-wood CSV              the same columns, species by name (`ecoterra export deadwood`)
 #include "ecoterra/catalog.hpp"
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/eco/species.hpp"
 
@@ -41,5 +44,19 @@ const std::vector<StemCsvColumn>& stem_csv_columns();
 /// The stem CSV of a snapshot's plants (header line, then one row per plant).
 std::string stem_csv(const std::vector<PlantRecord>& plants,
                      const std::vector<std::string>& species);
+
+/// What a snapshot stores of one snag or log (eco::DeadStem with its derived geometry).
+struct DeadWoodRecord {
+    std::int64_t id = 0; ///< the tree's plant id
+    std::int32_t species = 0, standing = 0, cause = 0, decay_class = 0, year_died = 0,
+                 year_down = -1;
+    double x_m = 0, y_m = 0, z_m = 0, end_x_m = 0, end_y_m = 0, dbh_m = 0, length_m = 0,
+           azimuth_rad = 0, height_m = 0, mass_kg = 0, volume_m3 = 0;
+};
+DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s);
+const std::vector<Column<DeadWoodRecord>>& deadwood_columns();
+/// The dead-wood CSV: deadwood_columns() with the species by name (header line, then a row each).
+std::string deadwood_csv(const std::vector<DeadWoodRecord>& pieces,
+                         const std::vector<std::string>& species);
 
 } // namespace ecoterra::run

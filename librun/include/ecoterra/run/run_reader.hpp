@@ -32,6 +32,13 @@ struct SnapshotPlants {
 /// Reads the plants of snapshot `index` (negative: counted from the last, -1 = last).
 SnapshotPlants read_snapshot_plants(const std::filesystem::path& run, int index);
 
+/// The snags and logs of a snapshot (runs before dead wood, or with it off: none).
+struct SnapshotDeadWood {
+    int index = 0, year = 0;
+    std::vector<DeadWoodRecord> pieces; ///< columns: deadwood_columns()
+};
+SnapshotDeadWood read_snapshot_deadwood(const std::filesystem::path& run, int index);
+
 /// Shrubs, objects and the ground layer of snapshot `index` (runs before life forms: none).
 eco::UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& run, int index);
 

@@ -1,0 +1,141 @@
+#pragma once
+// Dead wood as individuals (docs/ecosystem.md s8). A tree of at least min_dbh_m that dies becomes
+// a snag, which falls in a year drawn at its death (FVS-FFE's size-dependent fall rate: the
+// standing share of a cohort falls linearly, as FFE's does) and then lies as a log along its fall
+// direction (downhill on a slope, any direction on the flat). Snags and logs lose mass
+// exponentially at their species' rates (standing wood more slowly), pass through the five decay
+// classes by the share of mass left (iLand's thresholds), and vanish when 5 % is left. A snag loses
+// its top with its class (Domke et al. 2011's structural loss); a log sinks toward the ground
+// (class 4 oval, class 5 mostly buried). Geometry is derived from the mass: the mass is the state.
+//
+// The pieces are kept in the order they died; every random draw comes from the dead-wood stream,
+// so the living stand is the same with dead wood on or off.
+#include "ecoterra/archive.hpp"
+#include "ecoterra/eco/population.hpp"
+#include "ecoterra/eco/species.hpp"
+#include "ecoterra/random.hpp"
+#include "ecoterra/raster.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace ecoterra::eco {
+
+/// Why a plant died (0: it did not). The yearly deaths_* columns count the same causes.
+enum class DeathCause : std::uint8_t {
+    none = 0,
+    starvation,
+    age,
+    background,
+    suppression,
+    overlap,
+};
+const char* death_cause_name(DeathCause c);
+
+/// Scene keys vegetation.deadwood.* (scene_config.cpp lists them with their sources).
+struct DeadWoodOptions {
+    bool enabled = true;
+    double min_dbh_m = 0.0762;           ///< FIA's coarse woody debris: >= 3 in at the small end
+    double removal_mass_fraction = 0.05; ///< iLand: a piece goes when < 5 % of its mass is left
+};
+
+/// One snag or log. No padding: the checkpoint stores the rows as bytes.
+struct DeadStem {
+    double x_m = 0, y_m = 0, z_m = 0; ///< the stem's base
+    double dbh_m = 0;                 ///< at death
+    double tree_height_m = 0;         ///< at death
+    double length_m = 0;    ///< a snag's standing height, a log's length (the snag's at its fall)
+    double azimuth_rad = 0; ///< a log: direction base -> top, counterclockwise from east
+    double mass0_kg = 0;    ///< stem dry mass at death
+    double mass_kg = 0;     ///< dry mass left
+    std::int64_t id = 0;    ///< the tree's plant id
+    std::int32_t year_died = 0, year_falls = 0, year_down = -1; ///< -1: standing
+    std::uint16_t species = 0;
+    std::uint8_t cause = 0;    ///< DeathCause
+    std::uint8_t standing = 1; ///< 1 snag, 0 log
+};
+static_assert(sizeof(DeadStem) == 9 * 8 + 8 + 3 * 4 + 2 + 1 + 1, "DeadStem has padding");
+
+/// The year's dead-wood fluxes, kg dry mass (the carbon budget's terms), and its events.
+struct DeadWoodSums {
+    double input_kg = 0, decay_kg = 0;
+    double new_snags = 0, snags_fallen = 0, pieces_gone = 0;
+};
+
+namespace deadwood {
+/// Decay class 1 (sound) .. 5 from the share of the mass left: iLand's thresholds 0.9, 0.7, 0.4,
+/// 0.2 (deadtree.cpp, decayClassThresholds).
+int decay_class(double mass_fraction);
+/// Share of a snag's top (the stem above a 10.16 cm (4 in) diameter) still standing in a class:
+/// 1, 0.5, 0.2, 0.1, 0 (Domke et al. 2011, Carbon Balance Manage. 6:14, Table 2).
+double top_retained(int decay_class);
+/// A log's height above the ground over its diameter in a class: round to class 3, oval in 4,
+/// mostly buried in 5 (the five-class descriptions; the figures are ours).
+double log_collapse(int decay_class);
+/// The stem's diameter at distance `s_m` from its base: the DBH up to 1.3 m, then a linear taper
+/// to 0 at the tree's height.
+double stem_diameter_m(double dbh_m, double tree_height_m, double s_m);
+/// A snag's standing height in a class: its top (above the 10.16 cm diameter) lost with the class.
+double snag_height_m(double dbh_m, double tree_height_m, int decay_class);
+/// Years over which a cohort of snags of this diameter all fall (FVS-FFE, NI variant:
+/// 1 / max(0.01, 0.064311 - 0.001679 D_in), divided by the species' multiplier).
+double snag_fall_span_yr(const Species& s, double dbh_m);
+/// Density of dead wood over sound wood in a decay class: 0.93, 0.79, 0.57, 0.52, 0.52 (Domke et
+/// al. 2011, Table 2: the mean of quaking aspen's and Douglas-fir's reduction factors).
+double density_reduction(int decay_class);
+/// Volume of a piece, m3, as an inventory would find it from its mass: V = m / (rho DRF(class)),
+/// at most the stem volume at death m0 / rho.
+double volume_m3(const Species& s, const DeadStem& d);
+/// Direction a stem falls, radians counterclockwise from east: toward the downhill azimuth
+/// (+-45 degrees) with probability min(1, slope / 0.3), else any direction. Two draws of `rng`.
+double fall_azimuth_rad(const RasterD& dem, double x_m, double y_m, Rng& rng);
+} // namespace deadwood
+
+/// The dead wood of a stand and its yearly dynamics.
+class DeadWood {
+public:
+    DeadWood(const DeadWoodOptions& options, std::uint64_t seed);
+
+    const DeadWoodOptions& options() const { return m_opt; }
+    const std::vector<DeadStem>& pieces() const { return m_pieces; }
+    const DeadWoodSums& sums() const { return m_sums; }
+    void reset_sums() { m_sums = DeadWoodSums{}; }
+    /// Dry mass of all pieces, kg.
+    double stock_kg() const;
+
+    /// Takes the trees that died (alive 0, or `causes[k]` non-zero) into dead wood in `year` (the
+    /// year being simulated, 1-based). The stem mass is the wood (coupled) or the allometric stem
+    /// mass (light-only, `allometric_mass`). Plants below min_dbh_m, shrubs and objects are not
+    /// taken. Each is a snag; its fall year is drawn now (one draw of the dead-wood stream).
+    void take_dead(const Population& pop, const std::vector<Species>& species,
+                   const std::vector<char>* causes, bool allometric_mass, int year);
+    /// One year of the pieces that died before `year`: decay, snags that fall, pieces that go.
+    void step_year(const std::vector<Species>& species, const RasterD& dem, int year);
+
+    /// The checkpoint section: the stream, the pieces and the year's sums.
+    void save(ArchiveWriter& a) const;
+    void load(ArchiveReader& a);
+
+private:
+    void add(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
+             double mass_kg, int year);
+    void fall(DeadStem& d, const RasterD& dem, int year);
+
+    DeadWoodOptions m_opt;
+    Rng m_rng;
+    std::vector<DeadStem> m_pieces;
+    DeadWoodSums m_sums;
+};
+
+/// The dead wood of one moment summed for the yearly series (per hectare of `area_m2`).
+struct DeadWoodMetrics {
+    double snags_per_ha = 0, logs_per_ha = 0;
+    double snag_volume_m3_per_ha = 0, log_volume_m3_per_ha = 0;
+    std::array<double, 5> volume_by_class_m3_per_ha{};
+    double stock_kg = 0;
+};
+DeadWoodMetrics deadwood_metrics(const DeadWood& dw, const std::vector<Species>& species,
+                                 double area_m2);
+
+} // namespace ecoterra::eco

@@ -1,0 +1,248 @@
+// Dead wood as individuals: snags, their fall, logs, decay classes (deadwood.hpp).
+#include "ecoterra/eco/deadwood.hpp"
+
+#include "ecoterra/eco/plant.hpp"
+#include "ecoterra/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace ecoterra::eco {
+
+namespace {
+constexpr double kBreastHeightM = 1.3;
+/// The top of a snag starts where the stem's diameter is 4 in (FIA's merchantable top; Domke et
+/// al. 2011 apply the top's structural loss to the stem above it).
+constexpr double kTopDiameterM = 0.1016;
+constexpr double kMetresPerInch = 0.0254;
+// FVS-FFE's base snag fall rate, NI variant (fmsfall.f): fraction of the original snags falling
+// per year, 0.064311 - 0.001679 D_in, at least 0.01 (Marcot's rates, Cline et al. 1980).
+constexpr double kFallRateIntercept = 0.064311;
+constexpr double kFallRatePerInch = 0.001679;
+constexpr double kFallRateMin = 0.01;
+/// The slope at which every stem falls downhill (our choice; below it the share falls with the
+/// slope), rise over run; and the spread of a downhill fall, +-45 degrees.
+constexpr double kSlopeAllDownhill = 0.3;
+constexpr double kDownhillSpreadRad = 0.5 * std::numbers::pi;
+constexpr std::array<double, 4> kClassThresholds = {0.9, 0.7, 0.4, 0.2};
+constexpr std::array<double, 5> kTopRetained = {1.0, 0.5, 0.2, 0.1, 0.0};
+constexpr std::array<double, 5> kLogCollapse = {1.0, 1.0, 0.9, 0.6, 0.3};
+constexpr std::array<double, 5> kDensityReduction = {0.93, 0.79, 0.57, 0.52, 0.52};
+constexpr std::uint32_t kStateVersion = 1;
+
+bool enters_dead_wood(const Species& s) {
+    return s.life_form == LifeForm::tree;
+}
+
+/// Elevation at (x, y) with the point clamped onto the grid.
+double elevation(const RasterD& dem, double x, double y) {
+    const GridSpec& g = dem.grid();
+    const double h = 0.5 * g.cell_size_m;
+    x = std::clamp(x, g.origin_x_m + h, g.origin_x_m + g.width_m() - h);
+    y = std::clamp(y, g.origin_y_m + h, g.origin_y_m + g.height_m() - h);
+    return dem.sample_bilinear(x, y);
+}
+} // namespace
+
+const char* death_cause_name(DeathCause c) {
+    switch (c) {
+    case DeathCause::none:
+        return "none";
+    case DeathCause::starvation:
+        return "starvation";
+    case DeathCause::age:
+        return "age";
+    case DeathCause::background:
+        return "background";
+    case DeathCause::suppression:
+        return "suppression";
+    case DeathCause::overlap:
+        return "overlap";
+    }
+    return "unknown";
+}
+
+namespace deadwood {
+
+int decay_class(double f) {
+    int c = 1;
+    for (const double t : kClassThresholds) {
+        if (f > t) return c;
+        ++c;
+    }
+    return c;
+}
+
+double top_retained(int c) {
+    return kTopRetained[static_cast<std::size_t>(std::clamp(c, 1, 5) - 1)];
+}
+
+double log_collapse(int c) {
+    return kLogCollapse[static_cast<std::size_t>(std::clamp(c, 1, 5) - 1)];
+}
+
+double stem_diameter_m(double dbh, double h, double s) {
+    if (s <= kBreastHeightM || h <= kBreastHeightM) return s <= h ? dbh : 0.0;
+    return dbh * std::max(0.0, (h - s) / (h - kBreastHeightM));
+}
+
+double snag_height_m(double dbh, double h, int c) {
+    // Where the taper reaches the top diameter (the whole stem above breast height is top when the
+    // DBH is below it).
+    double z4 = kBreastHeightM;
+    if (dbh > kTopDiameterM && h > kBreastHeightM)
+        z4 = h - kTopDiameterM / dbh * (h - kBreastHeightM);
+    z4 = std::min(z4, h);
+    return z4 + top_retained(c) * (h - z4);
+}
+
+double snag_fall_span_yr(const Species& s, double dbh_m) {
+    const double rate =
+        std::max(kFallRateMin, kFallRateIntercept - kFallRatePerInch * dbh_m / kMetresPerInch);
+    return 1.0 / (rate * s.snag_fall_multiplier);
+}
+
+double density_reduction(int c) {
+    return kDensityReduction[static_cast<std::size_t>(std::clamp(c, 1, 5) - 1)];
+}
+
+double volume_m3(const Species& s, const DeadStem& d) {
+    if (!(d.mass0_kg > 0)) return 0.0;
+    const double f = d.mass_kg / d.mass0_kg;
+    return d.mass0_kg / s.wood_density_kg_per_m3 *
+           std::min(1.0, f / density_reduction(decay_class(f)));
+}
+
+double fall_azimuth_rad(const RasterD& dem, double x, double y, Rng& rng) {
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const double h = dem.grid().cell_size_m;
+    const double gx = (elevation(dem, x + h, y) - elevation(dem, x - h, y)) / (2 * h);
+    const double gy = (elevation(dem, x, y + h) - elevation(dem, x, y - h)) / (2 * h);
+    const double slope = std::hypot(gx, gy);
+    const double two_pi = 2.0 * std::numbers::pi;
+    if (slope > 0 && u1 < std::min(1.0, slope / kSlopeAllDownhill)) {
+        const double a = std::atan2(-gy, -gx) + (u2 - 0.5) * kDownhillSpreadRad;
+        return a - two_pi * std::floor(a / two_pi);
+    }
+    return two_pi * u2;
+}
+
+} // namespace deadwood
+
+DeadWood::DeadWood(const DeadWoodOptions& options, std::uint64_t seed)
+    : m_opt(options), m_rng(seed, "eco.deadwood") {}
+
+double DeadWood::stock_kg() const {
+    double m = 0;
+    for (const auto& d : m_pieces) m += d.mass_kg;
+    return m;
+}
+
+void DeadWood::take_dead(const Population& pop, const std::vector<Species>& species,
+                         const std::vector<char>* causes, bool allometric_mass, int year) {
+    if (!m_opt.enabled) return;
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const char c = causes ? (*causes)[k] : 0;
+        if (pop.alive[k] && !c) continue;
+        const Species& s = species[pop.species[k]];
+        if (!enters_dead_wood(s) || pop.dbh_m[k] < m_opt.min_dbh_m) continue;
+        const double mass =
+            allometric_mass ? allometry::stem_mass_kg(s, pop.dbh_m[k]) : pop.wood_kg[k];
+        if (!(mass > 0)) continue;
+        add(s, pop, k, c ? static_cast<DeathCause>(c) : DeathCause::starvation, mass, year);
+    }
+}
+
+void DeadWood::add(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
+                   double mass_kg, int year) {
+    DeadStem d;
+    d.x_m = pop.x_m[k];
+    d.y_m = pop.y_m[k];
+    d.z_m = pop.z_m[k];
+    d.dbh_m = pop.dbh_m[k];
+    d.tree_height_m = pop.height_m[k];
+    d.length_m = d.tree_height_m;
+    d.mass0_kg = d.mass_kg = mass_kg;
+    d.id = pop.id[k];
+    d.species = pop.species[k];
+    d.cause = static_cast<std::uint8_t>(cause);
+    d.year_died = year;
+    // Each snag's fall year uniform over the span's years after its death: the cohort's standing
+    // share falls by 1/span a year, linearly, as FFE's.
+    d.year_falls = year + 1 +
+                   static_cast<std::int32_t>(
+                       std::floor(m_rng.uniform() * deadwood::snag_fall_span_yr(s, d.dbh_m)));
+    m_sums.input_kg += mass_kg;
+    m_sums.new_snags += 1;
+    m_pieces.push_back(d);
+}
+
+void DeadWood::fall(DeadStem& d, const RasterD& dem, int year) {
+    d.standing = 0;
+    d.year_down = year;
+    d.azimuth_rad = deadwood::fall_azimuth_rad(dem, d.x_m, d.y_m, m_rng);
+    m_sums.snags_fallen += 1;
+}
+
+void DeadWood::step_year(const std::vector<Species>& species, const RasterD& dem, int year) {
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < m_pieces.size(); ++k) {
+        DeadStem d = m_pieces[k];
+        if (d.year_died < year) {
+            const Species& s = species[d.species];
+            const double rate =
+                d.standing ? s.snag_decay_rate_per_yr : s.deadwood_decay_rate_per_yr;
+            const double left = d.mass_kg * std::exp(-rate);
+            m_sums.decay_kg += d.mass_kg - left;
+            d.mass_kg = left;
+            if (d.standing) {
+                d.length_m = deadwood::snag_height_m(d.dbh_m, d.tree_height_m,
+                                                     deadwood::decay_class(left / d.mass0_kg));
+                if (year >= d.year_falls) fall(d, dem, year);
+            }
+            if (d.mass_kg < m_opt.removal_mass_fraction * d.mass0_kg) {
+                m_sums.decay_kg += d.mass_kg; // the rest decays in its last year
+                m_sums.pieces_gone += 1;
+                continue;
+            }
+        }
+        m_pieces[out++] = d;
+    }
+    m_pieces.resize(out);
+}
+
+void DeadWood::save(ArchiveWriter& a) const {
+    a.put(kStateVersion);
+    a.put(m_rng.state());
+    a.put_vector(m_pieces);
+    a.put(m_sums);
+}
+
+void DeadWood::load(ArchiveReader& a) {
+    const auto v = a.get<std::uint32_t>();
+    if (v != kStateVersion)
+        throw CheckpointError("checkpoint section 'deadwood' has state version " +
+                              std::to_string(v) + ", this ecoterra reads version " +
+                              std::to_string(kStateVersion));
+    m_rng.set_state(a.get<std::array<std::uint64_t, 4>>());
+    m_pieces = a.get_vector<DeadStem>();
+    m_sums = a.get<DeadWoodSums>();
+}
+
+DeadWoodMetrics deadwood_metrics(const DeadWood& dw, const std::vector<Species>& species,
+                                 double area_m2) {
+    DeadWoodMetrics m;
+    const double per_ha = 1e4 / area_m2;
+    for (const auto& d : dw.pieces()) {
+        const double v = deadwood::volume_m3(species[d.species], d) * per_ha;
+        (d.standing ? m.snags_per_ha : m.logs_per_ha) += per_ha;
+        (d.standing ? m.snag_volume_m3_per_ha : m.log_volume_m3_per_ha) += v;
+        m.volume_by_class_m3_per_ha[static_cast<std::size_t>(
+            deadwood::decay_class(d.mass_kg / d.mass0_kg) - 1)] += v;
+        m.stock_kg += d.mass_kg;
+    }
+    return m;
+}
+
+} // namespace ecoterra::eco

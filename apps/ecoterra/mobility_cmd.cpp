@@ -26,8 +26,8 @@ using nlohmann::json;
 
 struct MobilityArgs {
     // Defaults of the mobility analysis's catalogue (analyses.hpp), as an ensemble's.
-    std::string run, stems, dem, vehicle, json_out, layout = "random", pictures;
-    bool no_pictures = false, force = false;
+    std::string run, stems, deadwood, dem, vehicle, json_out, layout = "random", pictures;
+    bool no_pictures = false, force = false, no_deadwood = false;
     int snapshot = -1, lines = analyses::MobilityAnalysis{}.lines;
     long long seed = 1;
     double length_m = analyses::MobilityAnalysis{}.length_m;
@@ -43,14 +43,51 @@ std::filesystem::path picture_dir(const std::string& given, bool none,
     return p.parent_path() / (p.stem().string() + ".pictures");
 }
 
+/// The stand to drive through: a run's snapshot (with its dead wood unless --no-deadwood), or a
+/// stem list (and a dead-wood list) over a DEM.
+struct StandInput {
+    std::vector<mobility::StandStem> stems; ///< snags included
+    mobility::StandDeadWood dead;
+    RasterD dem;
+    json source;
+};
+
+StandInput read_stand_input(const MobilityArgs& a) {
+    StandInput in;
+    auto& [stems, dead, dem, source] = in;
+    if (!a.run.empty()) {
+        const auto s = run::read_snapshot_plants(a.run, a.snapshot);
+        stems = run::stand_stems(s.plants);
+        if (!a.no_deadwood)
+            dead = run::stand_deadwood(run::read_snapshot_deadwood(a.run, s.index).pieces);
+        dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
+        source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
+    } else {
+        stems = mobility::read_stem_csv(a.stems);
+        if (!a.deadwood.empty()) dead = mobility::read_deadwood_csv(a.deadwood);
+        std::vector<std::string> warnings;
+        dem = terrain::io::read_raster(a.dem, &warnings);
+        print_warnings(warnings);
+        source = {{"stems", a.stems}, {"dem", a.dem}};
+        if (!a.deadwood.empty()) source["deadwood"] = a.deadwood;
+    }
+    source["deadwood_included"] = a.run.empty() ? !a.deadwood.empty() : !a.no_deadwood;
+    stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+    return in;
+}
+
 void run_mobility(const MobilityArgs& a) {
     if (a.run.empty() == a.stems.empty())
         throw InputError("mobility: give a run file, or --stems FILE.csv with --dem");
     if (!a.stems.empty() && a.dem.empty())
         throw InputError("mobility: --stems needs --dem (the terrain the stems stand on)");
+    if (!a.deadwood.empty() && a.stems.empty())
+        throw InputError("mobility: --deadwood goes with --stems (a run brings its own dead wood)");
+    if (!a.deadwood.empty() && a.no_deadwood)
+        throw InputError("mobility: --deadwood and --no-deadwood contradict each other");
     if (!a.json_out.empty()) {
         std::vector<std::string> inputs{a.vehicle};
-        for (const auto& p : {a.run, a.stems, a.dem})
+        for (const auto& p : {a.run, a.stems, a.deadwood, a.dem})
             if (!p.empty()) inputs.push_back(p);
         refuse_output_over_input("--json", a.json_out, inputs);
         claim_output("--json", a.json_out, a.force);
@@ -67,28 +104,21 @@ void run_mobility(const MobilityArgs& a) {
         opt.layout = mobility::LineLayout::transects;
     else if (a.layout != "random")
         throw InputError("--layout must be random or transects, got '" + a.layout + "'");
-    std::vector<mobility::StandStem> stems;
-    RasterD dem;
-    json source;
-    if (!a.run.empty()) {
-        const auto s = run::read_snapshot_plants(a.run, a.snapshot);
-        stems = run::stand_stems(s.plants);
-        dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
-        source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
-    } else {
-        stems = mobility::read_stem_csv(a.stems);
-        std::vector<std::string> warnings;
-        dem = terrain::io::read_raster(a.dem, &warnings);
-        print_warnings(warnings);
-        source = {{"stems", a.stems}, {"dem", a.dem}};
-    }
+    StandInput in = read_stand_input(a);
+    auto& stems = in.stems;
+    const auto& dead = in.dead;
+    const RasterD& dem = in.dem;
+    json& source = in.source;
     Stopwatch sw;
-    const auto m = with_context(a.run.empty() ? a.stems : a.run,
-                                [&] { return mobility::analyse_stand(v, stems, dem, opt); });
+    const auto m = with_context(a.run.empty() ? a.stems : a.run, [&] {
+        return mobility::analyse_stand(v, stems, dem, opt, dead.logs);
+    });
     const double seconds = sw.seconds();
     std::string others;
     if (m.shrubs > 0) others += ", " + std::to_string(m.shrubs) + " shrubs";
     if (m.objects > 0) others += ", " + std::to_string(m.objects) + " objects";
+    if (m.snags > 0) others += ", " + std::to_string(m.snags) + " snags";
+    if (m.logs > 0) others += ", " + std::to_string(m.logs) + " logs";
     std::printf("%s through %lld trees%s on %.4g ha: basal area %.2f m2/ha (%.1f ft2/acre); "
                 "critical diameter %.2f cm\n",
                 v.name.c_str(), static_cast<long long>(m.trees), others.c_str(), m.area_ha,
@@ -99,6 +129,10 @@ void run_mobility(const MobilityArgs& a) {
                 opt.lines, opt.length_m, m.smg_mean_m_per_s, m.smg_median_m_per_s,
                 m.smg_p10_m_per_s, m.smg_p90_m_per_s, 100 * m.nogo_fraction,
                 100 * m.override_fraction, 100 * m.detour_fraction);
+    if (m.logs > 0)
+        std::printf("logs: %.2f climbed per 100 m (step limit %.2f m), %.2f too high across each "
+                    "line\n",
+                    m.log_crossings_per_100m, m.step_limit_m, m.logs_avoided_per_line);
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
         json j = analyses::mobility_json(m, v);
@@ -214,6 +248,10 @@ void add_mobility_command(CLI::App& app) {
     m->add_option("--stems", a->stems,
                   "stem list CSV (x_m, y_m, dbh_cm or dbh_m, optional height_m, life_form with "
                   "stem_diameter_cm) instead of a run");
+    m->add_option("--deadwood", a->deadwood,
+                  "dead-wood list CSV (`ecoterra export deadwood`) with --stems: snags and logs");
+    m->add_flag("--no-deadwood", a->no_deadwood,
+                "leave out the run's dead wood (the living stand only)");
     m->add_option("--dem", a->dem, "terrain raster under the stem list");
     m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json)")->required();
     m->add_option("--lines", a->lines, "number of straight lines")->capture_default_str();

@@ -130,6 +130,21 @@ const std::vector<Column<mobility::StandMobility>>& mobility_metrics() {
         metric<M>(
             "objects", "1", "rigid obstacles (always avoided)",
             [](const M& m) { return static_cast<double>(m.objects); }, ColumnType::int64),
+        metric<M>(
+            "snags", "1", "standing dead trees (overridden or avoided as trees of their DBH)",
+            [](const M& m) { return static_cast<double>(m.snags); }, ColumnType::int64),
+        metric<M>(
+            "logs", "1", "logs on the ground",
+            [](const M& m) { return static_cast<double>(m.logs); }, ColumnType::int64),
+        metric<M>("step_limit_m", "m",
+                  "the highest log the vehicle climbs: min(ground clearance, wheel radius)",
+                  [](const M& m) { return m.step_limit_m; }),
+        metric<M>("log_crossings_per_100m", "1/100m",
+                  "logs climbed per 100 m driven on the lines that go",
+                  [](const M& m) { return m.log_crossings_per_100m; }),
+        metric<M>("logs_avoided_per_line", "1",
+                  "logs too high to climb that lie across a line, mean over the lines",
+                  [](const M& m) { return m.logs_avoided_per_line; }),
         metric<M>("area_ha", "ha", "area of the stand", [](const M& m) { return m.area_ha; }),
         metric<M>("critical_diameter_m", "m",
                   "the largest stem diameter the vehicle can override at its push height",
@@ -281,7 +296,10 @@ const ParamCatalog<MobilityAnalysis>& mobility_catalog() {
                    std::vector<std::pair<std::string, mobility::LineLayout>>{
                        {"random", mobility::LineLayout::random},
                        {"transects", mobility::LineLayout::transects}},
-                   "random lines, or parallel transects across the stand")});
+                   "random lines, or parallel transects across the stand"),
+         flag<M>("deadwood", &M::deadwood,
+                 "drive through the run's snags and over or around its logs (false: the living "
+                 "stand only)")});
     return c;
 }
 

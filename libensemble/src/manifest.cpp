@@ -274,7 +274,8 @@ void read_base(const json& d, const json* base_copy, Manifest& m) {
         throw InputError("base." + kind_name + " must be a file name or an object, got " +
                          base.dump());
     }
-    if (m.kind == BaseKind::mobility) require_known_keys(m.base, {"stems", "dem"}, "base.mobility");
+    if (m.kind == BaseKind::mobility)
+        require_known_keys(m.base, {"stems", "dem", "deadwood"}, "base.mobility");
 }
 
 /// The axes: each a known key, given once, with at least one value.

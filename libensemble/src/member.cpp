@@ -81,12 +81,17 @@ void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
         {"class_width_cm", s.class_width_cm}, {"stems_per_ha", per_ha}, {"area_ha", s.area_ha}};
 }
 
-void analyse_mobility(const Manifest& m, const json& a,
-                      const std::vector<mobility::StandStem>& stems, const RasterD& dem,
-                      const fs::path& stage, Metrics& out) {
+/// `dead` is read when analyses.mobility.deadwood is true (read_dead).
+template <class ReadDead>
+void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::StandStem> stems,
+                      ReadDead&& read_dead, const RasterD& dem, const fs::path& stage,
+                      Metrics& out) {
     const auto opt = analyses::mobility_catalog().read(a, {});
     const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
-    const auto r = mobility::analyse_stand(v, stems, dem, opt.lines_options());
+    mobility::StandDeadWood dead;
+    if (opt.deadwood) dead = read_dead();
+    stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+    const auto r = mobility::analyse_stand(v, stems, dem, opt.lines_options(), dead.logs);
     json j = analyses::mobility_json(r, v);
     j["seed"] = opt.seed;
     io::write_text_atomic(stage / "mobility.json", j.dump(1) + "\n");
@@ -159,10 +164,14 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         RasterD dem;
         if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
             dem = terrain::io::read_hdf5(opt.output, terrain::io::kRunTerrainDataset);
-        if (an.contains("mobility")) {
-            const auto s = run::read_snapshot_plants(opt.output, -1);
-            analyse_mobility(m, an["mobility"], run::stand_stems(s.plants), dem, stage, metrics);
-        }
+        if (an.contains("mobility"))
+            analyse_mobility(
+                m, an["mobility"],
+                run::stand_stems(run::read_snapshot_plants(opt.output, -1).plants),
+                [&] {
+                    return run::stand_deadwood(run::read_snapshot_deadwood(opt.output, -1).pieces);
+                },
+                dem, stage, metrics);
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
         if (an.contains("export"))
@@ -187,10 +196,16 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
     } else {
         const fs::path stems_file = m.base_dir / get_string(mb.scene, "stems", "", "base.mobility");
         const fs::path dem_file = m.base_dir / get_string(mb.scene, "dem", "", "base.mobility");
-        const auto stems = mobility::read_stem_csv(stems_file);
+        const std::string dead_file = get_string(mb.scene, "deadwood", "", "base.mobility");
         const RasterD dem = terrain::io::read_raster(dem_file);
         if (an.contains("mobility"))
-            analyse_mobility(m, an["mobility"], stems, dem, stage, metrics);
+            analyse_mobility(
+                m, an["mobility"], mobility::read_stem_csv(stems_file),
+                [&] {
+                    return dead_file.empty() ? mobility::StandDeadWood{}
+                                             : mobility::read_deadwood_csv(m.base_dir / dead_file);
+                },
+                dem, stage, metrics);
     }
 }
 

@@ -43,6 +43,41 @@ double distance(Point p, Point q) {
     return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
 }
 
+/// Distance from p to the segment a-b.
+double point_segment_distance(Point p, Point a, Point b) {
+    const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m, l2 = dx * dx + dy * dy;
+    const double t =
+        l2 > 0 ? std::clamp(((p.x_m - a.x_m) * dx + (p.y_m - a.y_m) * dy) / l2, 0.0, 1.0) : 0.0;
+    return std::hypot(a.x_m + t * dx - p.x_m, a.y_m + t * dy - p.y_m);
+}
+
+/// Distance between the segments p0-p1 and q0-q1 (0 when they cross).
+double segment_distance(Point p0, Point p1, Point q0, Point q1) {
+    auto cross = [](Point o, Point a, Point b) {
+        return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
+    };
+    const double d1 = cross(q0, q1, p0), d2 = cross(q0, q1, p1);
+    const double d3 = cross(p0, p1, q0), d4 = cross(p0, p1, q1);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+        return 0.0;
+    return std::min({point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1),
+                     point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)});
+}
+
+/// The part [u0, u1] of a log (0 at end a, 1 at end b) whose top is above `limit`; u0 > u1 when
+/// none is.
+std::pair<double, double> high_part(const Log& l, double limit) {
+    const bool ha = l.height_a_m > limit, hb = l.height_b_m > limit;
+    if (ha && hb) return {0.0, 1.0};
+    if (!ha && !hb) return {1.0, 0.0};
+    const double u = (limit - l.height_a_m) / (l.height_b_m - l.height_a_m);
+    return ha ? std::pair{0.0, u} : std::pair{u, 1.0};
+}
+
+Point along(const Log& l, double u) {
+    return {l.a.x_m + u * (l.b.x_m - l.a.x_m), l.a.y_m + u * (l.b.y_m - l.a.y_m)};
+}
+
 /// True when the segment p-q crosses no blocked cell (sampled at a quarter cell).
 bool line_of_sight(const Grid& g, Point p, Point q) {
     const double len = distance(p, q);
@@ -146,6 +181,47 @@ double profile_time_s(const std::vector<double>& len, std::vector<double> u, dou
     return t;
 }
 
+double step_limit_m(const Vehicle& v) {
+    return std::min(v.ground_clearance_m, v.wheel_radius_m);
+}
+
+double step_crossing_speed_m_per_s(const Vehicle& v, double h_m) {
+    return std::sqrt(kGravity_m_per_s2 * std::max(v.wheel_radius_m - h_m, 0.0));
+}
+
+LogIndex::LogIndex(std::vector<Log> logs, double bucket_m)
+    : m_logs(std::move(logs)), m_size(bucket_m) {
+    if (!(bucket_m > 0)) throw InputError("log index: bucket size must be > 0 m");
+    if (m_logs.empty()) return;
+    double x1 = -std::numeric_limits<double>::infinity(), y1 = x1;
+    m_x0 = m_y0 = std::numeric_limits<double>::infinity();
+    for (const auto& l : m_logs) {
+        for (const double v :
+             {l.a.x_m, l.a.y_m, l.b.x_m, l.b.y_m, l.height_a_m, l.height_b_m, l.diameter_m})
+            if (!std::isfinite(v))
+                throw InputError("log index: a log from (" + format_number(l.a.x_m) + ", " +
+                                 format_number(l.a.y_m) + ") has a non-finite value");
+        if (l.height_a_m < 0 || l.height_b_m < 0 || l.diameter_m < 0)
+            throw InputError("log index: a log from (" + format_number(l.a.x_m) + ", " +
+                             format_number(l.a.y_m) + ") has a negative height or diameter");
+        m_box.push_back({std::min(l.a.x_m, l.b.x_m), std::min(l.a.y_m, l.b.y_m),
+                         std::max(l.a.x_m, l.b.x_m), std::max(l.a.y_m, l.b.y_m)});
+        m_x0 = std::min(m_x0, m_box.back()[0]), m_y0 = std::min(m_y0, m_box.back()[1]);
+        x1 = std::max(x1, m_box.back()[2]), y1 = std::max(y1, m_box.back()[3]);
+        m_max_d = std::max(m_max_d, l.diameter_m);
+    }
+    m_nx = bucket(x1, m_x0) + 1;
+    m_ny = bucket(y1, m_y0) + 1;
+    m_buckets.resize(static_cast<std::size_t>(m_nx) * m_ny);
+    for (std::size_t k = 0; k < m_logs.size(); ++k) {
+        const auto& bb = m_box[k];
+        for (int j = bucket(bb[1], m_y0); j <= bucket(bb[3], m_y0); ++j)
+            for (int i = bucket(bb[0], m_x0); i <= bucket(bb[2], m_x0); ++i)
+                m_buckets[static_cast<std::size_t>(j) * m_nx + i].push_back(
+                    static_cast<std::int64_t>(k));
+    }
+}
+
 StemIndex::StemIndex(std::vector<Stem> stems, double bucket_m)
     : m_stems(std::move(stems)), m_size(bucket_m) {
     if (!(bucket_m > 0)) throw InputError("stem index: bucket size must be > 0 m");
@@ -176,11 +252,11 @@ namespace {
 /// cluster proves too heavy to push) and the steps of a round.
 class LineDrive {
 public:
-    LineDrive(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a, Point b,
-              const SmgOptions& opt)
-        : m_v(v), m_index(index), m_stems(index.stems()), m_dem(dem), m_a(a), m_b(b), m_opt(opt),
-          m_w(v.width_m), m_d_crit(critical_diameter_m(v.weight_n(), v.push_height_m)),
-          m_reach(0.5 * (index.max_diameter_m() + v.width_m)) {}
+    LineDrive(const Vehicle& v, const StemIndex& index, const LogIndex& logs, const RasterD* dem,
+              Point a, Point b, const SmgOptions& opt)
+        : m_v(v), m_index(index), m_stems(index.stems()), m_logs(logs), m_dem(dem), m_a(a), m_b(b),
+          m_opt(opt), m_w(v.width_m), m_d_crit(critical_diameter_m(v.weight_n(), v.push_height_m)),
+          m_reach(0.5 * (index.max_diameter_m() + v.width_m)), m_step(step_limit_m(v)) {}
 
     LineResult run();
 
@@ -202,6 +278,20 @@ private:
     void make_grid(double straight_m);
     /// Marks the cells an avoided stem's disk, inflated by half the vehicle's width, covers.
     void block_avoided_stems();
+    /// The part of log k to drive around ([0, 1] once a drive has met its high part).
+    std::pair<double, double> log_high_part(std::int64_t k) const {
+        if (std::binary_search(m_high_logs.begin(), m_high_logs.end(), k)) return {0.0, 1.0};
+        return high_part(m_logs.logs()[static_cast<std::size_t>(k)], m_step);
+    }
+    /// Marks the cells within half the vehicle's width and a planning cell of the logs' parts
+    /// above the step limit.
+    void block_high_logs();
+    /// The logs under the cell from c0 along (ux, uy): the highest top met, -1 for none; false
+    /// when a log's part above the step limit is met (it is avoided from the next plan on).
+    bool logs_in_cell(Point c0, double len, double ux, double uy, double& top_m);
+    /// Logs above the step limit whose footprint, inflated by half the vehicle's width, meets
+    /// the straight line.
+    std::int64_t count_avoided_logs() const;
     /// Drives `path` cell by cell; sets `m_replan` when a cluster is too heavy to push.
     void drive_path(const std::vector<Point>& path, LineResult& out);
     /// One cell of length `len` from c0 along (ux, uy); false when the drive stops there.
@@ -212,16 +302,21 @@ private:
     const Vehicle& m_v;
     const StemIndex& m_index;
     const std::vector<Stem>& m_stems;
+    const LogIndex& m_logs;
     const RasterD* m_dem;
     Point m_a, m_b;
     const SmgOptions& m_opt;
-    double m_w, m_d_crit, m_reach;     ///< width; critical diameter; the farthest a stem blocks
-    std::vector<std::int64_t> m_heavy; ///< stems of clusters found too heavy (sorted)
+    double m_w, m_d_crit, m_reach;         ///< width; critical diameter; the farthest a stem blocks
+    double m_step;                         ///< the highest log the vehicle climbs
+    std::vector<std::int64_t> m_heavy;     ///< stems of clusters found too heavy (sorted)
+    std::vector<std::int64_t> m_high_logs; ///< logs met above the step limit (sorted)
     Grid m_g;
     // A round's drive: the stems pushed and those of the current cell; the cells' lengths and the
     // speed limits at their boundaries.
-    std::vector<std::int64_t> m_pushed, m_here;
+    std::vector<std::int64_t> m_pushed, m_here, m_crossed;
     std::vector<double> m_cell_len, m_node_cap;
+    /// After a log, the distance still to drive at `m_slow_cap` (until the rear axle is over it).
+    double m_slow_left = 0, m_slow_cap = 0;
     bool m_replan = false;
 };
 
@@ -284,6 +379,70 @@ void LineDrive::block_avoided_stems() {
                             });
 }
 
+void LineDrive::block_high_logs() {
+    Grid& g = m_g;
+    const double reach = 0.5 * (m_logs.max_diameter_m() + m_w) + g.r;
+    m_logs.for_each_in_box(
+        g.x0 - reach, g.y0 - reach, g.x0 + g.nx * g.r + reach, g.y0 + g.ny * g.r + reach,
+        [&](std::int64_t k) {
+            const auto [u0, u1] = log_high_part(k);
+            if (u0 > u1) return;
+            const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
+            const Point p = along(l, u0), q = along(l, u1);
+            const double rad = 0.5 * (l.diameter_m + m_w) + g.r;
+            for (int j = std::max(0, g.row(std::min(p.y_m, q.y_m) - rad));
+                 j <= std::min(g.ny - 1, g.row(std::max(p.y_m, q.y_m) + rad)); ++j)
+                for (int i = std::max(0, g.col(std::min(p.x_m, q.x_m) - rad));
+                     i <= std::min(g.nx - 1, g.col(std::max(p.x_m, q.x_m) + rad)); ++i) {
+                    const auto c = static_cast<std::int64_t>(j) * g.nx + i;
+                    if (point_segment_distance(g.centre(c), p, q) <= rad)
+                        g.blocked[static_cast<std::size_t>(c)] = 1;
+                }
+        });
+}
+
+bool LineDrive::logs_in_cell(Point c0, double len, double ux, double uy, double& top_m) {
+    top_m = -1;
+    bool ok = true;
+    const double half = 0.5 * m_w;
+    const Point c1{c0.x_m + len * ux, c0.y_m + len * uy};
+    m_logs.for_each_in_box(
+        std::min(c0.x_m, c1.x_m) - half, std::min(c0.y_m, c1.y_m) - half,
+        std::max(c0.x_m, c1.x_m) + half, std::max(c0.y_m, c1.y_m) + half, [&](std::int64_t k) {
+            const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
+            // The log's axis in the cell's frame (t along, s across), clipped to the footprint
+            // 0 <= t <= len, |s| <= w / 2 (Liang-Barsky).
+            auto t_of = [&](Point p) { return (p.x_m - c0.x_m) * ux + (p.y_m - c0.y_m) * uy; };
+            auto s_of = [&](Point p) { return -(p.x_m - c0.x_m) * uy + (p.y_m - c0.y_m) * ux; };
+            const double t0 = t_of(l.a), dt = t_of(l.b) - t0;
+            const double s0 = s_of(l.a), ds = s_of(l.b) - s0;
+            double lo = 0, hi = 1;
+            auto clip = [&](double p, double q) { // keeps p u <= q
+                if (p == 0) return q >= 0;
+                const double r = q / p;
+                if (p < 0)
+                    lo = std::max(lo, r);
+                else
+                    hi = std::min(hi, r);
+                return lo <= hi;
+            };
+            if (!(clip(-dt, t0) && clip(dt, len - t0) && clip(-ds, s0 + half) &&
+                  clip(ds, half - s0)))
+                return;
+            const auto [u0, u1] = log_high_part(k);
+            if (u0 <= u1 && lo <= u1 && hi >= u0) {
+                ok = false;
+                m_high_logs.push_back(k);
+                return;
+            }
+            const double dh = l.height_b_m - l.height_a_m;
+            top_m = std::max({top_m, l.height_a_m + lo * dh, l.height_a_m + hi * dh});
+            m_crossed.push_back(k);
+        });
+    if (!ok) std::sort(m_high_logs.begin(), m_high_logs.end());
+    return ok;
+}
+
 bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResult& out) {
     const Vehicle& v = m_v;
     const double w = m_w;
@@ -337,8 +496,24 @@ bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResul
         }
         return false;
     }
-    m_node_cap.back() = std::min(m_node_cap.back(), speed);
-    m_node_cap.push_back(speed);
+    double top = -1;
+    if (!logs_in_cell(c0, len, ux, uy, top)) {
+        m_replan = true; // the high part of a log: go around it
+        return false;
+    }
+    double cap = speed;
+    if (top >= 0) { // slow from the front axle's log until the rear axle is over it
+        const double vc = step_crossing_speed_m_per_s(v, top);
+        m_slow_cap = m_slow_left > 0 ? std::min(m_slow_cap, vc) : vc;
+        m_slow_left = len + v.wheelbase_m;
+        m_node_cap.back() = std::min(m_node_cap.back(), vc);
+    }
+    if (m_slow_left > 0) {
+        cap = std::min(cap, m_slow_cap);
+        m_slow_left -= len;
+    }
+    m_node_cap.back() = std::min(m_node_cap.back(), cap);
+    m_node_cap.push_back(cap);
     m_cell_len.push_back(len);
     out.path_m += len;
     if (force > 0) out.override_m += len;
@@ -352,6 +527,8 @@ void LineDrive::drive_path(const std::vector<Point>& path, LineResult& out) {
     // with R the largest arc that fits half the shorter leg (at least the vehicle's tightest
     // turn).
     m_pushed.clear();
+    m_crossed.clear();
+    m_slow_left = 0;
     m_cell_len.clear();
     m_node_cap.assign(1, std::numeric_limits<double>::infinity());
     m_replan = false;
@@ -399,6 +576,21 @@ std::int64_t LineDrive::count_avoided(double straight_m) const {
     return n;
 }
 
+std::int64_t LineDrive::count_avoided_logs() const {
+    const Point a = m_a, b = m_b;
+    const double reach = 0.5 * (m_logs.max_diameter_m() + m_w);
+    std::int64_t n = 0;
+    m_logs.for_each_in_box(
+        std::min(a.x_m, b.x_m) - reach, std::min(a.y_m, b.y_m) - reach,
+        std::max(a.x_m, b.x_m) + reach, std::max(a.y_m, b.y_m) + reach, [&](std::int64_t k) {
+            const auto [u0, u1] = log_high_part(k);
+            if (u0 > u1) return;
+            const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
+            n += segment_distance(a, b, along(l, u0), along(l, u1)) <= 0.5 * (l.diameter_m + m_w);
+        });
+    return n;
+}
+
 LineResult LineDrive::run() {
     LineResult out;
     const double straight = distance(m_a, m_b);
@@ -409,16 +601,20 @@ LineResult LineDrive::run() {
         out = LineResult{};
         out.straight_m = straight;
         block_avoided_stems();
+        block_high_logs();
         if (m_g.blocked_at(m_a.x_m, m_a.y_m) || m_g.blocked_at(m_b.x_m, m_b.y_m)) {
             out.nogo = true;
-            out.nogo_reason = "the line starts or ends next to a stem it cannot override";
+            out.nogo_reason =
+                "the line starts or ends next to a stem it cannot override or a log it cannot "
+                "climb";
             settled = true;
             break;
         }
         const std::vector<Point> path = plan(m_g, m_a, m_b);
         if (path.empty()) {
             out.nogo = true;
-            out.nogo_reason = "no path around the stems it cannot override";
+            out.nogo_reason = "no path around the stems it cannot override and the logs it "
+                              "cannot climb";
             settled = true;
             break;
         }
@@ -433,12 +629,16 @@ LineResult LineDrive::run() {
         out.pushed_stems = m_pushed;
         out.path = path;
         out.avoided = count_avoided(straight);
+        std::sort(m_crossed.begin(), m_crossed.end());
+        out.logs_crossed = std::unique(m_crossed.begin(), m_crossed.end()) - m_crossed.begin();
+        out.logs_avoided = count_avoided_logs();
         settled = true;
     }
     if (!settled) {
         out.straight_m = straight;
         out.nogo = true;
-        out.nogo_reason = "clusters too heavy to push kept closing the path after " +
+        out.nogo_reason = "clusters too heavy to push or logs too high kept closing the path "
+                          "after " +
                           std::to_string(kMaxReplans) + " plans";
     }
     if (out.nogo) {
@@ -452,9 +652,15 @@ LineResult LineDrive::run() {
 
 } // namespace
 
+LineResult drive_line(const Vehicle& v, const StemIndex& index, const LogIndex& logs,
+                      const RasterD* dem, Point a, Point b, const SmgOptions& opt) {
+    return LineDrive(v, index, logs, dem, a, b, opt).run();
+}
+
 LineResult drive_line(const Vehicle& v, const StemIndex& index, const RasterD* dem, Point a,
                       Point b, const SmgOptions& opt) {
-    return LineDrive(v, index, dem, a, b, opt).run();
+    static const LogIndex none;
+    return LineDrive(v, index, none, dem, a, b, opt).run();
 }
 
 } // namespace ecoterra::mobility

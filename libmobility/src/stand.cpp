@@ -68,6 +68,44 @@ std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
     return out;
 }
 
+StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
+    CsvReader csv(path, "dead-wood list");
+    const char* names[] = {"standing", "x_m",           "y_m",      "end_x_m",  "end_y_m",
+                           "dbh_m",    "tree_height_m", "length_m", "height_m", "end_height_m"};
+    std::array<int, 10> c{};
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        c[k] = csv.column(names[k]);
+        if (c[k] < 0)
+            throw InputError(path.string() + ": the header must name " + names[k] +
+                             " (the CSV of `ecoterra export deadwood`), got '" + csv.header_line() +
+                             "'");
+    }
+    StandDeadWood out;
+    while (csv.next()) {
+        const double standing = csv.number(c[0], names[0], true);
+        if (standing != 0 && standing != 1)
+            throw InputError(csv.where() + ": standing = " + format_number(standing) +
+                             " is not 0 (a log) or 1 (a snag)");
+        const double x = csv.number(c[1], names[1]), y = csv.number(c[2], names[2]);
+        const double dbh = csv.number(c[5], names[5], true);
+        const double tree_h = csv.number(c[6], names[6], true);
+        const double length = csv.number(c[7], names[7], true);
+        const double h0 = csv.number(c[8], names[8], true), h1 = csv.number(c[9], names[9], true);
+        if (standing == 1) {
+            StandStem s{x, y, dbh, tree_h, StemKind::snag};
+            out.snags.push_back(s);
+            continue;
+        }
+        const Point b{csv.number(c[3], names[3]), csv.number(c[4], names[4])};
+        const double span = std::hypot(b.x_m - x, b.y_m - y);
+        if (std::abs(span - length) > 1e-3 * std::max(1.0, length))
+            throw InputError(csv.where() + ": length_m = " + format_number(length) +
+                             " but the ends are " + format_number(span) + " m apart");
+        out.logs.push_back({{x, y}, b, h0, h1, dbh});
+    }
+    return out;
+}
+
 namespace {
 
 /// The stems as the vehicle meets them (a tree's or shrub's diameter at the push height, an
@@ -79,6 +117,7 @@ std::vector<Stem> stems_at_push_height(const Vehicle& v, const std::vector<Stand
     std::int64_t inside = 0;
     for (const auto& s : stems) {
         if (g.contains_point(s.x_m, s.y_m)) ++inside;
+        if (s.kind == StemKind::snag) ++m.snags;
         if (s.kind == StemKind::tree && s.dbh_m > 0) {
             ++m.trees;
             basal_m2 += std::numbers::pi * s.dbh_m * s.dbh_m / 4;
@@ -116,12 +155,36 @@ std::vector<Stem> stems_at_push_height(const Vehicle& v, const std::vector<Stand
     return pushable;
 }
 
+/// True when no log's part above the step limit lies within half the vehicle's width of p.
+bool clear_of_high_logs(const Vehicle& v, const LogIndex& logs, Point p) {
+    const double limit = step_limit_m(v);
+    const double reach = 0.5 * (v.width_m + logs.max_diameter_m());
+    bool ok = true;
+    logs.for_each_in_box(
+        p.x_m - reach, p.y_m - reach, p.x_m + reach, p.y_m + reach, [&](std::int64_t k) {
+            const Log& l = logs.logs()[static_cast<std::size_t>(k)];
+            if (std::max(l.height_a_m, l.height_b_m) <= limit) return;
+            // The whole log, conservatively (its high part is within it).
+            const double dx = l.b.x_m - l.a.x_m, dy = l.b.y_m - l.a.y_m;
+            const double l2 = dx * dx + dy * dy;
+            const double t =
+                l2 > 0
+                    ? std::clamp(((p.x_m - l.a.x_m) * dx + (p.y_m - l.a.y_m) * dy) / l2, 0.0, 1.0)
+                    : 0.0;
+            if (std::hypot(l.a.x_m + t * dx - p.x_m, l.a.y_m + t * dy - p.y_m) <=
+                0.5 * (v.width_m + l.diameter_m))
+                ok = false;
+        });
+    return ok;
+}
+
 /// The lines, drawn from the seed; random lines are drawn again while an end is not clear of the
 /// stems the vehicle cannot override (a vehicle stands there).
-void draw_lines(const Vehicle& v, const StemIndex& index, const std::array<double, 4>& bounds,
-                const StandLinesOptions& opt, StandMobility& m) {
+void draw_lines(const Vehicle& v, const StemIndex& index, const LogIndex& logs,
+                const std::array<double, 4>& bounds, const StandLinesOptions& opt,
+                StandMobility& m) {
     auto clear = [&](Point p) {
-        bool ok = true;
+        bool ok = clear_of_high_logs(v, logs, p);
         const double reach = 0.5 * v.width_m + 0.5 * kMaxObstacleDiameter_m;
         index.for_each_in_box(
             p.x_m - reach, p.y_m - reach, p.x_m + reach, p.y_m + reach, [&](std::int64_t k) {
@@ -168,7 +231,7 @@ void draw_lines(const Vehicle& v, const StemIndex& index, const std::array<doubl
 }
 
 /// Each line driven (in parallel; each line's result depends on its line only).
-void drive_lines(const Vehicle& v, const StemIndex& index, const RasterD& dem,
+void drive_lines(const Vehicle& v, const StemIndex& index, const LogIndex& logs, const RasterD& dem,
                  const SmgOptions& smg, StandMobility& m) {
     std::exception_ptr failure;
     const int n = static_cast<int>(m.lines.size());
@@ -176,7 +239,7 @@ void drive_lines(const Vehicle& v, const StemIndex& index, const RasterD& dem,
     for (int k = 0; k < n; ++k) {
         try {
             auto& l = m.lines[static_cast<std::size_t>(k)];
-            l.result = drive_line(v, index, &dem, l.a, l.b, smg);
+            l.result = drive_line(v, index, logs, &dem, l.a, l.b, smg);
         } catch (...) {
 #pragma omp critical
             if (!failure) failure = std::current_exception();
@@ -188,10 +251,12 @@ void drive_lines(const Vehicle& v, const StemIndex& index, const RasterD& dem,
 /// The figures over the lines: SMG statistics, NOGO share, override and detour shares.
 void summarise_lines(StandMobility& m) {
     std::vector<double> smg_all, smg_go;
-    double driven = 0, straight = 0, pushed = 0;
+    double driven = 0, straight = 0, pushed = 0, crossed = 0, avoided_logs = 0;
     for (const auto& l : m.lines) {
         smg_all.push_back(l.result.smg_m_per_s);
+        avoided_logs += static_cast<double>(l.result.logs_avoided);
         if (l.result.nogo) continue;
+        crossed += static_cast<double>(l.result.logs_crossed);
         smg_go.push_back(l.result.smg_m_per_s);
         driven += l.result.path_m;
         straight += l.result.straight_m;
@@ -206,12 +271,15 @@ void summarise_lines(StandMobility& m) {
         1.0 - static_cast<double>(smg_go.size()) / static_cast<double>(m.lines.size());
     m.override_fraction = driven > 0 ? pushed / driven : 0.0;
     m.detour_fraction = driven > 0 ? (driven - straight) / driven : 0.0;
+    m.log_crossings_per_100m = driven > 0 ? 100 * crossed / driven : 0.0;
+    m.logs_avoided_per_line = avoided_logs / static_cast<double>(m.lines.size());
 }
 
 } // namespace
 
 StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
-                            const RasterD& dem, const StandLinesOptions& opt) {
+                            const RasterD& dem, const StandLinesOptions& opt,
+                            const std::vector<Log>& logs) {
     if (opt.lines < 1) throw InputError("--lines must be >= 1, got " + std::to_string(opt.lines));
     if (!(opt.length_m > 0))
         throw InputError("--length must be > 0 m, got " + format_number(opt.length_m));
@@ -226,10 +294,14 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
     std::vector<Stem> pushable = stems_at_push_height(v, stems, g, m);
     const StemIndex index(pushable, std::max(v.width_m, 1.0));
     m.stems = std::move(pushable);
-    draw_lines(v, index, bounds, opt, m);
+    const LogIndex log_index(logs, std::max(v.width_m, 2.0));
+    m.logs = static_cast<std::int64_t>(logs.size());
+    m.log_list = logs;
+    m.step_limit_m = step_limit_m(v);
+    draw_lines(v, index, log_index, bounds, opt, m);
     SmgOptions smg = opt.smg;
     smg.bounds_m = bounds;
-    drive_lines(v, index, dem, smg, m);
+    drive_lines(v, index, log_index, dem, smg, m);
     summarise_lines(m);
     return m;
 }
@@ -249,7 +321,9 @@ json to_json(const StandMobility& m, const Vehicle& v) {
                   {"time_s", r.nogo ? json() : json(r.time_s)},
                   {"override_m", r.override_m},
                   {"stems_overridden", r.overridden},
-                  {"stems_avoided", r.avoided}};
+                  {"stems_avoided", r.avoided},
+                  {"logs_crossed", r.logs_crossed},
+                  {"logs_avoided", r.logs_avoided}};
         if (r.nogo) j["nogo_reason"] = r.nogo_reason;
         lines.push_back(std::move(j));
     }

@@ -359,6 +359,20 @@ void draw_smg_legend(cairo_t* cr, const MapFrame& f, const mobility::StandMobili
     legend(0.55, 0.05, 0.05, "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
     legend(0.95, 0.55, 0.0, "stem pushed over");
     legend(0.3, 0.3, 0.3, "other stem");
+    if (!m.log_list.empty()) {
+        for (const bool high : {false, true}) {
+            cairo_set_line_width(cr, 3);
+            high ? cairo_set_source_rgb(cr, 0.45, 0.0, 0.35)
+                 : cairo_set_source_rgb(cr, 0.6, 0.4, 0.2);
+            cairo_move_to(cr, lx, ly - 4);
+            cairo_line_to(cr, lx + 14, ly - 4);
+            cairo_stroke(cr);
+            cairo_set_source_rgb(cr, 0, 0, 0);
+            text(cr, lx + 18, ly,
+                 high ? "log above " + fmt(m.step_limit_m, 2) + " m (avoided)" : "log climbed", 12);
+            ly += 22;
+        }
+    }
     for (const double frac : {1.0, 0.5, 0.0}) {
         cairo_set_line_width(cr, 3);
         speed_colour(cr, frac);
@@ -380,6 +394,29 @@ void draw_smg_map(const mobility::StandMobility& m, const mobility::Vehicle& v, 
     cairo_t* cr = s.cr;
     white(cr);
     terrain::paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h, true);
+    // Logs under the lines (clipped to the map): the parts low enough to climb in brown, the
+    // rest in purple.
+    cairo_save(cr);
+    cairo_rectangle(cr, 0, f.top, f.w, f.h);
+    cairo_clip(cr);
+    for (const auto& l : m.log_list) {
+        cairo_set_line_width(cr, std::max(1.0, l.diameter_m * f.scale));
+        // Split where the top's height (linear along the log) crosses the step limit.
+        const double dh = l.height_b_m - l.height_a_m;
+        const double u = dh != 0 ? std::clamp((m.step_limit_m - l.height_a_m) / dh, 0.0, 1.0)
+                                 : (l.height_a_m > m.step_limit_m ? 1.0 : 0.0);
+        const double ux = l.a.x_m + u * (l.b.x_m - l.a.x_m), uy = l.a.y_m + u * (l.b.y_m - l.a.y_m);
+        for (const bool first : {true, false}) {
+            const double h = first ? l.height_a_m : l.height_b_m;
+            h > m.step_limit_m ? cairo_set_source_rgb(cr, 0.45, 0.0, 0.35)
+                               : cairo_set_source_rgb(cr, 0.6, 0.4, 0.2);
+            const auto& end = first ? l.a : l.b;
+            cairo_move_to(cr, f.x(end.x_m), f.y(end.y_m));
+            cairo_line_to(cr, f.x(ux), f.y(uy));
+            cairo_stroke(cr);
+        }
+    }
+    cairo_restore(cr);
     draw_smg_stems(cr, f, m);
     draw_smg_lines(cr, f, m, v);
     cairo_set_source_rgb(cr, 0, 0, 0);

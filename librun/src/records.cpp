@@ -113,11 +113,15 @@ DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
     r.y_m = d.y_m;
     r.z_m = d.z_m;
     r.dbh_m = d.dbh_m;
+    r.tree_height_m = d.tree_height_m;
     r.length_m = d.length_m;
     r.azimuth_rad = d.standing ? 0.0 : d.azimuth_rad;
     r.end_x_m = d.x_m + (d.standing ? 0.0 : d.length_m * std::cos(d.azimuth_rad));
     r.end_y_m = d.y_m + (d.standing ? 0.0 : d.length_m * std::sin(d.azimuth_rad));
     r.height_m = d.standing ? d.length_m : d.dbh_m * dw::log_collapse(cls);
+    r.end_height_m = d.standing ? d.length_m
+                                : dw::stem_diameter_m(d.dbh_m, d.tree_height_m, d.length_m) *
+                                      dw::log_collapse(cls);
     r.mass_kg = d.mass_kg;
     r.volume_m3 = dw::volume_m3(s, d);
     return r;
@@ -146,12 +150,15 @@ const std::vector<Column<DeadWoodRecord>>& deadwood_columns() {
         column("dbh_m", &R::dbh_m, "m",
                "diameter at breast height at death; a log's diameter tapers linearly from 1.3 m "
                "to 0 at the tree's height"),
+        column("tree_height_m", &R::tree_height_m, "m", "the tree's height at death"),
         column("length_m", &R::length_m, "m", "a snag's standing height, a log's length"),
         column("azimuth_rad", &R::azimuth_rad, "rad",
                "a log's direction from base to top, counterclockwise from east (a snag: 0)"),
         column("height_m", &R::height_m, "m",
                "height above the ground: a snag's top; a log's at its base (its diameter, less "
                "as it collapses in decay classes 3-5)"),
+        column("end_height_m", &R::end_height_m, "m",
+               "height above the ground at a log's top end (a snag: its top)"),
         column("mass_kg", &R::mass_kg, "kg", "dry mass left"),
         column("volume_m3", &R::volume_m3, "m3",
                "volume: mass over the decay class's density (Domke et al. 2011)"),

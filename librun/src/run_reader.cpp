@@ -288,4 +288,16 @@ std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& pla
     return stems;
 }
 
+mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces) {
+    mobility::StandDeadWood out;
+    for (const auto& p : pieces) {
+        if (p.standing)
+            out.snags.push_back({p.x_m, p.y_m, p.dbh_m, p.tree_height_m, mobility::StemKind::snag});
+        else
+            out.logs.push_back(
+                {{p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.height_m, p.end_height_m, p.dbh_m});
+    }
+    return out;
+}
+
 } // namespace ecoterra::run

@@ -447,6 +447,7 @@ TEST_CASE("one rule for existing outputs: refused without --force, replaced with
         {"run s.json -o r3.h5 --years 1", "r3.h5"},
         {"stand r.h5 --json st.json", "st.json"},
         {"export vegetation r.h5 -o v.csv", "v.csv"},
+        {"export deadwood r.h5 -o dw.csv", "dw.csv"},
         {"export scene r.h5 --format gltf -o sc.glb --no-pictures", "sc.glb"},
         {"export scene r.h5 --format mavs -o mavs --no-pictures", "mavs"},
         {"export layers r.h5 -o layers", "layers"},

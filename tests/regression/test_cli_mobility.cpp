@@ -82,7 +82,8 @@ TEST_CASE("mobility: a stand's report, on any number of threads", "[mobility][st
 
 TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]") {
     test::TempDir dir;
-    std::ofstream(dir / "scene.json") << test::small_scene(3).dump(2);
+    // 15 years: trees have died, and some of their snags have fallen.
+    std::ofstream(dir / "scene.json") << test::small_scene(15).dump(2);
     REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
     const std::string veh = (test::data_dir() / "vehicles/mrzr4.json").string();
     auto r = test::run(dir, "mobility run.h5 --vehicle " + veh +
@@ -96,14 +97,26 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK(a["lines"].size() == 50);
     CHECK(a["smg_mean_m_per_s"].get<double>() > 0);
     CHECK(a["smg_mean_m_per_s"].get<double>() <= 22.3 + 1e-9);
-    // The exported stems over the run's own terrain (generated again from its specification) give
-    // the same figures.
+    CHECK(a["snags"].get<int>() > 0);
+    CHECK(a["logs"].get<int>() > 0);
+    CHECK(a["source"]["deadwood_included"] == true);
+    // The living stand alone is no slower.
+    r = test::run(dir, "mobility run.h5 --vehicle " + veh +
+                           " --lines 50 --length 20 --seed 1 --json live.json --no-deadwood");
+    REQUIRE(r.code == 0);
+    const json live = read_json(dir / "live.json");
+    CHECK(live["logs"] == 0);
+    CHECK(live["snags"] == 0);
+    CHECK(live["smg_mean_m_per_s"].get<double>() >= a["smg_mean_m_per_s"].get<double>());
+    // The exported stems and dead wood over the run's own terrain (generated again from its
+    // specification) give the same figures.
     REQUIRE(test::run(dir, "export vegetation run.h5 -o stems.csv").code == 0);
+    REQUIRE(test::run(dir, "export deadwood run.h5 -o dead.csv").code == 0);
     REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 20 --cell 2 --rms 0.8 "
                            "--seed 5 -o dem.h5")
                 .code == 0);
-    r = test::run(dir, "mobility --stems stems.csv --dem dem.h5 --vehicle " + veh +
-                           " --lines 50 --length 20 --seed 1 --json smg2.json --no-pictures");
+    r = test::run(dir, "mobility --stems stems.csv --deadwood dead.csv --dem dem.h5 --vehicle " +
+                           veh + " --lines 50 --length 20 --seed 1 --json smg2.json --no-pictures");
     INFO(r.out);
     REQUIRE(r.code == 0);
     const json b = read_json(dir / "smg2.json");
@@ -112,6 +125,9 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK(b["smg_mean_m_per_s"].get<double>() ==
           Approx(a["smg_mean_m_per_s"].get<double>()).epsilon(1e-6));
     CHECK(b["nogo_fraction"] == a["nogo_fraction"]);
+    for (const char* k : {"snags", "logs"}) CHECK(b[k] == a[k]);
+    CHECK(b["log_crossings_per_100m"].get<double>() ==
+          Approx(a["log_crossings_per_100m"].get<double>()).epsilon(1e-6));
     CHECK_FALSE(std::filesystem::exists(dir / "smg2.pictures"));
     // Bad input: exit 2, a message naming the file, and nothing written.
     std::ofstream(dir / "bad.csv") << "x_m,y_m,dbh_cm\n1,2,-3\n";
@@ -122,6 +138,18 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK_FALSE(std::filesystem::exists(dir / "out.json"));
     r = test::run(dir, "mobility run.h5 --stems stems.csv --vehicle " + veh);
     CHECK(r.code == 2);
+    r = test::run(dir, "mobility run.h5 --deadwood dead.csv --vehicle " + veh);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--deadwood goes with --stems"));
+    std::ofstream(dir / "bad_dead.csv")
+        << io::read_text(dir / "dead.csv").substr(0, io::read_text(dir / "dead.csv").find('\n'))
+        << "\n1,0,0,3,1,1,2,1,1,0,5,1,0.3,10,-4,0,0.3,0.2,1,1,x\n";
+    r = test::run(dir,
+                  "mobility --stems stems.csv --deadwood bad_dead.csv --dem dem.h5 --vehicle " +
+                      veh + " --json out.json");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("bad_dead.csv line 2") && Catch::Contains("negative"));
+    CHECK_FALSE(std::filesystem::exists(dir / "out.json"));
     std::ofstream(dir / "car.json") << R"({"mass_kg": 100, "width_m": 0, "length_m": 2,
         "tractive_force_n": [[0, 100], [1, 0]]})";
     r = test::run(dir, "mobility run.h5 --vehicle car.json");

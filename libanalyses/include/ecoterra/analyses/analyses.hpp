@@ -77,6 +77,7 @@ struct MobilityAnalysis {
     double length_m = 50;
     std::uint64_t seed = 1;
     mobility::LineLayout layout = mobility::LineLayout::random;
+    bool deadwood = true; ///< drive through the snapshot's snags and over or around its logs
     mobility::StandLinesOptions lines_options() const;
 };
 const ParamCatalog<MobilityAnalysis>& mobility_catalog();

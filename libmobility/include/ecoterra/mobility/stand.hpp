@@ -15,8 +15,9 @@
 
 namespace ecoterra::mobility {
 
-/// One plant of a stand as mobility sees it.
-enum class StemKind { tree, shrub, object };
+/// One plant of a stand as mobility sees it; a snag is a standing dead tree (overridden or avoided
+/// as a tree of its DBH, not in the basal area).
+enum class StemKind { tree, shrub, object, snag };
 
 struct StandStem {
     double x_m = 0, y_m = 0;
@@ -34,6 +35,19 @@ struct StandStem {
 /// export vegetation` is one); other columns are ignored. Non-numeric, non-finite or negative
 /// values are InputErrors naming the file, the line, the column and the value.
 std::vector<StandStem> read_stem_csv(const std::filesystem::path& path);
+
+/// A stand's dead wood as mobility sees it: snags (StemKind::snag, height_m the tree's height at
+/// death for the taper) and logs.
+struct StandDeadWood {
+    std::vector<StandStem> snags;
+    std::vector<Log> logs;
+};
+
+/// Reads a dead-wood list: the CSV of `ecoterra export deadwood` (docs/formats.md), by its header:
+/// standing, x_m, y_m, end_x_m, end_y_m, dbh_m, tree_height_m, length_m, height_m and
+/// end_height_m; other columns are ignored. Non-numeric, non-finite or negative values (a negative
+/// length, height or diameter) are InputErrors naming the file, the line, the column and the value.
+StandDeadWood read_deadwood_csv(const std::filesystem::path& path);
 
 enum class LineLayout { random, transects };
 
@@ -53,6 +67,7 @@ struct LineRecord {
 struct StandMobility {
     std::vector<LineRecord> lines;
     std::vector<Stem> stems; ///< the stems with a diameter at the push height (LineResult indices)
+    std::vector<Log> log_list; ///< the logs
     double smg_mean_m_per_s = 0, smg_median_m_per_s = 0, smg_p10_m_per_s = 0, smg_p90_m_per_s = 0;
     double smg_mean_go_m_per_s = 0; ///< over the lines that are not NOGO
     double nogo_fraction = 0;
@@ -62,15 +77,22 @@ struct StandMobility {
     std::int64_t trees = 0;   ///< stems that reach breast height
     std::int64_t shrubs = 0;  ///< shrubs (overridden or avoided by their stem at the push height)
     std::int64_t objects = 0; ///< rigid obstacles (always avoided)
+    std::int64_t snags = 0;   ///< standing dead trees (overridden or avoided as trees)
+    std::int64_t logs = 0;    ///< logs on the ground
+    double step_limit_m = 0;  ///< the highest log the vehicle climbs
+    double log_crossings_per_100m = 0; ///< logs climbed per 100 m of the lines that go
+    double logs_avoided_per_line = 0;  ///< logs too high to climb across a line, mean
     double area_ha = 0;
     double critical_diameter_m = 0;
 };
 
 /// Drives `opt.lines` lines over the terrain `dem` (which also sets the stand's area) through
-/// `stems`. Lines are drawn from the seed; a random line is drawn again while one of its ends is
-/// not clear of the stems the vehicle cannot override (a vehicle has to stand there).
+/// `stems` (snags among them) and over or around `logs`. Lines are drawn from the seed; a random
+/// line is drawn again while one of its ends is not clear of the stems the vehicle cannot
+/// override and the logs it cannot climb (a vehicle has to stand there).
 StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
-                            const RasterD& dem, const StandLinesOptions& opt);
+                            const RasterD& dem, const StandLinesOptions& opt,
+                            const std::vector<Log>& logs = {});
 
 /// The report's details: the vehicle and one record per line. The figures above are the mobility
 /// analysis's metrics (analyses.hpp: analyses::mobility_json writes both).

@@ -45,6 +45,9 @@ eco::UndergrowthMetrics read_snapshot_undergrowth(const std::filesystem::path& r
 /// A snapshot's plants as mobility sees them: trees by their DBH, shrubs by their stem at the
 /// ground, objects as rigid obstacles (the ground layer has no stems).
 std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& plants);
+/// A snapshot's dead wood as mobility sees it: snags as standing stems, logs as steps on the
+/// ground (their tops' heights at both ends).
+mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces);
 
 /// The species of a run, as resolved when it started (every parameter).
 std::vector<eco::Species> read_run_species(const std::filesystem::path& run);

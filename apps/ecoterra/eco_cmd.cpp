@@ -11,6 +11,7 @@
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
+#include <array>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -242,11 +243,11 @@ void run_export_deadwood(const ExportArgs& a) {
     const auto info = run::read_run_info(a.run);
     const auto s = run::read_snapshot_deadwood(a.run, a.snapshot);
     io::write_text_atomic(a.output, run::deadwood_csv(s.pieces, info.species));
-    const auto snags = std::count_if(s.pieces.begin(), s.pieces.end(),
-                                     [](const run::DeadWoodRecord& r) { return r.standing != 0; });
-    std::printf("wrote %td snags and %td logs of snapshot %d (year %d) to %s\n", snags,
-                static_cast<std::ptrdiff_t>(s.pieces.size()) - snags, s.index, s.year,
-                a.output.c_str());
+    std::array<std::ptrdiff_t, 4> n{}; // snags, logs, stumps, slash
+    for (const auto& r : s.pieces) ++n[r.piece == 1 ? 2 : r.piece == 2 ? 3 : r.standing ? 0 : 1];
+    std::printf("wrote %td snags, %td logs, %td stumps and %td pieces of slash of snapshot %d "
+                "(year %d) to %s\n",
+                n[0], n[1], n[2], n[3], s.index, s.year, a.output.c_str());
 }
 
 } // namespace

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ecoterra::eco {
@@ -29,7 +30,18 @@ constexpr std::array<double, 4> kClassThresholds = {0.9, 0.7, 0.4, 0.2};
 constexpr std::array<double, 5> kTopRetained = {1.0, 0.5, 0.2, 0.1, 0.0};
 constexpr std::array<double, 5> kLogCollapse = {1.0, 1.0, 0.9, 0.6, 0.3};
 constexpr std::array<double, 5> kDensityReduction = {0.93, 0.79, 0.57, 0.52, 0.52};
-constexpr std::uint32_t kStateVersion = 1;
+/// Version 2 added the piece kind and its offset along the stem (stumps and slash).
+constexpr std::uint32_t kStateVersion = 2;
+
+/// The rows of state version 1.
+struct DeadStemV1 {
+    double x_m, y_m, z_m, dbh_m, tree_height_m, length_m, azimuth_rad, mass0_kg, mass_kg;
+    std::int64_t id;
+    std::int32_t year_died, year_falls, year_down;
+    std::uint16_t species;
+    std::uint8_t cause, standing;
+};
+static_assert(sizeof(DeadStemV1) == 96, "DeadStemV1 is not version 1's row");
 
 bool enters_dead_wood(const Species& s) {
     return s.life_form == LifeForm::tree;
@@ -59,6 +71,8 @@ const char* death_cause_name(DeathCause c) {
         return "suppression";
     case DeathCause::overlap:
         return "overlap";
+    case DeathCause::harvest:
+        return "harvest";
     }
     return "unknown";
 }
@@ -87,14 +101,30 @@ double stem_diameter_m(double dbh, double h, double s) {
     return dbh * std::max(0.0, (h - s) / (h - kBreastHeightM));
 }
 
-double snag_height_m(double dbh, double h, int c) {
-    // Where the taper reaches the top diameter (the whole stem above breast height is top when the
-    // DBH is below it).
+double top_start_m(double dbh, double h) {
     double z4 = kBreastHeightM;
     if (dbh > kTopDiameterM && h > kBreastHeightM)
         z4 = h - kTopDiameterM / dbh * (h - kBreastHeightM);
-    z4 = std::min(z4, h);
+    return std::min(z4, h);
+}
+
+double snag_height_m(double dbh, double h, int c) {
+    const double z4 = top_start_m(dbh, h);
     return z4 + top_retained(c) * (h - z4);
+}
+
+double stem_volume_fraction_below(double dbh, double h, double z) {
+    (void)dbh; // the shape, not the size, sets the share
+    if (!(h > 0)) return 1.0;
+    z = std::clamp(z, 0.0, h);
+    if (h <= kBreastHeightM) return z / h;
+    const double cone = (h - kBreastHeightM) / 3;
+    const double below =
+        z <= kBreastHeightM
+            ? z
+            : kBreastHeightM +
+                  cone * (1 - std::pow(1 - (z - kBreastHeightM) / (h - kBreastHeightM), 3));
+    return below / (kBreastHeightM + cone);
 }
 
 double snag_fall_span_yr(const Species& s, double dbh_m) {
@@ -146,11 +176,16 @@ void DeadWood::take_dead(const Population& pop, const std::vector<Species>& spec
         const char c = causes ? (*causes)[k] : 0;
         if (pop.alive[k] && !c) continue;
         const Species& s = species[pop.species[k]];
-        if (!enters_dead_wood(s) || pop.dbh_m[k] < m_opt.min_dbh_m) continue;
+        // A cut tree always leaves its stump (every cut tree reaches breast height).
+        const bool cut = static_cast<DeathCause>(c) == DeathCause::harvest;
+        if (!enters_dead_wood(s) || (!cut && pop.dbh_m[k] < m_opt.min_dbh_m)) continue;
         const double mass =
             allometric_mass ? allometry::stem_mass_kg(s, pop.dbh_m[k]) : pop.wood_kg[k];
         if (!(mass > 0)) continue;
-        add(s, pop, k, c ? static_cast<DeathCause>(c) : DeathCause::starvation, mass, year);
+        if (cut)
+            add_cut(pop, k, mass, year);
+        else
+            add(s, pop, k, c ? static_cast<DeathCause>(c) : DeathCause::starvation, mass, year);
     }
 }
 
@@ -178,6 +213,50 @@ void DeadWood::add(const Species& s, const Population& pop, std::size_t k, Death
     m_pieces.push_back(d);
 }
 
+void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int year) {
+    DeadStem d;
+    d.x_m = pop.x_m[k];
+    d.y_m = pop.y_m[k];
+    d.z_m = pop.z_m[k];
+    d.dbh_m = pop.dbh_m[k];
+    d.tree_height_m = pop.height_m[k];
+    d.id = pop.id[k];
+    d.species = pop.species[k];
+    d.cause = static_cast<std::uint8_t>(DeathCause::harvest);
+    d.year_died = year;
+    const double h = d.tree_height_m;
+    const double z_stump = std::min(m_opt.stump_height_m, h);
+    const double z_top = std::max(deadwood::top_start_m(d.dbh_m, h), z_stump);
+    const double stump_kg = mass_kg * deadwood::stem_volume_fraction_below(d.dbh_m, h, z_stump);
+    const double slash_kg = mass_kg * (1 - deadwood::stem_volume_fraction_below(d.dbh_m, h, z_top));
+    // The felling direction: one draw, any direction.
+    const double az = 2 * std::numbers::pi * m_rng.uniform();
+    if (stump_kg > 0) {
+        DeadStem stump = d;
+        stump.piece = static_cast<std::uint8_t>(PieceKind::stump);
+        stump.length_m = z_stump;
+        stump.mass0_kg = stump.mass_kg = stump_kg;
+        stump.year_falls = std::numeric_limits<std::int32_t>::max(); // stumps do not fall
+        m_pieces.push_back(stump);
+        m_sums.input_kg += stump_kg;
+    }
+    if (slash_kg > 0 && h > z_top) {
+        DeadStem top = d;
+        top.piece = static_cast<std::uint8_t>(PieceKind::slash);
+        top.standing = 0;
+        top.offset_m = z_top;
+        top.length_m = h - z_top;
+        top.azimuth_rad = az;
+        top.x_m += z_top * std::cos(az);
+        top.y_m += z_top * std::sin(az);
+        top.mass0_kg = top.mass_kg = slash_kg;
+        top.year_falls = top.year_down = year;
+        m_pieces.push_back(top);
+        m_sums.input_kg += slash_kg;
+    }
+    m_sums.cut_kept_kg += std::max(stump_kg, 0.0) + (h > z_top ? std::max(slash_kg, 0.0) : 0.0);
+}
+
 void DeadWood::fall(DeadStem& d, const RasterD& dem, int year) {
     d.standing = 0;
     d.year_down = year;
@@ -196,7 +275,7 @@ void DeadWood::step_year(const std::vector<Species>& species, const RasterD& dem
             const double left = d.mass_kg * std::exp(-rate);
             m_sums.decay_kg += d.mass_kg - left;
             d.mass_kg = left;
-            if (d.standing) {
+            if (d.standing && d.piece == static_cast<std::uint8_t>(PieceKind::stem)) {
                 d.length_m = deadwood::snag_height_m(d.dbh_m, d.tree_height_m,
                                                      deadwood::decay_class(left / d.mass0_kg));
                 if (year >= d.year_falls) fall(d, dem, year);
@@ -221,11 +300,28 @@ void DeadWood::save(ArchiveWriter& a) const {
 
 void DeadWood::load(ArchiveReader& a) {
     const auto v = a.get<std::uint32_t>();
-    if (v != kStateVersion)
+    if (v != kStateVersion && v != 1)
         throw CheckpointError("checkpoint section 'deadwood' has state version " +
                               std::to_string(v) + ", this ecoterra reads version " +
                               std::to_string(kStateVersion));
     m_rng.set_state(a.get<std::array<std::uint64_t, 4>>());
+    if (v == 1) {
+        m_pieces.clear();
+        for (const DeadStemV1& o : a.get_vector<DeadStemV1>()) {
+            DeadStem d;
+            d.x_m = o.x_m, d.y_m = o.y_m, d.z_m = o.z_m, d.dbh_m = o.dbh_m;
+            d.tree_height_m = o.tree_height_m, d.length_m = o.length_m;
+            d.azimuth_rad = o.azimuth_rad, d.mass0_kg = o.mass0_kg, d.mass_kg = o.mass_kg;
+            d.id = o.id, d.year_died = o.year_died, d.year_falls = o.year_falls;
+            d.year_down = o.year_down, d.species = o.species, d.cause = o.cause;
+            d.standing = o.standing;
+            m_pieces.push_back(d);
+        }
+        const auto [input, decay, snags, fallen, gone] =
+            a.get<std::array<double, 5>>(); // version 1's sums, without the harvest
+        m_sums = DeadWoodSums{input, decay, 0, snags, fallen, gone};
+        return;
+    }
     m_pieces = a.get_vector<DeadStem>();
     m_sums = a.get<DeadWoodSums>();
 }
@@ -236,8 +332,11 @@ DeadWoodMetrics deadwood_metrics(const DeadWood& dw, const std::vector<Species>&
     const double per_ha = 1e4 / area_m2;
     for (const auto& d : dw.pieces()) {
         const double v = deadwood::volume_m3(species[d.species], d) * per_ha;
-        (d.standing ? m.snags_per_ha : m.logs_per_ha) += per_ha;
-        (d.standing ? m.snag_volume_m3_per_ha : m.log_volume_m3_per_ha) += v;
+        const bool stump = d.piece == static_cast<std::uint8_t>(PieceKind::stump);
+        (stump ? m.stumps_per_ha : d.standing ? m.snags_per_ha : m.logs_per_ha) += per_ha;
+        (stump        ? m.stump_volume_m3_per_ha
+         : d.standing ? m.snag_volume_m3_per_ha
+                      : m.log_volume_m3_per_ha) += v;
         m.volume_by_class_m3_per_ha[static_cast<std::size_t>(
             deadwood::decay_class(d.mass_kg / d.mass0_kg) - 1)] += v;
         m.stock_kg += d.mass_kg;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace ecoterra::eco {
 
@@ -29,7 +30,8 @@ constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
 constexpr std::uint32_t kSectionSeries = 1;   // the daily and yearly series, by column name
 constexpr std::uint32_t kSectionBudget = 1;   // the year's sums and the carbon ledger
-constexpr std::uint32_t kSectionDeadWood = 1; // snags and logs (optional: none before it)
+constexpr std::uint32_t kSectionDeadWood = 2; // snags and logs (optional: none before it);
+                                              // 2: stumps and slash
 
 /// The daily columns of the processes that came with hydrology state version 2 (interception,
 /// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".
@@ -47,7 +49,8 @@ void zero_surface_layer_era_columns(Table& daily) {
 /// The yearly dead-wood columns (outputs.cpp), absent from format-6 checkpoints.
 bool is_dead_wood_column(const std::string& name) {
     return name.starts_with("snag") || name.starts_with("log_") || name.starts_with("logs_") ||
-           name.starts_with("deadwood_");
+           name.starts_with("deadwood_") || name.starts_with("stump") ||
+           name.starts_with("harvested_");
 }
 
 /// The yearly water columns, each the sum of a daily budget column.
@@ -271,6 +274,7 @@ void Ecosystem::year_end_coupled() {
     std::vector<Plant> recruits =
         seed_dispersal(m_pop, dead, species, plant_grid(), bed, make, m_rng_seed, m_sum);
     background_arrivals(species, plant_grid(), bed, make, m_rng_arrival, recruits);
+    harvest(dead, false);
     take_dead(&dead);
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
         m_pop.growth_sum[k] = m_pop.growth_days[k] = 0;
@@ -297,10 +301,28 @@ void Ecosystem::year_end_light_only() {
     std::vector<char> dead = light_only_growth(m_pop, species, m_sum);
     light_only_arrivals(m_pop, dead, species, plant_grid(), nursery(), m_rng_arrival, m_sum);
     overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
+    harvest(dead, true);
     take_dead(&dead);
     for (char& d : dead) d = !d;
     m_pop.keep_if(dead);
     refresh_canopy();
+}
+
+void Ecosystem::harvest(std::vector<char>& dead, bool allometric_mass) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& pg = plant_grid();
+    const double area_m2 = pg.width_m() * pg.height_m();
+    std::vector<char> before = dead;
+    mark_harvest(m_scene.management, m_pop, species, area_m2, m_years_done + 1, dead,
+                 static_cast<char>(DeathCause::harvest));
+    for (std::size_t k = 0; k < m_pop.size(); ++k) {
+        if (dead[k] == before[k]) continue;
+        const Species& s = species[m_pop.species[k]];
+        const double d = m_pop.dbh_m[k];
+        m_harvest.stems += 1;
+        m_harvest.basal_area_m2_per_ha += std::numbers::pi * d * d / 4 * 1e4 / area_m2;
+        m_harvest.wood_kg += allometric_mass ? allometry::stem_mass_kg(s, d) : m_pop.wood_kg[k];
+    }
 }
 
 void Ecosystem::take_dead(const std::vector<char>* causes) {
@@ -317,6 +339,7 @@ void Ecosystem::year_end_common() {
     record_year(close_carbon_budget(m_pop, m_sum, {m_dead.stock_kg(), d.input_kg, d.decay_kg},
                                     m_years_done, m_ledger));
     m_sum = PlantSums{};
+    m_harvest = HarvestSums{};
     m_dead.reset_sums();
 }
 
@@ -372,6 +395,11 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.deadwood_input_kg = ds.input_kg;
     row.deadwood_decay_kg = ds.decay_kg;
     row.snags_fallen = ds.snags_fallen;
+    row.stumps_per_ha = dm.stumps_per_ha;
+    row.stump_volume_m3_per_ha = dm.stump_volume_m3_per_ha;
+    row.harvested_stems = m_harvest.stems;
+    row.harvested_basal_area_m2_per_ha = m_harvest.basal_area_m2_per_ha;
+    row.harvested_wood_kg = m_harvest.wood_kg - ds.cut_kept_kg;
     m_yearly.push(row, yearly_columns());
     yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }
@@ -569,7 +597,7 @@ void Ecosystem::load_sections(ArchiveReader& a) {
     });
     // Checkpoints from before dead wood have none: the trees that died then left nothing.
     if (r.version("deadwood") != 0)
-        r.read("deadwood", kSectionDeadWood, kSectionDeadWood,
+        r.read("deadwood", 1, kSectionDeadWood,
                [&](ArchiveReader& s, std::uint32_t) { m_dead.load(s); });
     r.finish();
 }

@@ -28,7 +28,8 @@ std::vector<Column<YearRow>> dead_wood_columns() {
     using R = YearRow;
     return {column("snags_per_ha", &R::snags_per_ha, "1/ha",
                    "standing dead trees (DBH >= vegetation.deadwood.min_dbh_m) at year end"),
-            column("logs_per_ha", &R::logs_per_ha, "1/ha", "fallen dead stems at year end"),
+            column("logs_per_ha", &R::logs_per_ha, "1/ha",
+                   "fallen dead stems and the slash of cut trees at year end"),
             column("snag_volume_m3_per_ha", &R::snag_volume_m3_per_ha, "m3/ha",
                    "stem volume of the snags at year end"),
             column("log_volume_m3_per_ha", &R::log_volume_m3_per_ha, "m3/ha",
@@ -51,7 +52,18 @@ std::vector<Column<YearRow>> dead_wood_columns() {
             column("deadwood_decay_kg", &R::deadwood_decay_kg, "kg",
                    "mass the snags and logs lost to decay in the year"),
             column("snags_fallen", &R::snags_fallen, "1",
-                   "snags that fell and became logs in the year", ColumnType::int64)};
+                   "snags that fell and became logs in the year", ColumnType::int64),
+            column("stumps_per_ha", &R::stumps_per_ha, "1/ha",
+                   "stumps of cut trees at year end (not in snags_per_ha)"),
+            column("stump_volume_m3_per_ha", &R::stump_volume_m3_per_ha, "m3/ha",
+                   "volume of the stumps at year end (not in snag_volume_m3_per_ha)"),
+            column("harvested_stems", &R::harvested_stems, "1",
+                   "trees cut by management operations in the year", ColumnType::int64),
+            column("harvested_basal_area_m2_per_ha", &R::harvested_basal_area_m2_per_ha, "m2/ha",
+                   "basal area of the trees cut in the year"),
+            column("harvested_wood_kg", &R::harvested_wood_kg, "kg",
+                   "stem dry mass of the cut trees taken out of the stand (their stumps and slash "
+                   "stay as dead wood)")};
 }
 } // namespace
 

@@ -87,6 +87,35 @@ MemoryEstimate memory_estimate(const EcoScene& scene) {
     return m;
 }
 
+namespace {
+/// vegetation.initial into `e`; returns its resolved form.
+json read_initial(const json& veg, const fs::path& base, EcoScene& e) {
+    json init_resolved = "bare";
+    if (veg.contains("initial")) {
+        const json& in = veg.at("initial");
+        if (in.is_string() && in.get<std::string>() == "bare") {
+            e.initial.kind = InitialPlants::Kind::bare;
+        } else if (in.is_object() && in.contains("random")) {
+            require_known_keys(in, {"random"}, "vegetation.initial");
+            e.initial = initial_random_catalog().read(in.at("random"), InitialPlants{});
+            e.initial.kind = InitialPlants::Kind::random;
+            init_resolved = {{"random", initial_random_catalog().to_json(e.initial)}};
+        } else if (in.is_object() && in.contains("file")) {
+            require_known_keys(in, {"file"}, "vegetation.initial");
+            e.initial.kind = InitialPlants::Kind::file;
+            e.initial.file = get_string(in, "file", "", "vegetation.initial");
+            if (e.initial.file.is_relative()) e.initial.file = base / e.initial.file;
+            init_resolved = {{"file", e.initial.file.string()}};
+        } else {
+            throw InputError("vegetation.initial must be \"bare\", {\"random\": {...}} or "
+                             "{\"file\": \"stems.csv\"}, got " +
+                             in.dump());
+        }
+    }
+    return init_resolved;
+}
+} // namespace
+
 EcoScene load_eco_scene(const json& s, const fs::path& base) {
     if (!s.is_object()) throw InputError("scene: must be a JSON object");
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
@@ -125,7 +154,9 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
 
     const double terrain_cell = e.hydro.dem.grid().cell_size_m;
     e.plant_cell_m = std::min(1.0, terrain_cell);
-    e = vegetation_catalog().read(veg, e, {"ecosystem", "initial"});
+    e = vegetation_catalog().read(veg, e, {"ecosystem", "initial", "management"});
+    if (veg.contains("management")) e.management = read_management(veg.at("management"), e.years);
+    e.deadwood.stump_height_m = e.management.stump_height_m;
     if (!veg.contains("ecosystem"))
         throw InputError("vegetation.ecosystem: missing (an ecosystem file, e.g. "
                          "data/ecosystems/humid_subtropical_broadleaf.json)");
@@ -137,31 +168,11 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
         throw InputError("vegetation.plant_cell_m = " + format_number(e.plant_cell_m) +
                          " must divide the terrain cell (" + format_number(terrain_cell) +
                          " m) a whole number of times");
-    json init_resolved = "bare";
-    if (veg.contains("initial")) {
-        const json& in = veg.at("initial");
-        if (in.is_string() && in.get<std::string>() == "bare") {
-            e.initial.kind = InitialPlants::Kind::bare;
-        } else if (in.is_object() && in.contains("random")) {
-            require_known_keys(in, {"random"}, "vegetation.initial");
-            e.initial = initial_random_catalog().read(in.at("random"), InitialPlants{});
-            e.initial.kind = InitialPlants::Kind::random;
-            init_resolved = {{"random", initial_random_catalog().to_json(e.initial)}};
-        } else if (in.is_object() && in.contains("file")) {
-            require_known_keys(in, {"file"}, "vegetation.initial");
-            e.initial.kind = InitialPlants::Kind::file;
-            e.initial.file = get_string(in, "file", "", "vegetation.initial");
-            if (e.initial.file.is_relative()) e.initial.file = base / e.initial.file;
-            init_resolved = {{"file", e.initial.file.string()}};
-        } else {
-            throw InputError("vegetation.initial must be \"bare\", {\"random\": {...}} or "
-                             "{\"file\": \"stems.csv\"}, got " +
-                             in.dump());
-        }
-    }
+    const json init_resolved = read_initial(veg, base, e);
     e.resolved["vegetation"] = vegetation_catalog().to_json(e);
     e.resolved["vegetation"]["ecosystem"] = eco.string();
     e.resolved["vegetation"]["initial"] = init_resolved;
+    e.resolved["vegetation"]["management"] = to_json(e.management);
     json& sim_resolved = e.resolved["simulation"]; // years and seed, from the hydrology half
     sim_resolved.erase("snapshot_interval_days");
     sim_resolved.update(eco_simulation_catalog().to_json(e));

@@ -80,6 +80,7 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
                              " (the CSV of `ecoterra export deadwood`), got '" + csv.header_line() +
                              "'");
     }
+    const int cpiece = csv.column("piece"); // optional: 1 a stump
     StandDeadWood out;
     while (csv.next()) {
         const double standing = csv.number(c[0], names[0], true);
@@ -91,6 +92,14 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
         const double tree_h = csv.number(c[6], names[6], true);
         const double length = csv.number(c[7], names[7], true);
         const double h0 = csv.number(c[8], names[8], true), h1 = csv.number(c[9], names[9], true);
+        const double piece = cpiece >= 0 ? csv.number(cpiece, "piece", true) : 0;
+        if (piece != 0 && piece != 1 && piece != 2)
+            throw InputError(csv.where() + ": piece = " + format_number(piece) +
+                             " is not 0 (a stem), 1 (a stump) or 2 (slash)");
+        if (piece == 1) { // a stump: a step as high as it is
+            out.logs.push_back({{x, y}, {x, y}, h0, h0, dbh});
+            continue;
+        }
         if (standing == 1) {
             StandStem s{x, y, dbh, tree_h, StemKind::snag};
             out.snags.push_back(s);

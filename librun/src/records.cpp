@@ -105,6 +105,7 @@ DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
     r.id = d.id;
     r.species = d.species;
     r.standing = d.standing;
+    r.piece = d.piece;
     r.cause = d.cause;
     r.decay_class = cls;
     r.year_died = d.year_died;
@@ -118,10 +119,15 @@ DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
     r.azimuth_rad = d.standing ? 0.0 : d.azimuth_rad;
     r.end_x_m = d.x_m + (d.standing ? 0.0 : d.length_m * std::cos(d.azimuth_rad));
     r.end_y_m = d.y_m + (d.standing ? 0.0 : d.length_m * std::sin(d.azimuth_rad));
-    r.height_m = d.standing ? d.length_m : d.dbh_m * dw::log_collapse(cls);
-    r.end_height_m = d.standing ? d.length_m
-                                : dw::stem_diameter_m(d.dbh_m, d.tree_height_m, d.length_m) *
-                                      dw::log_collapse(cls);
+    // A lying piece's top above the ground: the stem's diameter where the piece starts along it
+    // (slash: the cut top) and at its end, sunk with the class.
+    r.height_m = d.standing ? d.length_m
+                            : dw::stem_diameter_m(d.dbh_m, d.tree_height_m, d.offset_m) *
+                                  dw::log_collapse(cls);
+    r.end_height_m = d.standing
+                         ? d.length_m
+                         : dw::stem_diameter_m(d.dbh_m, d.tree_height_m, d.offset_m + d.length_m) *
+                               dw::log_collapse(cls);
     r.mass_kg = d.mass_kg;
     r.volume_m3 = dw::volume_m3(s, d);
     return r;
@@ -133,17 +139,23 @@ const std::vector<Column<DeadWoodRecord>>& deadwood_columns() {
     static const std::vector<Column<R>> c = {
         column("id", &R::id, "1", "plant id of the tree that died", T::int64),
         column("species", &R::species, "1", "index into /species of the run file", T::int32),
-        column("standing", &R::standing, "1", "1 a snag (standing), 0 a log (fallen)", T::int32),
+        column("standing", &R::standing, "1",
+               "1 standing (a snag or stump), 0 lying (a log or slash)", T::int32),
+        column("piece", &R::piece, "1",
+               "0 a whole stem (snag, then log), 1 the stump of a cut tree, 2 the top (slash) of a "
+               "cut tree",
+               T::int32),
         column("cause", &R::cause, "1",
-               "cause of death: 1 starvation, 2 age, 3 background, 4 suppression, 5 overlap",
+               "cause of death: 1 starvation, 2 age, 3 background, 4 suppression, 5 overlap, 6 "
+               "harvest",
                T::int32),
         column("decay_class", &R::decay_class, "1",
                "1 (sound) .. 5, from the share of the mass left (0.9, 0.7, 0.4, 0.2)", T::int32),
         column("year_died", &R::year_died, "yr", "simulation year in which the tree died",
                T::int32),
         column("year_down", &R::year_down, "yr", "year the snag fell; -1 while standing", T::int32),
-        column("x_m", &R::x_m, "m", "stem base, east"),
-        column("y_m", &R::y_m, "m", "stem base, north"),
+        column("x_m", &R::x_m, "m", "the piece's base (slash: its thick end), east"),
+        column("y_m", &R::y_m, "m", "the piece's base, north"),
         column("z_m", &R::z_m, "m", "ground elevation at the stem base"),
         column("end_x_m", &R::end_x_m, "m", "a log's top end, east (a snag: its base)"),
         column("end_y_m", &R::end_y_m, "m", "a log's top end, north (a snag: its base)"),

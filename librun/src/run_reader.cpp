@@ -291,7 +291,9 @@ std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& pla
 mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces) {
     mobility::StandDeadWood out;
     for (const auto& p : pieces) {
-        if (p.standing)
+        if (p.piece == 1) // a stump: a step as high as it is (a log of no length)
+            out.logs.push_back({{p.x_m, p.y_m}, {p.x_m, p.y_m}, p.height_m, p.height_m, p.dbh_m});
+        else if (p.standing)
             out.snags.push_back({p.x_m, p.y_m, p.dbh_m, p.tree_height_m, mobility::StemKind::snag});
         else
             out.logs.push_back(

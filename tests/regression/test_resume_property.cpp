@@ -122,6 +122,11 @@ TEST_CASE("resume: a groundwater scene split at every year ends bit for bit as o
     j["hydrology"]["groundwater"] = true;
     j["simulation"]["years"] = 6;
     j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.3}}}};
+    // A thinning and a selection cut (stumps and slash, the felling directions' draws).
+    j["vegetation"]["management"] = {
+        {"operations",
+         {{{"year", 3}, {"type", "thin_from_below"}, {"target_basal_area_m2_per_ha", 4}},
+          {{"year", 5}, {"type", "selection"}, {"min_dbh_m", 0.2}}}}};
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     CHECK(check_every_split(scene, 6, 1) > 0);
 }

@@ -30,36 +30,49 @@ enum class DeathCause : std::uint8_t {
     background,
     suppression,
     overlap,
+    harvest, ///< cut by a management operation (management.hpp)
 };
 const char* death_cause_name(DeathCause c);
 
 /// Scene keys vegetation.deadwood.* (scene_config.cpp lists them with their sources).
 struct DeadWoodOptions {
     bool enabled = true;
+    double stump_height_m = 0.2;         ///< vegetation.management.stump_height_m
     double min_dbh_m = 0.0762;           ///< FIA's coarse woody debris: >= 3 in at the small end
     double removal_mass_fraction = 0.05; ///< iLand: a piece goes when < 5 % of its mass is left
 };
 
-/// One snag or log. No padding: the checkpoint stores the rows as bytes.
+/// What part of a tree a piece is.
+enum class PieceKind : std::uint8_t {
+    stem = 0,  ///< the whole stem: a snag, then a log
+    stump = 1, ///< the stump left by a cut (standing, never falls)
+    slash = 2, ///< the top left by a cut (a log from the start)
+};
+
+/// One snag, log, stump or piece of slash. No padding: the checkpoint stores the rows as bytes.
 struct DeadStem {
-    double x_m = 0, y_m = 0, z_m = 0; ///< the stem's base
-    double dbh_m = 0;                 ///< at death
-    double tree_height_m = 0;         ///< at death
-    double length_m = 0;    ///< a snag's standing height, a log's length (the snag's at its fall)
-    double azimuth_rad = 0; ///< a log: direction base -> top, counterclockwise from east
-    double mass0_kg = 0;    ///< stem dry mass at death
-    double mass_kg = 0;     ///< dry mass left
-    std::int64_t id = 0;    ///< the tree's plant id
+    double x_m = 0, y_m = 0, z_m = 0; ///< the piece's base (slash: its thick end)
+    double dbh_m = 0;                 ///< the tree's at death
+    double tree_height_m = 0;         ///< the tree's at death
+    double length_m = 0;              ///< a snag's or stump's standing height, a log's length
+    double azimuth_rad = 0;           ///< a log: direction base -> top, counterclockwise from east
+    double mass0_kg = 0;              ///< the piece's dry mass at death
+    double mass_kg = 0;               ///< dry mass left
+    double offset_m = 0; ///< where along the tree's stem the piece starts (slash: the cut top)
+    std::int64_t id = 0; ///< the tree's plant id
     std::int32_t year_died = 0, year_falls = 0, year_down = -1; ///< -1: standing
     std::uint16_t species = 0;
     std::uint8_t cause = 0;    ///< DeathCause
-    std::uint8_t standing = 1; ///< 1 snag, 0 log
+    std::uint8_t standing = 1; ///< 1 standing (snag, stump), 0 lying (log, slash)
+    std::uint8_t piece = 0;    ///< PieceKind
+    std::uint8_t spare[7] = {};
 };
-static_assert(sizeof(DeadStem) == 9 * 8 + 8 + 3 * 4 + 2 + 1 + 1, "DeadStem has padding");
+static_assert(sizeof(DeadStem) == 10 * 8 + 8 + 3 * 4 + 2 + 1 + 1 + 8, "DeadStem has padding");
 
 /// The year's dead-wood fluxes, kg dry mass (the carbon budget's terms), and its events.
 struct DeadWoodSums {
     double input_kg = 0, decay_kg = 0;
+    double cut_kept_kg = 0; ///< the stumps and slash of cut trees (part of input_kg)
     double new_snags = 0, snags_fallen = 0, pieces_gone = 0;
 };
 
@@ -76,6 +89,9 @@ double log_collapse(int decay_class);
 /// The stem's diameter at distance `s_m` from its base: the DBH up to 1.3 m, then a linear taper
 /// to 0 at the tree's height.
 double stem_diameter_m(double dbh_m, double tree_height_m, double s_m);
+/// Where the stem's taper reaches 10.16 cm (4 in), the merchantable top (at least 1.3 m, at most
+/// the tree's height), m.
+double top_start_m(double dbh_m, double tree_height_m);
 /// A snag's standing height in a class: its top (above the 10.16 cm diameter) lost with the class.
 double snag_height_m(double dbh_m, double tree_height_m, int decay_class);
 /// Years over which a cohort of snags of this diameter all fall (FVS-FFE, NI variant:
@@ -84,6 +100,8 @@ double snag_fall_span_yr(const Species& s, double dbh_m);
 /// Density of dead wood over sound wood in a decay class: 0.93, 0.79, 0.57, 0.52, 0.52 (Domke et
 /// al. 2011, Table 2: the mean of quaking aspen's and Douglas-fir's reduction factors).
 double density_reduction(int decay_class);
+/// Share of a stem's volume below height z (the taper above: a cylinder to 1.3 m, then a cone).
+double stem_volume_fraction_below(double dbh_m, double tree_height_m, double z_m);
 /// Volume of a piece, m3, as an inventory would find it from its mass: V = m / (rho DRF(class)),
 /// at most the stem volume at death m0 / rho.
 double volume_m3(const Species& s, const DeadStem& d);
@@ -120,6 +138,8 @@ public:
 private:
     void add(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
              double mass_kg, int year);
+    /// A cut tree: its stump and its top (slash) stay, the stem between leaves the stand.
+    void add_cut(const Population& pop, std::size_t k, double mass_kg, int year);
     void fall(DeadStem& d, const RasterD& dem, int year);
 
     DeadWoodOptions m_opt;
@@ -130,8 +150,8 @@ private:
 
 /// The dead wood of one moment summed for the yearly series (per hectare of `area_m2`).
 struct DeadWoodMetrics {
-    double snags_per_ha = 0, logs_per_ha = 0;
-    double snag_volume_m3_per_ha = 0, log_volume_m3_per_ha = 0;
+    double snags_per_ha = 0, logs_per_ha = 0, stumps_per_ha = 0;
+    double snag_volume_m3_per_ha = 0, log_volume_m3_per_ha = 0, stump_volume_m3_per_ha = 0;
     std::array<double, 5> volume_by_class_m3_per_ha{};
     double stock_kg = 0;
 };

@@ -87,6 +87,9 @@ private:
     void ground_layer_day(const hydro::DayWeather& w, const DayClimate& day);
     /// The trees that died (not alive, or with a cause in `causes`) into the dead wood.
     void take_dead(const std::vector<char>* causes);
+    /// The year's management operations: marks the trees they cut in `dead` (DeathCause::harvest)
+    /// and sums them into m_harvest.
+    void harvest(std::vector<char>& dead, bool allometric_mass);
     /// Removes the dead, refreshes the structure (coupled) and the canopy.
     void refresh_canopy();
     void year_end_coupled();
@@ -114,6 +117,10 @@ private:
     Rng m_rng_seed, m_rng_mort, m_rng_arrival;
     Population m_pop;
     DeadWood m_dead;
+    /// The year's harvest (reset at year end, so never in a checkpoint).
+    struct HarvestSums {
+        double stems = 0, basal_area_m2_per_ha = 0, wood_kg = 0;
+    } m_harvest;
     std::int64_t m_next_id = 1;
     Canopy m_canopy;
     GroundLayer m_ground;

@@ -5,6 +5,7 @@
 #include "ecoterra/eco/canopy.hpp"
 #include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/management.hpp"
 #include "ecoterra/eco/species.hpp"
 #include "ecoterra/hydro/scene.hpp"
 
@@ -35,7 +36,8 @@ struct EcoScene {
     ShadingMode shading = ShadingMode::blocking;
     GrowthModel growth = GrowthModel::paper002;
     DeadWoodOptions deadwood;
-    double extinction = 0.5; ///< Beer-Lambert k
+    ManagementOptions management; ///< vegetation.management (management.hpp)
+    double extinction = 0.5;      ///< Beer-Lambert k
     LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
     int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence

@@ -48,7 +48,7 @@ std::string stem_csv(const std::vector<PlantRecord>& plants,
 /// What a snapshot stores of one snag or log (eco::DeadStem with its derived geometry).
 struct DeadWoodRecord {
     std::int64_t id = 0; ///< the tree's plant id
-    std::int32_t species = 0, standing = 0, cause = 0, decay_class = 0, year_died = 0,
+    std::int32_t species = 0, standing = 0, piece = 0, cause = 0, decay_class = 0, year_died = 0,
                  year_down = -1;
     double x_m = 0, y_m = 0, z_m = 0, end_x_m = 0, end_y_m = 0, dbh_m = 0, tree_height_m = 0,
            length_m = 0, azimuth_rad = 0, height_m = 0, end_height_m = 0, mass_kg = 0,

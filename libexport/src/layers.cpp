@@ -146,6 +146,47 @@ void add_water_layers(const Scene& s, std::vector<Layer>& layers) {
                           cut(run::read_snapshot_raster(s.run, s.snapshot, name, full))});
 }
 
+/// The snapshot's dead wood (none in runs without it): its volume per ha of each cell, logs and
+/// slash spread along their length, snags and stumps at their base; and the highest top of a
+/// lying piece or stump in the cell (what a wheel meets).
+void add_deadwood_layers(const Scene& s, std::vector<Layer>& layers) {
+    const GridSpec& g = s.terrain.grid();
+    RasterD volume(g, 0.0), top(g, 0.0);
+    const double cell_ha = g.cell_size_m * g.cell_size_m / kM2PerHa;
+    auto add = [&](double x_run, double y_run, double v_m3, double h_m) {
+        // Records are in the run's frame; the scene may be about a local origin.
+        const double x = x_run - s.frame.origin_x_m, y = y_run - s.frame.origin_y_m;
+        if (!g.contains_point(x, y)) return;
+        const int i = std::clamp(static_cast<int>(std::floor(g.col_of(x) + 0.5)), 0, g.nx - 1);
+        const int j = std::clamp(static_cast<int>(std::floor(g.row_of(y) + 0.5)), 0, g.ny - 1);
+        volume(i, j) += v_m3 / cell_ha;
+        top(i, j) = std::max(top(i, j), h_m);
+    };
+    for (const auto& p : run::read_snapshot_deadwood(s.run, s.snapshot).pieces) {
+        if (p.standing) {
+            add(p.x_m, p.y_m, p.volume_m3, p.piece == 1 ? p.height_m : 0.0);
+            continue;
+        }
+        // A lying piece in parts of at most a quarter cell, each at its middle.
+        const int n = std::max(1, static_cast<int>(std::ceil(p.length_m / (0.25 * g.cell_size_m))));
+        for (int k = 0; k < n; ++k) {
+            const double t = (k + 0.5) / n;
+            add(p.x_m + t * (p.end_x_m - p.x_m), p.y_m + t * (p.end_y_m - p.y_m), p.volume_m3 / n,
+                p.height_m + t * (p.end_height_m - p.height_m));
+        }
+    }
+    layers.push_back(
+        {"deadwood_volume_m3_per_ha.tif", "m3/ha",
+         "volume of the dead wood (snags, logs, stumps and slash) in the cell, per ha: "
+         "lying pieces spread along their length (the part past the terrain's edge is "
+         "left out), standing ones at their base",
+         volume});
+    layers.push_back({"deadwood_top_height_m.tif", "m",
+                      "highest top above the ground of a log, piece of slash or stump in the cell "
+                      "(0: none)",
+                      top});
+}
+
 void write_layers_readme(const Scene& s, OutputFolder& folder, const std::string& table) {
     std::string species;
     for (std::size_t k = 0; k < s.species.size(); ++k)
@@ -179,6 +220,7 @@ void write_layers_readme(const Scene& s, OutputFolder& folder, const std::string
 void write_layers(const Scene& s, OutputFolder& folder, const LayerOptions& opt) {
     std::vector<Layer> layers = vegetation_layer_list(s, opt);
     add_water_layers(s, layers);
+    add_deadwood_layers(s, layers);
     std::string table = "| file | unit | what |\n|---|---|---|\n";
     for (auto& l : layers) {
         l.r.set_crs_wkt(s.terrain.crs_wkt()); // every layer georeferenced like the terrain

@@ -198,6 +198,54 @@ TEST_CASE("export layers: basal area and stems are conserved, canopy height is t
     CHECK(std::isnan(v.dominant_species(0, 0)));
 }
 
+TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside the terrain, "
+          "read back by GDAL",
+          "[export][layers][deadwood]") {
+    test::TempDir dir;
+    // 15 years: snags, logs, and a thinning's stumps and slash at year 10.
+    json scene = test::small_scene(15);
+    scene["vegetation"]["management"] = {
+        {"operations",
+         json::array({json{
+             {"year", 10}, {"type", "thin_from_below"}, {"target_basal_area_m2_per_ha", 5}}})}};
+    std::ofstream(dir / "scene.json") << scene.dump(2);
+    succeeds(dir, "run scene.json -o run.h5 --no-pictures");
+    succeeds(dir, "export layers run.h5 -o layers");
+    const auto pieces = run::read_snapshot_deadwood(dir / "run.h5", -1).pieces;
+    REQUIRE(pieces.size() > 10);
+    const GridSpec g = run::read_run_terrain(dir / "run.h5").grid();
+    // Bounds: the pieces wholly on the terrain, and all of them (a log may reach past the edge).
+    double inside = 0, all = 0, top = 0;
+    bool stumps = false;
+    for (const auto& p : pieces) {
+        all += p.volume_m3;
+        stumps = stumps || p.piece == 1;
+        if (g.contains_point(p.x_m, p.y_m) && g.contains_point(p.end_x_m, p.end_y_m)) {
+            inside += p.volume_m3;
+            if (!p.standing || p.piece == 1) top = std::max({top, p.height_m, p.end_height_m});
+        }
+    }
+    CHECK(stumps);
+    const auto gdal = shell(dir, "gdalinfo layers/deadwood_volume_m3_per_ha.tif");
+    CHECK(gdal.code == 0);
+    CHECK_THAT(gdal.out, Catch::Contains("Size is"));
+    const RasterD v = terrain::io::read_raster(dir / "layers/deadwood_volume_m3_per_ha.tif");
+    const RasterD h = terrain::io::read_raster(dir / "layers/deadwood_top_height_m.tif");
+    double sum = 0, highest = 0;
+    for (std::int64_t k = 0; k < v.size(); ++k) sum += v.data()[k];
+    for (std::int64_t k = 0; k < h.size(); ++k) highest = std::max(highest, h.data()[k]);
+    sum *= g.cell_size_m * g.cell_size_m / 1e4; // float32 in the file
+    CHECK(sum >= inside * (1 - 1e-6));
+    CHECK(sum <= all * (1 + 1e-6));
+    // The highest top: at most the highest end (tops are linear along a piece), and within a
+    // quarter cell's taper of the highest end of the pieces wholly inside.
+    double any_top = 0;
+    for (const auto& p : pieces)
+        if (!p.standing || p.piece == 1) any_top = std::max({any_top, p.height_m, p.end_height_m});
+    CHECK(highest <= any_top * (1 + 1e-6));
+    CHECK(highest >= 0.8 * top);
+}
+
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",
           "[export][cli][slow]") {
     test::TempDir dir;

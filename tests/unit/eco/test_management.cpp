@@ -117,8 +117,9 @@ TEST_CASE("management: thinnings reach their target within one tree's basal area
             }
 }
 
-TEST_CASE("management: selection and clear cuts take what they name, conditions and years act as given",
-          "[eco][management]") {
+TEST_CASE(
+    "management: selection and clear cuts take what they name, conditions and years act as given",
+    "[eco][management]") {
     const auto sp = species();
     const Population pop = stand(3, 400);
     std::vector<char> dead(pop.size(), 0);

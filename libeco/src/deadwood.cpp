@@ -113,8 +113,7 @@ double snag_height_m(double dbh, double h, int c) {
     return z4 + top_retained(c) * (h - z4);
 }
 
-double stem_volume_fraction_below(double dbh, double h, double z) {
-    (void)dbh; // the shape, not the size, sets the share
+double stem_volume_fraction_below(double h, double z) {
     if (!(h > 0)) return 1.0;
     z = std::clamp(z, 0.0, h);
     if (h <= kBreastHeightM) return z / h;
@@ -227,8 +226,8 @@ void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int
     const double h = d.tree_height_m;
     const double z_stump = std::min(m_opt.stump_height_m, h);
     const double z_top = std::max(deadwood::top_start_m(d.dbh_m, h), z_stump);
-    const double stump_kg = mass_kg * deadwood::stem_volume_fraction_below(d.dbh_m, h, z_stump);
-    const double slash_kg = mass_kg * (1 - deadwood::stem_volume_fraction_below(d.dbh_m, h, z_top));
+    const double stump_kg = mass_kg * deadwood::stem_volume_fraction_below(h, z_stump);
+    const double slash_kg = mass_kg * (1 - deadwood::stem_volume_fraction_below(h, z_top));
     // The felling direction: one draw, any direction.
     const double az = 2 * std::numbers::pi * m_rng.uniform();
     if (stump_kg > 0) {

@@ -159,13 +159,13 @@ TEST_CASE("management: a stump and its slash split the stem as the taper says",
     // A cylinder to 1.3 m and a cone above: the closed form at the base, at 1.3 m, at the top.
     const double D = 0.4, H = 25;
     const double total = 1.3 + (H - 1.3) / 3;
-    CHECK(dw::stem_volume_fraction_below(D, H, 0) == 0);
-    CHECK(dw::stem_volume_fraction_below(D, H, 0.2) == Approx(0.2 / total));
-    CHECK(dw::stem_volume_fraction_below(D, H, 1.3) == Approx(1.3 / total));
-    CHECK(dw::stem_volume_fraction_below(D, H, H) == Approx(1));
+    CHECK(dw::stem_volume_fraction_below(H, 0) == 0);
+    CHECK(dw::stem_volume_fraction_below(H, 0.2) == Approx(0.2 / total));
+    CHECK(dw::stem_volume_fraction_below(H, 1.3) == Approx(1.3 / total));
+    CHECK(dw::stem_volume_fraction_below(H, H) == Approx(1));
     const double z = 10;
     const double cone = (H - 1.3) / 3 * (1 - std::pow((H - z) / (H - 1.3), 3));
-    CHECK(dw::stem_volume_fraction_below(D, H, z) == Approx((1.3 + cone) / total));
+    CHECK(dw::stem_volume_fraction_below(H, z) == Approx((1.3 + cone) / total));
     // The merchantable top: where the taper reaches 10.16 cm.
     const double z4 = dw::top_start_m(D, H);
     CHECK(dw::stem_diameter_m(D, H, z4) == Approx(0.1016));
@@ -192,13 +192,13 @@ TEST_CASE("management: a stump and its slash split the stem as the taper says",
     CHECK(stump.piece == static_cast<std::uint8_t>(PieceKind::stump));
     CHECK(stump.standing == 1);
     CHECK(stump.length_m == 0.25);
-    CHECK(stump.mass0_kg == Approx(1000 * dw::stem_volume_fraction_below(D, H, 0.25)));
+    CHECK(stump.mass0_kg == Approx(1000 * dw::stem_volume_fraction_below(H, 0.25)));
     CHECK(slash.piece == static_cast<std::uint8_t>(PieceKind::slash));
     CHECK(slash.standing == 0);
     CHECK(slash.offset_m == Approx(z4));
     CHECK(slash.length_m == Approx(H - z4));
     CHECK(std::hypot(slash.x_m - 50, slash.y_m - 50) == Approx(z4));
-    CHECK(slash.mass0_kg == Approx(1000 * (1 - dw::stem_volume_fraction_below(D, H, z4))));
+    CHECK(slash.mass0_kg == Approx(1000 * (1 - dw::stem_volume_fraction_below(H, z4))));
     CHECK(d.sums().input_kg == Approx(stump.mass0_kg + slash.mass0_kg));
     CHECK(d.sums().cut_kept_kg == Approx(d.sums().input_kg));
     // Stumps stand and keep their height as they decay; they never fall.

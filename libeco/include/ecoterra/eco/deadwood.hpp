@@ -101,7 +101,7 @@ double snag_fall_span_yr(const Species& s, double dbh_m);
 /// al. 2011, Table 2: the mean of quaking aspen's and Douglas-fir's reduction factors).
 double density_reduction(int decay_class);
 /// Share of a stem's volume below height z (the taper above: a cylinder to 1.3 m, then a cone).
-double stem_volume_fraction_below(double dbh_m, double tree_height_m, double z_m);
+double stem_volume_fraction_below(double tree_height_m, double z_m);
 /// Volume of a piece, m3, as an inventory would find it from its mass: V = m / (rho DRF(class)),
 /// at most the stem volume at death m0 / rho.
 double volume_m3(const Species& s, const DeadStem& d);

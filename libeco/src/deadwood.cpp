@@ -43,6 +43,21 @@ struct DeadStemV1 {
 };
 static_assert(sizeof(DeadStemV1) == 96, "DeadStemV1 is not version 1's row");
 
+/// A piece of tree k of the population that died of `cause` in `year`: where and what it was.
+DeadStem from_tree(const Population& pop, std::size_t k, DeathCause cause, int year) {
+    DeadStem d;
+    d.x_m = pop.x_m[k];
+    d.y_m = pop.y_m[k];
+    d.z_m = pop.z_m[k];
+    d.dbh_m = pop.dbh_m[k];
+    d.tree_height_m = pop.height_m[k];
+    d.id = pop.id[k];
+    d.species = pop.species[k];
+    d.cause = static_cast<std::uint8_t>(cause);
+    d.year_died = year;
+    return d;
+}
+
 bool enters_dead_wood(const Species& s) {
     return s.life_form == LifeForm::tree;
 }
@@ -190,18 +205,9 @@ void DeadWood::take_dead(const Population& pop, const std::vector<Species>& spec
 
 void DeadWood::add(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
                    double mass_kg, int year) {
-    DeadStem d;
-    d.x_m = pop.x_m[k];
-    d.y_m = pop.y_m[k];
-    d.z_m = pop.z_m[k];
-    d.dbh_m = pop.dbh_m[k];
-    d.tree_height_m = pop.height_m[k];
+    DeadStem d = from_tree(pop, k, cause, year);
     d.length_m = d.tree_height_m;
     d.mass0_kg = d.mass_kg = mass_kg;
-    d.id = pop.id[k];
-    d.species = pop.species[k];
-    d.cause = static_cast<std::uint8_t>(cause);
-    d.year_died = year;
     // Each snag's fall year uniform over the span's years after its death: the cohort's standing
     // share falls by 1/span a year, linearly, as FFE's.
     d.year_falls = year + 1 +
@@ -213,16 +219,7 @@ void DeadWood::add(const Species& s, const Population& pop, std::size_t k, Death
 }
 
 void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int year) {
-    DeadStem d;
-    d.x_m = pop.x_m[k];
-    d.y_m = pop.y_m[k];
-    d.z_m = pop.z_m[k];
-    d.dbh_m = pop.dbh_m[k];
-    d.tree_height_m = pop.height_m[k];
-    d.id = pop.id[k];
-    d.species = pop.species[k];
-    d.cause = static_cast<std::uint8_t>(DeathCause::harvest);
-    d.year_died = year;
+    const DeadStem d = from_tree(pop, k, DeathCause::harvest, year);
     const double h = d.tree_height_m;
     const double z_stump = std::min(m_opt.stump_height_m, h);
     const double z_top = std::max(deadwood::top_start_m(d.dbh_m, h), z_stump);
@@ -238,6 +235,7 @@ void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int
         stump.year_falls = std::numeric_limits<std::int32_t>::max(); // stumps do not fall
         m_pieces.push_back(stump);
         m_sums.input_kg += stump_kg;
+        m_sums.cut_kept_kg += stump_kg;
     }
     if (slash_kg > 0 && h > z_top) {
         DeadStem top = d;
@@ -252,8 +250,8 @@ void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int
         top.year_falls = top.year_down = year;
         m_pieces.push_back(top);
         m_sums.input_kg += slash_kg;
+        m_sums.cut_kept_kg += slash_kg;
     }
-    m_sums.cut_kept_kg += std::max(stump_kg, 0.0) + (h > z_top ? std::max(slash_kg, 0.0) : 0.0);
 }
 
 void DeadWood::fall(DeadStem& d, const RasterD& dem, int year) {

@@ -172,6 +172,9 @@ private:
     void add_user_meshes();
     void add_prototypes();
     void add_tufts(int k, const std::vector<std::size_t>& tufts);
+    /// One node per piece of dead wood: the trunk mesh scaled to the piece, laid along its
+    /// azimuth when it lies.
+    void add_deadwood();
 
     const Scene& m_s;
     const ExportOptions& m_opt;
@@ -335,6 +338,42 @@ void GlbScene::add_tufts(int k, const std::vector<std::size_t>& tufts) {
                   {"extras", extras}}));
 }
 
+void GlbScene::add_deadwood() {
+    if (m_s.deadwood.empty()) return;
+    const json role = {{"role", "dead wood: solid (collision); a trunk mesh scaled to the piece"}};
+    const int mesh =
+        m_b.mesh(unit_trunk(), "deadwood", m_b.material("deadwood", kDeadWoodColour), role);
+    constexpr const char* kKinds[] = {"stem", "stump", "slash"};
+    const float s = static_cast<float>(std::sqrt(0.5));
+    for (const auto& d : m_s.deadwood) {
+        const double dia = std::max(d.diameter_m, 1e-3), len = std::max(d.length_m, 1e-3);
+        json n = {
+            {"name", "deadwood_" + std::to_string(d.id) + "_" + kKinds[std::clamp(d.piece, 0, 2)]},
+            {"mesh", mesh},
+            {"scale", gltf_scale({dia, dia, len})}};
+        if (d.standing) {
+            n["translation"] = to_gltf(
+                {static_cast<float>(d.x_m), static_cast<float>(d.y_m), static_cast<float>(d.z_m)});
+        } else {
+            // The trunk's axis (glTF +Y) turned onto the azimuth: 90 degrees about the
+            // horizontal axis (-sin a, 0, -cos a); its top at the piece's top height.
+            const double a = d.azimuth_rad;
+            n["rotation"] = std::array<float, 4>{static_cast<float>(-std::sin(a)) * s, 0,
+                                                 static_cast<float>(-std::cos(a)) * s, s};
+            n["translation"] = to_gltf({static_cast<float>(d.x_m), static_cast<float>(d.y_m),
+                                        static_cast<float>(d.z_m + d.top_height_m - 0.5 * dia)});
+        }
+        n["extras"] = {{"plant_id", d.id},
+                       {"species", m_s.species[static_cast<std::size_t>(d.species)].name},
+                       {"piece", kKinds[std::clamp(d.piece, 0, 2)]},
+                       {"standing", d.standing},
+                       {"decay_class", d.decay_class},
+                       {"diameter_m", d.diameter_m},
+                       {"length_m", d.length_m}};
+        m_roots.push_back(m_b.node(std::move(n)));
+    }
+}
+
 std::string GlbScene::build() {
     m_b.j["asset"] = {
         {"version", "2.0"},
@@ -345,11 +384,13 @@ std::string GlbScene::build() {
           {"year", m_s.year},
           {"frame", "glTF Y-up, metres: (x_gltf, y_gltf, z_gltf) = (east, up, -north)"},
           {"trees", m_s.trees.size()},
-          {"grass_tufts", m_s.tufts.size()}}}};
+          {"grass_tufts", m_s.tufts.size()},
+          {"deadwood_pieces", m_s.deadwood.size()}}}};
     add_terrain();
     add_user_meshes();
     add_prototypes();
     for (const auto& [k, tufts] : tuft_groups(m_s)) add_tufts(k, tufts);
+    add_deadwood();
     if (m_instancing) {
         m_b.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
         m_b.j["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};

@@ -1,6 +1,7 @@
 #include "ecoterra/export/scene.hpp"
 #include "ecoterra/export/mesh.hpp"
 
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/eco/dispersal.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/random.hpp"
@@ -83,6 +84,7 @@ Scene in_local_frame(const Scene& s, const std::optional<std::array<double, 2>>&
     out.terrain.set_crs_wkt(s.terrain.crs_wkt());
     for (auto& t : out.trees) t.x_m -= dx, t.y_m -= dy;
     for (auto& t : out.tufts) t.x_m -= dx, t.y_m -= dy;
+    for (auto& d : out.deadwood) d.x_m -= dx, d.y_m -= dy;
     if (out.region) {
         out.region->x0_m -= dx, out.region->x1_m -= dx;
         out.region->y0_m -= dy, out.region->y1_m -= dy;
@@ -176,6 +178,34 @@ void add_tufts(Scene& s, const RasterD& full, const std::vector<eco::Species>& s
 
 } // namespace
 
+namespace {
+/// The snapshot's dead wood whose base lies on the scene's terrain (and region).
+void add_deadwood(Scene& s, const RasterD& full) {
+    for (const auto& r : run::read_snapshot_deadwood(s.run, s.snapshot).pieces) {
+        if (s.region && (r.x_m < s.region->x0_m || r.x_m >= s.region->x1_m ||
+                         r.y_m < s.region->y0_m || r.y_m >= s.region->y1_m))
+            continue;
+        DeadPiece d;
+        d.z_m = full.sample_bilinear(r.x_m, r.y_m);
+        if (std::isnan(d.z_m)) continue; // slash whose thick end lies past the edge
+        d.id = r.id;
+        d.species = r.species;
+        d.piece = r.piece;
+        d.standing = r.standing != 0;
+        d.decay_class = r.decay_class;
+        d.x_m = r.x_m;
+        d.y_m = r.y_m;
+        d.azimuth_rad = r.azimuth_rad;
+        d.length_m = r.length_m;
+        d.top_height_m = r.height_m;
+        // A lying piece's top is its diameter sunk by its class; a standing one keeps its DBH.
+        d.diameter_m =
+            d.standing ? r.dbh_m : r.height_m / eco::deadwood::log_collapse(r.decay_class);
+        s.deadwood.push_back(d);
+    }
+}
+} // namespace
+
 std::string tuft_mesh_name(const Scene& s, int k) {
     return file_safe(s.species[static_cast<std::size_t>(k)].name) + "_grass";
 }
@@ -250,6 +280,7 @@ Scene load_scene(const std::filesystem::path& run, int snapshot,
     std::sort(s.trees.begin(), s.trees.end(),
               [](const Tree& a, const Tree& b) { return a.id < b.id; });
     add_tufts(s, full, species);
+    add_deadwood(s, full);
     return s;
 }
 

@@ -244,6 +244,50 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
         if (!p.standing || p.piece == 1) any_top = std::max({any_top, p.height_m, p.end_height_m});
     CHECK(highest <= any_top * (1 + 1e-6));
     CHECK(highest >= 0.8 * top);
+
+    // glTF: one node per piece whose base is on the terrain, valid for the Khronos validator; a
+    // lying piece's node carries the trunk's axis from its base to its end point.
+    succeeds(dir, "export scene run.h5 --format gltf -o s.glb --no-pictures");
+    check_gltf_validator(dir, "s.glb");
+    const json frame = read_json(dir / "s.glb.json")["frame"];
+    const double ox = frame["origin_x_m"].get<double>(), oy = frame["origin_y_m"].get<double>();
+    const auto glb = read_glb(dir / "s.glb");
+    std::map<std::string, json> nodes;
+    for (const auto& n : glb.first["nodes"])
+        if (n.contains("name") && n["name"].get<std::string>().starts_with("deadwood_"))
+            nodes[n["name"].get<std::string>()] = n;
+    std::size_t on_terrain = 0, lying_checked = 0;
+    const char* kinds[] = {"stem", "stump", "slash"};
+    for (const auto& p : pieces) {
+        if (!g.contains_point(p.x_m, p.y_m)) continue;
+        ++on_terrain;
+        const auto it = nodes.find("deadwood_" + std::to_string(p.id) + "_" + kinds[p.piece]);
+        REQUIRE(it != nodes.end());
+        const json& n = it->second;
+        CHECK(n["extras"]["decay_class"] == p.decay_class);
+        if (p.standing) continue;
+        // v' = v + 2 w (q x v) + 2 q x (q x v), v = (0, length, 0) in glTF axes.
+        const auto q = n["rotation"].get<std::array<double, 4>>();
+        const auto t = n["translation"].get<std::array<double, 3>>();
+        const double L = n["scale"][1].get<double>();
+        const std::array<double, 3> axis{0, L, 0};
+        auto cross = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+            return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                         a[0] * b[1] - a[1] * b[0]};
+        };
+        const std::array<double, 3> qv{q[0], q[1], q[2]};
+        const auto c1 = cross(qv, axis);
+        const auto c2 = cross(qv, c1);
+        const double ex = t[0] + axis[0] + 2 * q[3] * c1[0] + 2 * c2[0];
+        const double ey = t[1] + axis[1] + 2 * q[3] * c1[1] + 2 * c2[1];
+        const double ez = t[2] + axis[2] + 2 * q[3] * c1[2] + 2 * c2[2];
+        CHECK(ex + ox == Approx(p.end_x_m).margin(1e-3));
+        CHECK(-ez + oy == Approx(p.end_y_m).margin(1e-3));
+        CHECK(ey == Approx(t[1]).margin(1e-4)); // lying level
+        ++lying_checked;
+    }
+    CHECK(nodes.size() == on_terrain);
+    CHECK(lying_checked > 0);
 }
 
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",

@@ -101,6 +101,8 @@ std::string to_mtl(const std::vector<std::pair<std::string, std::array<double, 3
 /// The crown colour of species k (greens; evergreens darker).
 std::array<double, 3> crown_colour(const SpeciesLook& sp, int k);
 inline constexpr std::array<double, 3> kBarkColour{0.33, 0.24, 0.15};
+/// Dead wood: bark weathered grey.
+inline constexpr std::array<double, 3> kDeadWoodColour{0.45, 0.42, 0.38};
 inline constexpr std::array<double, 3> kGroundColour{0.42, 0.36, 0.26};
 
 } // namespace ecoterra::exporter

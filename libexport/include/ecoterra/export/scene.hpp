@@ -63,6 +63,22 @@ struct Tuft {
     double yaw_rad = 0;
 };
 
+/// A piece of dead wood (docs/ecosystem.md s11, s12): a snag or stump standing at its base, or a
+/// log or piece of slash lying from its base along its azimuth. Its diameter is at the base; the
+/// meshes taper it as the trunks (unit_trunk).
+struct DeadPiece {
+    std::int64_t id = 0; ///< the tree's plant id
+    int species = 0;
+    int piece = 0; ///< 0 a whole stem (snag or log), 1 a stump, 2 slash
+    bool standing = true;
+    int decay_class = 1;
+    double x_m = 0, y_m = 0, z_m = 0; ///< the base, on the terrain
+    double azimuth_rad = 0;           ///< lying: base -> end, counter-clockwise from east
+    double length_m = 0;              ///< standing height or lying length
+    double diameter_m = 0;            ///< at the base
+    double top_height_m = 0;          ///< lying: the top above the ground at the base
+};
+
 struct SpeciesLook {
     std::string name;
     eco::CrownShape crown_shape = eco::CrownShape::ellipsoid;
@@ -90,8 +106,9 @@ struct Scene {
     std::optional<Region> region; ///< as asked (the terrain covers it to whole cells)
     int cut_i0 = 0, cut_j0 = 0;   ///< the terrain's first column and row in the run's grid
     std::vector<SpeciesLook> species;
-    std::vector<Tree> trees; ///< sorted by plant id
-    std::vector<Tuft> tufts; ///< the ground layer, by species, then cell, then draw
+    std::vector<Tree> trees;         ///< sorted by plant id
+    std::vector<Tuft> tufts;         ///< the ground layer, by species, then cell, then draw
+    std::vector<DeadPiece> deadwood; ///< pieces whose base lies on the (cut) terrain
     /// The frame of the coordinates above: load_scene gives the run's own (origin 0, 0);
     /// in_local_frame() moves a scene to a local one.
     LocalFrame frame;

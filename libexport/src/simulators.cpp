@@ -364,6 +364,9 @@ public:
     /// A user's mesh: one model per 5 % height class (an include cannot scale its model).
     void add_user_meshes(const ExportOptions& opt);
     void add_size_classes(const ExportOptions& opt);
+    /// The dead wood as one static model of the world, a link per piece with a cylinder for
+    /// collision and sight.
+    void add_deadwood();
     void finish();
 
 private:
@@ -471,6 +474,37 @@ void GazeboWorld::add_size_classes(const ExportOptions& opt) {
                         "/meshes/tree.obj</uri></mesh></geometry>\n      </visual>\n");
         for (const auto i : c.trees) include(c.name, m_s.trees[i]);
     }
+}
+
+void GazeboWorld::add_deadwood() {
+    if (m_s.deadwood.empty()) return;
+    constexpr const char* kKinds[] = {"stem", "stump", "slash"};
+    m_world += "    <model name=\"deadwood\">\n      <static>true</static>\n";
+    for (const auto& d : m_s.deadwood) {
+        const double len = std::max(d.length_m, 1e-3);
+        // A stump at its diameter; a stem or slash at its mean diameter, as a trunk's collision.
+        const double r = 0.5 * std::max(d.diameter_m, 1e-3) *
+                         (d.piece == 1 ? 1.0 : (1 + kTopDiameterFraction) / 2);
+        std::string pose;
+        if (d.standing) {
+            pose = num(d.x_m) + " " + num(d.y_m) + " " + num(d.z_m + 0.5 * len) + " 0 0 0";
+        } else {
+            // The cylinder's axis (z) pitched onto x, then turned to the azimuth; its top at the
+            // piece's height above the ground.
+            const double c = std::cos(d.azimuth_rad), s = std::sin(d.azimuth_rad);
+            pose = num(d.x_m + 0.5 * len * c) + " " + num(d.y_m + 0.5 * len * s) + " " +
+                   num(d.z_m + d.top_height_m - std::max(d.diameter_m, 1e-3) / 2) +
+                   " 0 1.5707963267948966 " + num(d.azimuth_rad);
+        }
+        const std::string geometry = "<geometry><cylinder><radius>" + num(r) + "</radius><length>" +
+                                     num(len) + "</length></cylinder></geometry>";
+        m_world += "      <link name=\"piece_" + std::to_string(d.id) + "_" +
+                   kKinds[std::clamp(d.piece, 0, 2)] + "\">\n        <pose>" + pose +
+                   "</pose>\n        <collision name=\"collision\">" + geometry +
+                   "</collision>\n        <visual name=\"visual\">" + geometry +
+                   "</visual>\n      </link>\n";
+    }
+    m_world += "    </model>\n";
 }
 
 void GazeboWorld::finish() {
@@ -620,6 +654,7 @@ void write_gazebo(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     w.add_terrain();
     w.add_user_meshes(opt);
     w.add_size_classes(opt);
+    w.add_deadwood();
     w.finish();
 }
 

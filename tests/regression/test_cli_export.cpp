@@ -288,6 +288,18 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
     }
     CHECK(nodes.size() == on_terrain);
     CHECK(lying_checked > 0);
+
+    // Gazebo: libsdformat parses the world with its dead-wood model, a link per piece.
+    succeeds(dir, "export scene run.h5 --format gazebo -o gz --no-pictures");
+    const Scene sc = load_scene(dir / "run.h5", -1);
+    CHECK_THAT(check_sdformat(dir, "gz"),
+               Catch::Contains("models " + std::to_string(sc.trees.size() + 2)));
+    const std::string world = io::read_text(dir / "gz/world.sdf");
+    std::size_t links = 0;
+    for (std::size_t at = 0; (at = world.find("<link name=\"piece_", at)) != std::string::npos;
+         ++at)
+        ++links;
+    CHECK(links == on_terrain);
 }
 
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",
@@ -327,7 +339,8 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
                     }
                 }
                 if (!mode.empty() && node.contains("extras") &&
-                    node["extras"].contains("plant_id")) {
+                    node["extras"].contains("plant_id") &&
+                    !node["name"].get<std::string>().starts_with("deadwood_")) {
                     const Tree& t = by_id.at(node["extras"]["plant_id"].get<std::int64_t>());
                     CHECK(node["translation"][0].get<double>() == Approx(t.x_m).margin(1e-4));
                     CHECK(node["translation"][2].get<double>() == Approx(-t.y_m).margin(1e-4));
@@ -342,8 +355,10 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
     SECTION("Gazebo: libsdformat parses the world; one include per tree at its pose") {
         CHECK_THAT(succeeds(dir, "export scene run.h5 --format gazebo -o gz"),
                    Catch::Contains("resampled 20x20 to 33x33"));
+        // The terrain, a model per tree, and the dead wood's model when there is dead wood.
         CHECK_THAT(check_sdformat(dir, "gz"),
-                   Catch::Contains("models " + std::to_string(s.trees.size() + 1)));
+                   Catch::Contains("models " + std::to_string(s.trees.size() + 1 +
+                                                              (s.deadwood.empty() ? 0 : 1))));
         const std::string world = io::read_text(dir / "gz/world.sdf");
         std::size_t includes = 0, at = 0;
         while ((at = world.find("<include>", at)) != std::string::npos) ++includes, ++at;
@@ -757,7 +772,8 @@ TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes
     CHECK_THAT(succeeds(dir, "export scene run.h5 --format gazebo -o gz"),
                Catch::Contains("grass tufts are left out"));
     CHECK_THAT(check_sdformat(dir, "gz"),
-               Catch::Contains("models " + std::to_string(snap.plants.size() + 1)));
+               Catch::Contains("models " + std::to_string(snap.plants.size() + 1 +
+                                                          (s.deadwood.empty() ? 0 : 1))));
 
     // Layers: the ground cover as the snapshot holds it; stems and basal area count trees only.
     succeeds(dir, "export layers run.h5 -o layers");

@@ -143,6 +143,41 @@ Mesh unit_crown(eco::CrownShape shape, Stage stage) {
     return revolve(rings, kCrownSegments, false);
 }
 
+Mesh deadwood_mesh(const Scene& s, double z_offset_m) {
+    const Mesh unit = unit_trunk();
+    Mesh out;
+    for (const auto& d : s.deadwood) {
+        const double dia = std::max(d.diameter_m, kMinScale_m),
+                     len = std::max(d.length_m, kMinScale_m);
+        // The piece's frame: its axis e3 (up when standing, along the azimuth when lying), e1 and
+        // e2 across it (right-handed), and its base point.
+        std::array<double, 3> e1{1, 0, 0}, e2{0, 1, 0}, e3{0, 0, 1};
+        std::array<double, 3> o{d.x_m, d.y_m, d.z_m - z_offset_m};
+        if (!d.standing) {
+            const double c = std::cos(d.azimuth_rad), sn = std::sin(d.azimuth_rad);
+            e3 = {c, sn, 0};
+            e1 = {0, 0, 1};
+            e2 = {sn, -c, 0};
+            o[2] += d.top_height_m - 0.5 * dia; // the axis: the top at the piece's height
+        }
+        const auto base = static_cast<std::uint32_t>(out.positions.size());
+        for (std::size_t k = 0; k < unit.positions.size(); ++k) {
+            const auto& p = unit.positions[k];
+            const auto& n = unit.normals[k];
+            std::array<float, 3> q{}, m{};
+            for (int i = 0; i < 3; ++i) {
+                q[i] = static_cast<float>(o[i] + dia * p[0] * e1[i] + dia * p[1] * e2[i] +
+                                          len * p[2] * e3[i]);
+                m[i] = static_cast<float>(n[0] * e1[i] + n[1] * e2[i] + n[2] * e3[i]);
+            }
+            out.positions.push_back(q);
+            out.normals.push_back(m);
+        }
+        for (const auto i : unit.indices) out.indices.push_back(base + i);
+    }
+    return out;
+}
+
 std::array<double, 3> trunk_scale(const Tree& t) {
     const double base =
         t.base_diameter_m > 0 ? t.base_diameter_m : trunk_base_diameter_m(t.dbh_m, t.height_m);

@@ -303,6 +303,11 @@ void write_mavs_readme(const Scene& s, OutputFolder& folder, double offset) {
             "is each tree's DBH to within its class |\n"
             "| truth.txt | one tree per line: x y height speciesNum meshPath (MAVS's truth "
             "format) |\n" +
+            (s.deadwood.empty()
+                 ? std::string()
+                 : "| meshes/deadwood.obj | the dead wood: " + std::to_string(s.deadwood.size()) +
+                       " snags, logs, stumps and pieces of slash in one mesh in the scene's frame "
+                       "(one instance at the origin), solid: not in veg_override.json |\n") +
             (s.tufts.empty()
                  ? std::string()
                  : "| meshes/*_grass.obj | the ground layer: " + std::to_string(s.tufts.size()) +
@@ -331,6 +336,23 @@ void write_mavs(const Scene& s, OutputFolder& folder, const ExportOptions& opt) 
     add_mavs_user_meshes(s, folder, opt, offset, o);
     add_mavs_size_classes(s, folder, opt, offset, o);
     add_mavs_tufts(s, folder, offset, o);
+    if (!s.deadwood.empty()) {
+        // Dead wood: one mesh in the scene's frame, one instance at the origin (solid: not in the
+        // vegetation override).
+        const Mesh dead = deadwood_mesh(s, offset);
+        folder.write("meshes/deadwood.mtl", to_mtl({{"deadwood", kDeadWoodColour}}));
+        folder.write("meshes/deadwood.obj",
+                     to_obj({{&dead, "deadwood"}},
+                            "ecoterra dead wood: " + std::to_string(s.deadwood.size()) +
+                                " snags, logs, stumps and slash; ENU metres, z shifted by " +
+                                num(-offset) + " m",
+                            "deadwood.mtl"));
+        o.objects.push_back({{"Mesh", "meshes/deadwood.obj"},
+                             {"Rotate Y to Z", false},
+                             {"Instances", json::array({json{{"YawPitchRoll", {0.0, 0.0, 0.0}},
+                                                             {"Position", {0.0, 0.0, 0.0}},
+                                                             {"Scale", {1.0, 1.0, 1.0}}}})}});
+    }
     // One separator between the folder and the names MAVS appends ("out/" given as -o must not
     // become "out//").
     const fs::path abs =

@@ -300,6 +300,43 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
          ++at)
         ++links;
     CHECK(links == on_terrain);
+
+    // MAVS: one dead-wood mesh in the scene's frame; each piece's block of vertices is the trunk
+    // prototype, and a lying piece's far ring is centred on its end point.
+    succeeds(dir, "export scene run.h5 --format mavs -o mavs --no-pictures");
+    const json mavs = read_json(dir / "mavs/scene.json");
+    bool listed = false;
+    for (const auto& o : mavs["Objects"]) listed = listed || o["Mesh"] == "meshes/deadwood.obj";
+    CHECK(listed);
+    std::vector<std::array<double, 3>> verts;
+    std::ifstream obj(dir / "mavs/meshes/deadwood.obj");
+    for (std::string line; std::getline(obj, line);)
+        if (line.starts_with("v ")) {
+            std::istringstream in(line.substr(2));
+            std::array<double, 3> vert{};
+            in >> vert[0] >> vert[1] >> vert[2];
+            verts.push_back(vert);
+        }
+    const Mesh unit = unit_trunk();
+    REQUIRE(verts.size() == sc.deadwood.size() * unit.positions.size());
+    CHECK(sc.deadwood.size() == on_terrain);
+    std::size_t ends_checked = 0;
+    for (std::size_t k = 0; k < sc.deadwood.size(); ++k) {
+        const DeadPiece& d = sc.deadwood[k];
+        double cx = 0, cy = 0, n = 0;
+        for (std::size_t i = 0; i < unit.positions.size(); ++i)
+            if (unit.positions[i][2] == 1.0f) {
+                cx += verts[k * unit.positions.size() + i][0];
+                cy += verts[k * unit.positions.size() + i][1];
+                n += 1;
+            }
+        const double ex = d.standing ? d.x_m : d.x_m + d.length_m * std::cos(d.azimuth_rad);
+        const double ey = d.standing ? d.y_m : d.y_m + d.length_m * std::sin(d.azimuth_rad);
+        CHECK(cx / n == Approx(ex).margin(1e-3));
+        CHECK(cy / n == Approx(ey).margin(1e-3));
+        ends_checked += !d.standing;
+    }
+    CHECK(ends_checked > 0);
 }
 
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",
@@ -399,6 +436,7 @@ TEST_CASE("export scene: every format holds the snapshot's stems, checked by its
         for (const auto& obj : scene["Objects"]) {
             const std::string mesh = obj["Mesh"];
             CHECK(fs::exists(root / mesh));
+            if (mesh == "meshes/deadwood.obj") continue; // solid, checked in its own test
             REQUIRE(veg.count(mesh) == 1);
             for (const auto& inst : obj["Instances"]) {
                 const double x = inst["Position"][0], y = inst["Position"][1];
@@ -868,6 +906,7 @@ TEST_CASE("export scene: a DEM at a large northing exports about a local origin,
     frame_is(read_json(dir / "mavs/frame.json"), ox, oy);
     for (const auto& obj : ms["Objects"])
         for (const auto& inst : obj["Instances"]) {
+            if (obj["Mesh"] == "meshes/deadwood.obj") continue; // one instance at the origin
             const double x = inst["Position"][0].get<double>() + ox;
             const double y = inst["Position"][1].get<double>() + oy;
             std::size_t near = 0;

@@ -85,6 +85,11 @@ double stem_diameter_m(const Tree& t);
 /// kept), two triangles per quad, heights in metres shifted by -z_offset_m.
 Mesh terrain_mesh(const RasterD& z, int step = 1, double z_offset_m = 0);
 
+/// The scene's dead wood as one mesh in the scene's frame (heights shifted by -z_offset_m): the
+/// trunk prototype scaled to each piece's base diameter and length, standing at its base or laid
+/// along its azimuth with its top at the piece's height above the ground.
+Mesh deadwood_mesh(const Scene& s, double z_offset_m = 0);
+
 /// A name safe in file names and XML ids: lower case, [a-z0-9_].
 std::string file_safe(const std::string& name);
 

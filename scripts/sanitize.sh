@@ -30,7 +30,7 @@ seconds="${ECOTERRA_FUZZ_SECONDS:-15}"
 [ "$seconds" -gt 0 ] || exit 0
 # hdf5_dem is left out: libhdf5 1.10.8 itself crashes on some damaged files
 # (fuzz/library-defects/README.md); its corpus is still replayed by the suite above.
-targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii png16 png_sidecar geotiff ensemble_manifest species_meshes}"
+targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii png16 png_sidecar geotiff ensemble_manifest species_meshes stand_lists}"
 work="$build/fuzz-corpus"
 failed=()
 for target in $targets; do

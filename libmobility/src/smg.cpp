@@ -11,6 +11,13 @@
 
 namespace ecoterra::mobility {
 
+double point_segment_distance(Point p, Point a, Point b) {
+    const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m, l2 = dx * dx + dy * dy;
+    const double t =
+        l2 > 0 ? std::clamp(((p.x_m - a.x_m) * dx + (p.y_m - a.y_m) * dy) / l2, 0.0, 1.0) : 0.0;
+    return std::hypot(a.x_m + t * dx - p.x_m, a.y_m + t * dy - p.y_m);
+}
+
 namespace {
 
 /// The planning grid refuses areas larger than this many cells.
@@ -41,14 +48,6 @@ struct Grid {
 
 double distance(Point p, Point q) {
     return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
-}
-
-/// Distance from p to the segment a-b.
-double point_segment_distance(Point p, Point a, Point b) {
-    const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m, l2 = dx * dx + dy * dy;
-    const double t =
-        l2 > 0 ? std::clamp(((p.x_m - a.x_m) * dx + (p.y_m - a.y_m) * dy) / l2, 0.0, 1.0) : 0.0;
-    return std::hypot(a.x_m + t * dx - p.x_m, a.y_m + t * dy - p.y_m);
 }
 
 /// Distance between the segments p0-p1 and q0-q1 (0 when they cross).

@@ -174,15 +174,7 @@ bool clear_of_high_logs(const Vehicle& v, const LogIndex& logs, Point p) {
             const Log& l = logs.logs()[static_cast<std::size_t>(k)];
             if (std::max(l.height_a_m, l.height_b_m) <= limit) return;
             // The whole log, conservatively (its high part is within it).
-            const double dx = l.b.x_m - l.a.x_m, dy = l.b.y_m - l.a.y_m;
-            const double l2 = dx * dx + dy * dy;
-            const double t =
-                l2 > 0
-                    ? std::clamp(((p.x_m - l.a.x_m) * dx + (p.y_m - l.a.y_m) * dy) / l2, 0.0, 1.0)
-                    : 0.0;
-            if (std::hypot(l.a.x_m + t * dx - p.x_m, l.a.y_m + t * dy - p.y_m) <=
-                0.5 * (v.width_m + l.diameter_m))
-                ok = false;
+            if (point_segment_distance(p, l.a, l.b) <= 0.5 * (v.width_m + l.diameter_m)) ok = false;
         });
     return ok;
 }

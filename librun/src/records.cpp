@@ -157,20 +157,25 @@ const std::vector<Column<DeadWoodRecord>>& deadwood_columns() {
         column("x_m", &R::x_m, "m", "the piece's base (slash: its thick end), east"),
         column("y_m", &R::y_m, "m", "the piece's base, north"),
         column("z_m", &R::z_m, "m", "ground elevation at the stem base"),
-        column("end_x_m", &R::end_x_m, "m", "a log's top end, east (a snag: its base)"),
-        column("end_y_m", &R::end_y_m, "m", "a log's top end, north (a snag: its base)"),
+        column("end_x_m", &R::end_x_m, "m",
+               "a lying piece's far end, east (a snag or stump: its base)"),
+        column("end_y_m", &R::end_y_m, "m",
+               "a lying piece's far end, north (a snag or stump: its base)"),
         column("dbh_m", &R::dbh_m, "m",
-               "diameter at breast height at death; a log's diameter tapers linearly from 1.3 m "
-               "to 0 at the tree's height"),
+               "the tree's diameter at breast height at death; the stem tapers linearly from "
+               "1.3 m to 0 at the tree's height (slash starts where it is 10.16 cm)"),
         column("tree_height_m", &R::tree_height_m, "m", "the tree's height at death"),
-        column("length_m", &R::length_m, "m", "a snag's standing height, a log's length"),
+        column("length_m", &R::length_m, "m",
+               "a snag's or stump's standing height, a log's or slash's length"),
         column("azimuth_rad", &R::azimuth_rad, "rad",
-               "a log's direction from base to top, counterclockwise from east (a snag: 0)"),
+               "a lying piece's direction from base to far end, counterclockwise from east (a "
+               "snag or stump: 0)"),
         column("height_m", &R::height_m, "m",
-               "height above the ground: a snag's top; a log's at its base (its diameter, less "
-               "as it collapses in decay classes 3-5)"),
+               "height above the ground: a snag's or stump's top; a lying piece's top at its "
+               "base (its diameter there, less as it collapses in decay classes 3-5)"),
         column("end_height_m", &R::end_height_m, "m",
-               "height above the ground at a log's top end (a snag: its top)"),
+               "height above the ground of a lying piece's top at its far end (a snag or stump: "
+               "its top)"),
         column("mass_kg", &R::mass_kg, "kg", "dry mass left"),
         column("volume_m3", &R::volume_m3, "m3",
                "volume: mass over the decay class's density (Domke et al. 2011)"),

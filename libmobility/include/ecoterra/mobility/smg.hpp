@@ -42,6 +42,9 @@ struct Log {
     double diameter_m = 0; ///< the largest, for its footprint
 };
 
+/// Distance from p to the segment a-b, m.
+double point_segment_distance(Point p, Point a, Point b);
+
 /// The highest log a vehicle drives over: min(ground clearance, wheel radius) (a log thicker than
 /// the clearance hangs the vehicle up; a wheel climbs a step below its radius), m.
 double step_limit_m(const Vehicle& v);

@@ -80,6 +80,10 @@ std::vector<Section> scene_sections() {
                describe(vegetation_catalog(), e)),
         params("Scene: vegetation.initial.random (ecoterra run)", "",
                describe(initial_random_catalog(), InitialPlants{})),
+        params("Scene: vegetation.windthrow (ecoterra run)",
+               "Besides vegetation.windthrow.storms, a list of {year, wind_m_per_s, from_deg} "
+               "(docs/formats.md).",
+               describe(windthrow_catalog(), WindthrowOptions{})),
         params("Scene: simulation (ecoterra run)", "", eco_simulation_params(h, e)),
     };
 }

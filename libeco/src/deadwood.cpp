@@ -30,6 +30,14 @@ constexpr std::array<double, 4> kClassThresholds = {0.9, 0.7, 0.4, 0.2};
 constexpr std::array<double, 5> kTopRetained = {1.0, 0.5, 0.2, 0.1, 0.0};
 constexpr std::array<double, 5> kLogCollapse = {1.0, 1.0, 0.9, 0.6, 0.3};
 constexpr std::array<double, 5> kDensityReduction = {0.93, 0.79, 0.57, 0.52, 0.52};
+// Root plates (deadwood.hpp): diameter per DBH and its cap; thickness per diameter and bounds.
+constexpr double kPlatePerDbh = 12, kPlateMaxM = 5, kPlateThickness = 0.25;
+constexpr double kPlateThinM = 0.3, kPlateThickM = 1.0;
+/// A wind-felled stem falls along the storm, +-22.5 degrees.
+constexpr double kWindSpreadRad = 0.25 * std::numbers::pi;
+/// A broken stem snaps where half its mass is below (iLand's wind module: half the stem to the
+/// snag pool, half to the ground).
+constexpr double kSnapMassFraction = 0.5;
 /// Version 2 added the piece kind and its offset along the stem (stumps and slash).
 constexpr std::uint32_t kStateVersion = 2;
 
@@ -88,8 +96,20 @@ const char* death_cause_name(DeathCause c) {
         return "overlap";
     case DeathCause::harvest:
         return "harvest";
+    case DeathCause::wind_uprooted:
+        return "wind_uprooted";
+    case DeathCause::wind_broken:
+        return "wind_broken";
     }
     return "unknown";
+}
+
+double root_plate_diameter_m(double dbh) {
+    return std::min(kPlatePerDbh * dbh, kPlateMaxM);
+}
+
+double root_plate_thickness_m(double dbh) {
+    return std::clamp(kPlateThickness * root_plate_diameter_m(dbh), kPlateThinM, kPlateThickM);
 }
 
 namespace deadwood {
@@ -196,8 +216,11 @@ void DeadWood::take_dead(const Population& pop, const std::vector<Species>& spec
         const double mass =
             allometric_mass ? allometry::stem_mass_kg(s, pop.dbh_m[k]) : pop.wood_kg[k];
         if (!(mass > 0)) continue;
+        const auto cause = static_cast<DeathCause>(c);
         if (cut)
             add_cut(pop, k, mass, year);
+        else if (cause == DeathCause::wind_uprooted || cause == DeathCause::wind_broken)
+            add_wind(s, pop, k, cause, mass, year);
         else
             add(s, pop, k, c ? static_cast<DeathCause>(c) : DeathCause::starvation, mass, year);
     }
@@ -254,6 +277,61 @@ void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int
     }
 }
 
+void DeadWood::add_wind(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
+                        double mass_kg, int year) {
+    const DeadStem d = from_tree(pop, k, cause, year);
+    const double h = d.tree_height_m;
+    const double two_pi = 2 * std::numbers::pi;
+    double az = m_storm_to_az + (m_rng.uniform() - 0.5) * kWindSpreadRad;
+    az -= two_pi * std::floor(az / two_pi);
+    m_sums.input_kg += mass_kg;
+    if (cause == DeathCause::wind_uprooted) {
+        DeadStem log = d;
+        log.standing = 0;
+        log.length_m = h;
+        log.azimuth_rad = az;
+        log.mass0_kg = log.mass_kg = mass_kg;
+        log.year_falls = log.year_down = year;
+        m_pieces.push_back(log);
+        DeadStem plate = d;
+        plate.piece = static_cast<std::uint8_t>(PieceKind::root_plate);
+        plate.standing = 0;
+        plate.length_m = root_plate_thickness_m(d.dbh_m);
+        const double back = az + std::numbers::pi; // the plate tips up on the windward side
+        plate.azimuth_rad = back - two_pi * std::floor(back / two_pi);
+        plate.year_falls = plate.year_down = year;
+        m_pieces.push_back(plate);
+        return;
+    }
+    // Broken: the height below which half the stem's mass lies (the taper is monotone).
+    double lo = 0, hi = h;
+    for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (deadwood::stem_volume_fraction_below(h, mid) < kSnapMassFraction ? lo : hi) = mid;
+    }
+    const double z = 0.5 * (lo + hi);
+    DeadStem snag = d;
+    snag.piece = static_cast<std::uint8_t>(PieceKind::snapped);
+    snag.length_m = z;
+    snag.mass0_kg = snag.mass_kg = kSnapMassFraction * mass_kg;
+    snag.year_falls = year + 1 +
+                      static_cast<std::int32_t>(
+                          std::floor(m_rng.uniform() * deadwood::snag_fall_span_yr(s, d.dbh_m)));
+    m_pieces.push_back(snag);
+    m_sums.new_snags += 1;
+    DeadStem top = d;
+    top.piece = static_cast<std::uint8_t>(PieceKind::slash);
+    top.standing = 0;
+    top.offset_m = z;
+    top.length_m = h - z;
+    top.azimuth_rad = az;
+    top.x_m += z * std::cos(az);
+    top.y_m += z * std::sin(az);
+    top.mass0_kg = top.mass_kg = (1 - kSnapMassFraction) * mass_kg;
+    top.year_falls = top.year_down = year;
+    m_pieces.push_back(top);
+}
+
 void DeadWood::fall(DeadStem& d, const RasterD& dem, int year) {
     d.standing = 0;
     d.year_down = year;
@@ -265,16 +343,25 @@ void DeadWood::step_year(const std::vector<Species>& species, const RasterD& dem
     std::size_t out = 0;
     for (std::size_t k = 0; k < m_pieces.size(); ++k) {
         DeadStem d = m_pieces[k];
-        if (d.year_died < year) {
+        if (d.year_died < year && d.piece == static_cast<std::uint8_t>(PieceKind::root_plate)) {
+            // No wood: the plate stands until a log of its species would be gone.
+            const double rate = species[d.species].deadwood_decay_rate_per_yr;
+            if (rate > 0 && (year - d.year_died) * rate >= -std::log(m_opt.removal_mass_fraction)) {
+                m_sums.pieces_gone += 1;
+                continue;
+            }
+        } else if (d.year_died < year) {
             const Species& s = species[d.species];
             const double rate =
                 d.standing ? s.snag_decay_rate_per_yr : s.deadwood_decay_rate_per_yr;
             const double left = d.mass_kg * std::exp(-rate);
             m_sums.decay_kg += d.mass_kg - left;
             d.mass_kg = left;
-            if (d.standing && d.piece == static_cast<std::uint8_t>(PieceKind::stem)) {
-                d.length_m = deadwood::snag_height_m(d.dbh_m, d.tree_height_m,
-                                                     deadwood::decay_class(left / d.mass0_kg));
+            const bool snapped = d.piece == static_cast<std::uint8_t>(PieceKind::snapped);
+            if (d.standing && (d.piece == static_cast<std::uint8_t>(PieceKind::stem) || snapped)) {
+                const double h = deadwood::snag_height_m(d.dbh_m, d.tree_height_m,
+                                                         deadwood::decay_class(left / d.mass0_kg));
+                d.length_m = snapped ? std::min(d.length_m, h) : h;
                 if (year >= d.year_falls) fall(d, dem, year);
             }
             if (d.mass_kg < m_opt.removal_mass_fraction * d.mass0_kg) {
@@ -328,6 +415,10 @@ DeadWoodMetrics deadwood_metrics(const DeadWood& dw, const std::vector<Species>&
     DeadWoodMetrics m;
     const double per_ha = 1e4 / area_m2;
     for (const auto& d : dw.pieces()) {
+        if (d.piece == static_cast<std::uint8_t>(PieceKind::root_plate)) {
+            m.root_plates_per_ha += per_ha;
+            continue;
+        }
         const double v = deadwood::volume_m3(species[d.species], d) * per_ha;
         const bool stump = d.piece == static_cast<std::uint8_t>(PieceKind::stump);
         (stump ? m.stumps_per_ha : d.standing ? m.snags_per_ha : m.logs_per_ha) += per_ha;

@@ -30,6 +30,7 @@ constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
 constexpr std::uint32_t kSectionSeries = 1;   // the daily and yearly series, by column name
 constexpr std::uint32_t kSectionBudget = 1;   // the year's sums and the carbon ledger
+constexpr std::uint32_t kSectionWindthrow = 1; // the storm stream and the last thinning
 constexpr std::uint32_t kSectionDeadWood = 2; // snags and logs (optional: none before it);
                                               // 2: stumps and slash
 
@@ -50,7 +51,8 @@ void zero_surface_layer_era_columns(Table& daily) {
 bool is_dead_wood_column(const std::string& name) {
     return name.starts_with("snag") || name.starts_with("log_") || name.starts_with("logs_") ||
            name.starts_with("deadwood_") || name.starts_with("stump") ||
-           name.starts_with("harvested_");
+           name.starts_with("harvested_") || name.starts_with("storm_") ||
+           name.starts_with("windthrow_") || name.starts_with("root_plates");
 }
 
 /// The yearly water columns, each the sum of a daily budget column.
@@ -102,7 +104,7 @@ void yearly_water_from_daily(const Table& daily, Table& yearly, std::size_t firs
 Ecosystem::Ecosystem(const EcoScene& scene)
     : m_scene(scene), m_gen(scene.hydro.climate, scene.seed), m_rng_seed(scene.seed, "eco.seeding"),
       m_rng_mort(scene.seed, "eco.mortality"), m_rng_arrival(scene.seed, "eco.arrival"),
-      m_dead(scene.deadwood, scene.seed) {
+      m_dead(scene.deadwood, scene.seed), m_wind(scene.windthrow, scene.seed) {
     const auto& hg = scene.hydro.dem.grid();
     CellMap& map = m_canopy.map;
     map.factor = static_cast<int>(std::lround(hg.cell_size_m / scene.plant_cell_m));
@@ -274,6 +276,7 @@ void Ecosystem::year_end_coupled() {
     std::vector<Plant> recruits =
         seed_dispersal(m_pop, dead, species, plant_grid(), bed, make, m_rng_seed, m_sum);
     background_arrivals(species, plant_grid(), bed, make, m_rng_arrival, recruits);
+    storm(dead);
     harvest(dead, false);
     take_dead(&dead);
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
@@ -301,6 +304,7 @@ void Ecosystem::year_end_light_only() {
     std::vector<char> dead = light_only_growth(m_pop, species, m_sum);
     light_only_arrivals(m_pop, dead, species, plant_grid(), nursery(), m_rng_arrival, m_sum);
     overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
+    storm(dead);
     harvest(dead, true);
     take_dead(&dead);
     for (char& d : dead) d = !d;
@@ -308,13 +312,23 @@ void Ecosystem::year_end_light_only() {
     refresh_canopy();
 }
 
+void Ecosystem::storm(std::vector<char>& dead) {
+    m_storm = m_wind.strike(m_pop, m_scene.ecosystem.species, plant_grid(), m_years_done + 1, dead,
+                            static_cast<char>(DeathCause::wind_uprooted),
+                            static_cast<char>(DeathCause::wind_broken));
+    m_dead.set_storm_azimuth(m_storm.to_azimuth_rad);
+}
+
 void Ecosystem::harvest(std::vector<char>& dead, bool allometric_mass) {
     const auto& species = m_scene.ecosystem.species;
     const auto& pg = plant_grid();
     const double area_m2 = pg.width_m() * pg.height_m();
     std::vector<char> before = dead;
-    mark_harvest(m_scene.management, m_pop, species, area_m2, m_years_done + 1, dead,
-                 static_cast<char>(DeathCause::harvest));
+    const double spacing =
+        exposed_spacing_m(m_pop, species, area_m2, m_scene.windthrow.min_height_m);
+    if (mark_harvest(m_scene.management, m_pop, species, area_m2, m_years_done + 1, dead,
+                     static_cast<char>(DeathCause::harvest)) > 0)
+        m_wind.thinned(spacing, m_years_done + 1);
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
         if (dead[k] == before[k]) continue;
         const Species& s = species[m_pop.species[k]];
@@ -340,6 +354,7 @@ void Ecosystem::year_end_common() {
                                     m_years_done, m_ledger));
     m_sum = PlantSums{};
     m_harvest = HarvestSums{};
+    m_storm = StormResult{};
     m_dead.reset_sums();
 }
 
@@ -400,6 +415,11 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.harvested_stems = m_harvest.stems;
     row.harvested_basal_area_m2_per_ha = m_harvest.basal_area_m2_per_ha;
     row.harvested_wood_kg = m_harvest.wood_kg - ds.cut_kept_kg;
+    row.storm_wind_m_per_s = m_storm.wind_m_per_s;
+    row.windthrow_uprooted = m_storm.uprooted;
+    row.windthrow_broken = m_storm.broken;
+    row.windthrow_basal_area_m2_per_ha = m_storm.basal_area_m2_per_ha;
+    row.root_plates_per_ha = dm.root_plates_per_ha;
     m_yearly.push(row, yearly_columns());
     yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }
@@ -504,6 +524,7 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
         s.put(m_ledger);
     });
     w.section("deadwood", kSectionDeadWood, [&](ArchiveWriter& s) { m_dead.save(s); });
+    w.section("windthrow", kSectionWindthrow, [&](ArchiveWriter& s) { m_wind.save(s); });
 }
 
 namespace {
@@ -599,6 +620,10 @@ void Ecosystem::load_sections(ArchiveReader& a) {
     if (r.version("deadwood") != 0)
         r.read("deadwood", 1, kSectionDeadWood,
                [&](ArchiveReader& s, std::uint32_t) { m_dead.load(s); });
+    // Checkpoints from before windthrow: the storm stream starts afresh at the resume.
+    if (r.version("windthrow") != 0)
+        r.read("windthrow", 1, kSectionWindthrow,
+               [&](ArchiveReader& s, std::uint32_t) { m_wind.load(s); });
     r.finish();
 }
 

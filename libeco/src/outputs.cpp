@@ -63,7 +63,18 @@ std::vector<Column<YearRow>> dead_wood_columns() {
                    "basal area of the trees cut in the year"),
             column("harvested_wood_kg", &R::harvested_wood_kg, "kg",
                    "stem dry mass of the cut trees taken out of the stand (their stumps and slash "
-                   "stay as dead wood)")};
+                   "stay as dead wood)"),
+            column("storm_wind_m_per_s", &R::storm_wind_m_per_s, "m/s",
+                   "the year's storm: highest hourly mean wind 10 m above the canopy's zero-plane "
+                   "displacement (0: windthrow off)"),
+            column("windthrow_uprooted", &R::windthrow_uprooted, "1",
+                   "trees the year's storm uprooted", ColumnType::int64),
+            column("windthrow_broken", &R::windthrow_broken, "1",
+                   "trees the year's storm broke", ColumnType::int64),
+            column("windthrow_basal_area_m2_per_ha", &R::windthrow_basal_area_m2_per_ha, "m2/ha",
+                   "basal area of the trees the year's storm felled"),
+            column("root_plates_per_ha", &R::root_plates_per_ha, "1/ha",
+                   "root plates of uprooted trees standing at year end")};
 }
 } // namespace
 

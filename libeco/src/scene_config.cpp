@@ -116,6 +116,17 @@ json read_initial(const json& veg, const fs::path& base, EcoScene& e) {
 }
 } // namespace
 
+namespace {
+/// The mean wind at 2 m of the scene's weather: the observed series' or the generator's.
+double mean_wind_u2(const hydro::HydroScene& h) {
+    if (!h.observed) return h.climate.wind_mean_m_per_s;
+    double sum = 0;
+    for (const auto& d : h.observed->days) sum += d.u2_m_per_s;
+    return h.observed->days.empty() ? h.climate.wind_mean_m_per_s
+                                    : sum / static_cast<double>(h.observed->days.size());
+}
+} // namespace
+
 EcoScene load_eco_scene(const json& s, const fs::path& base) {
     if (!s.is_object()) throw InputError("scene: must be a JSON object");
     require_known_keys(s, {"terrain", "soil", "vegetation", "climate", "hydrology", "simulation"},
@@ -154,8 +165,12 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
 
     const double terrain_cell = e.hydro.dem.grid().cell_size_m;
     e.plant_cell_m = std::min(1.0, terrain_cell);
-    e = vegetation_catalog().read(veg, e, {"ecosystem", "initial", "management"});
+    e = vegetation_catalog().read(veg, e, {"ecosystem", "initial", "management", "windthrow"});
     if (veg.contains("management")) e.management = read_management(veg.at("management"), e.years);
+    if (veg.contains("windthrow")) e.windthrow = read_windthrow(veg.at("windthrow"), e.years);
+    if (!e.windthrow.weibull_scale_m_per_s)
+        e.windthrow.weibull_scale_m_per_s =
+            wind::weibull_scale_from_u2(mean_wind_u2(e.hydro), e.windthrow.weibull_shape);
     e.deadwood.stump_height_m = e.management.stump_height_m;
     if (!veg.contains("ecosystem"))
         throw InputError("vegetation.ecosystem: missing (an ecosystem file, e.g. "
@@ -173,6 +188,7 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     e.resolved["vegetation"]["ecosystem"] = eco.string();
     e.resolved["vegetation"]["initial"] = init_resolved;
     e.resolved["vegetation"]["management"] = to_json(e.management);
+    e.resolved["vegetation"]["windthrow"] = to_json(e.windthrow);
     json& sim_resolved = e.resolved["simulation"]; // years and seed, from the hydrology half
     sim_resolved.erase("snapshot_interval_days");
     sim_resolved.update(eco_simulation_catalog().to_json(e));

@@ -585,7 +585,25 @@ const ParamCatalog<Species>& physiology_catalog() {
                        "exponential mass loss of a standing snag (drier than a log, slower; "
                        "Harmon et al. 2011); the default is iLand's ksw"),
              number<S>("deadwood.snag_fall_multiplier", &S::snag_fall_multiplier, "1", 0.01, 100,
-                       "multiplies FVS-FFE's size-dependent snag fall rate (FALLX)")});
+                       "multiplies FVS-FFE's size-dependent snag fall rate (FALLX)"),
+             number<S>("wind.creg_n_m_per_kg", &S::wind_creg_n_m_per_kg, "N m/kg", 1, 1000,
+                       "resistance to overturning per kg of green stem (ForestGALES Creg; oak "
+                       "202, birch 131, Scots pine 143 on free-draining soil, medium rooting)"),
+             number<S>("wind.mor_pa", &S::wind_mor_pa, "Pa", 1e6, 2e8,
+                       "modulus of rupture of green wood (ForestGALES: oak 59 MPa, birch 63, "
+                       "Scots pine 46)"),
+             number<S>("wind.green_density_kg_per_m3", &S::wind_green_density_kg_per_m3, "kg/m3",
+                       100, 2000, "density of green stem wood (ForestGALES: oak 1158, pines 850)"),
+             number<S>("wind.knot_factor", &S::wind_knot_factor, "1", 0.1, 1,
+                       "reduces the modulus of rupture for knots (ForestGALES: pines 0.85)"),
+             number<S>("wind.drag_c", &S::wind_drag_c, "1", 0.01, 20,
+                       "crown streamlining: drag = c u^-n (ForestGALES c_drag)"),
+             number<S>("wind.drag_n", &S::wind_drag_n, "1", 0, 3,
+                       "crown streamlining exponent (ForestGALES n_drag)"),
+             number<S>("wind.crown_depth_intercept_m", &S::wind_crown_depth_intercept_m, "m", -50,
+                       50, "crown depth = intercept + slope x height (ForestGALES param0_cr_depth)"),
+             number<S>("wind.crown_depth_per_height", &S::wind_crown_depth_per_height, "1", 0, 1,
+                       "crown depth per m of height (ForestGALES param1_cr_depth)")});
         return ParamCatalog<S>("physiology", std::move(v));
     }();
     return c;

@@ -89,19 +89,21 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
                              " is not 0 (a log) or 1 (a snag)");
         const double x = csv.number(c[1], names[1]), y = csv.number(c[2], names[2]);
         const double dbh = csv.number(c[5], names[5], true);
-        const double tree_h = csv.number(c[6], names[6], true);
+        csv.number(c[6], names[6], true); // tree_height_m: checked; a snag stands height_m
         const double length = csv.number(c[7], names[7], true);
         const double h0 = csv.number(c[8], names[8], true), h1 = csv.number(c[9], names[9], true);
         const double piece = cpiece >= 0 ? csv.number(cpiece, "piece", true) : 0;
-        if (piece != 0 && piece != 1 && piece != 2)
+        if (piece != 0 && piece != 1 && piece != 2 && piece != 3 && piece != 4)
             throw InputError(csv.where() + ": piece = " + format_number(piece) +
-                             " is not 0 (a stem), 1 (a stump) or 2 (slash)");
+                             " is not 0 (a stem), 1 (a stump), 2 (a top), 3 (a snapped stem) or 4 "
+                             "(a root plate)");
         if (piece == 1) { // a stump: a step as high as it is
             out.logs.push_back({{x, y}, {x, y}, h0, h0, dbh});
             continue;
         }
         if (standing == 1) {
-            StandStem s{x, y, dbh, tree_h, StemKind::snag};
+            // A snag as tall as it stands (height_m: its top lost, or snapped).
+            StandStem s{x, y, dbh, h0, StemKind::snag};
             out.snags.push_back(s);
             continue;
         }
@@ -110,7 +112,8 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
         if (std::abs(span - length) > 1e-3 * std::max(1.0, length))
             throw InputError(csv.where() + ": length_m = " + format_number(length) +
                              " but the ends are " + format_number(span) + " m apart");
-        out.logs.push_back({{x, y}, b, h0, h1, dbh});
+        // A root plate: a wall as wide as it is high.
+        out.logs.push_back({{x, y}, b, h0, h1, piece == 4 ? h0 : dbh});
     }
     return out;
 }

@@ -101,7 +101,9 @@ const std::vector<StemCsvColumn>& stem_csv_columns() {
 DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
     namespace dw = eco::deadwood;
     DeadWoodRecord r;
-    const int cls = dw::decay_class(d.mass0_kg > 0 ? d.mass_kg / d.mass0_kg : 0.0);
+    const bool plate = d.piece == static_cast<std::uint8_t>(eco::PieceKind::root_plate);
+    // A root plate has no wood: it stays whole (class 1) until it goes.
+    const int cls = plate ? 1 : dw::decay_class(d.mass0_kg > 0 ? d.mass_kg / d.mass0_kg : 0.0);
     r.id = d.id;
     r.species = d.species;
     r.standing = d.standing;
@@ -128,6 +130,7 @@ DeadWoodRecord deadwood_record(const eco::DeadStem& d, const Species& s) {
                          ? d.length_m
                          : dw::stem_diameter_m(d.dbh_m, d.tree_height_m, d.offset_m + d.length_m) *
                                dw::log_collapse(cls);
+    if (plate) r.height_m = r.end_height_m = eco::root_plate_diameter_m(d.dbh_m); // on edge
     r.mass_kg = d.mass_kg;
     r.volume_m3 = dw::volume_m3(s, d);
     return r;
@@ -142,12 +145,14 @@ const std::vector<Column<DeadWoodRecord>>& deadwood_columns() {
         column("standing", &R::standing, "1",
                "1 standing (a snag or stump), 0 lying (a log or slash)", T::int32),
         column("piece", &R::piece, "1",
-               "0 a whole stem (snag, then log), 1 the stump of a cut tree, 2 the top (slash) of a "
-               "cut tree",
+               "0 a whole stem (snag, then log), 1 the stump of a cut tree, 2 a top lying apart "
+               "(the slash of a cut tree, the top of a storm-broken one), 3 the standing lower "
+               "stem of a storm-broken tree (a snag, then a log), 4 the root plate of an "
+               "uprooted tree (on edge at the stem base, toward the wind; no wood mass)",
                T::int32),
         column("cause", &R::cause, "1",
                "cause of death: 1 starvation, 2 age, 3 background, 4 suppression, 5 overlap, 6 "
-               "harvest",
+               "harvest, 7 uprooted by a storm, 8 broken by a storm",
                T::int32),
         column("decay_class", &R::decay_class, "1",
                "1 (sound) .. 5, from the share of the mass left (0.9, 0.7, 0.4, 0.2)", T::int32),

@@ -293,8 +293,11 @@ mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces
     for (const auto& p : pieces) {
         if (p.piece == 1) // a stump: a step as high as it is (a log of no length)
             out.logs.push_back({{p.x_m, p.y_m}, {p.x_m, p.y_m}, p.height_m, p.height_m, p.dbh_m});
-        else if (p.standing)
-            out.snags.push_back({p.x_m, p.y_m, p.dbh_m, p.tree_height_m, mobility::StemKind::snag});
+        else if (p.standing) // a snag as tall as it stands (its top lost, or snapped)
+            out.snags.push_back({p.x_m, p.y_m, p.dbh_m, p.height_m, mobility::StemKind::snag});
+        else if (p.piece == 4) // a root plate: a wall as wide as it is high
+            out.logs.push_back(
+                {{p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.height_m, p.end_height_m, p.height_m});
         else
             out.logs.push_back(
                 {{p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.height_m, p.end_height_m, p.dbh_m});

@@ -257,7 +257,7 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
         if (n.contains("name") && n["name"].get<std::string>().starts_with("deadwood_"))
             nodes[n["name"].get<std::string>()] = n;
     std::size_t on_terrain = 0, lying_checked = 0;
-    const char* kinds[] = {"stem", "stump", "slash"};
+    const char* kinds[] = {"stem", "stump", "top", "snapped", "root_plate"};
     for (const auto& p : pieces) {
         if (!g.contains_point(p.x_m, p.y_m)) continue;
         ++on_terrain;

@@ -260,6 +260,8 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     j["hydrology"]["interception"] = "none";
     // ... and without dead wood: the trees that died then left nothing.
     j["vegetation"]["deadwood"]["enabled"] = false;
+    // ... and without storms (the stream had not begun).
+    j["vegetation"]["windthrow"]["enabled"] = false;
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     std::ifstream in(std::string(ECOTERRA_TESTS_DIR) + "/data/checkpoints/quickstart_v6_year1.bin",
                      std::ios::binary);

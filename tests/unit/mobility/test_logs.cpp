@@ -262,7 +262,7 @@ TEST_CASE("logs: dead-wood lists are read by their header, bad values are named"
     REQUIRE(ok.logs.size() == 1);
     CHECK(ok.snags[0].kind == StemKind::snag);
     CHECK(ok.snags[0].dbh_m == 0.3);
-    CHECK(ok.snags[0].height_m == 20);
+    CHECK(ok.snags[0].height_m == 15); // as tall as it stands, not as the tree was
     CHECK(ok.logs[0].b.x_m == 13);
     CHECK(ok.logs[0].height_b_m == 0.18);
     CHECK_THROWS_WITH(read_deadwood_csv(write("2,0,10,10,13,14,0.25,18,-5,0.25,0.18,Pine\n")),

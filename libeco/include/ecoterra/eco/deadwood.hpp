@@ -30,7 +30,9 @@ enum class DeathCause : std::uint8_t {
     background,
     suppression,
     overlap,
-    harvest, ///< cut by a management operation (management.hpp)
+    harvest,       ///< cut by a management operation (management.hpp)
+    wind_uprooted, ///< overturned by a storm (windthrow.hpp)
+    wind_broken,   ///< snapped by a storm
 };
 const char* death_cause_name(DeathCause c);
 
@@ -46,7 +48,9 @@ struct DeadWoodOptions {
 enum class PieceKind : std::uint8_t {
     stem = 0,  ///< the whole stem: a snag, then a log
     stump = 1, ///< the stump left by a cut (standing, never falls)
-    slash = 2, ///< the top left by a cut (a log from the start)
+    slash = 2,   ///< a top lying apart from its stem: the slash of a cut, a storm's broken top
+    snapped = 3, ///< the standing lower stem of a tree a storm broke (a snag that falls later)
+    root_plate = 4, ///< the root plate of an uprooted tree, standing on edge (no wood mass)
 };
 
 /// One snag, log, stump or piece of slash. No padding: the checkpoint stores the rows as bytes.
@@ -75,6 +79,13 @@ struct DeadWoodSums {
     double cut_kept_kg = 0; ///< the stumps and slash of cut trees (part of input_kg)
     double new_snags = 0, snags_fallen = 0, pieces_gone = 0;
 };
+
+/// An uprooted tree's root plate (docs/ecosystem.md s13): a disc 12 DBH across (at most 5 m) and
+/// a quarter of that thick (0.3-1 m), the upper ends of the ranges the reference gathers
+/// (deadwood.md s4: 10-20 DBH, capped at 3-5 m; 0.5-1 m thick; not a fitted relation). The pit
+/// beside it is half the plate's thickness deep.
+double root_plate_diameter_m(double dbh_m);
+double root_plate_thickness_m(double dbh_m);
 
 namespace deadwood {
 /// Decay class 1 (sound) .. 5 from the share of the mass left: iLand's thresholds 0.9, 0.7, 0.4,
@@ -122,6 +133,9 @@ public:
     /// Dry mass of all pieces, kg.
     double stock_kg() const;
 
+    /// Where the year's storm blows to (counterclockwise from east): wind-felled stems fall along
+    /// it (+-22.5 degrees).
+    void set_storm_azimuth(double to_azimuth_rad) { m_storm_to_az = to_azimuth_rad; }
     /// Takes the trees that died (alive 0, or `causes[k]` non-zero) into dead wood in `year` (the
     /// year being simulated, 1-based). The stem mass is the wood (coupled) or the allometric stem
     /// mass (light-only, `allometric_mass`). Plants below min_dbh_m, shrubs and objects are not
@@ -140,17 +154,22 @@ private:
              double mass_kg, int year);
     /// A cut tree: its stump and its top (slash) stay, the stem between leaves the stand.
     void add_cut(const Population& pop, std::size_t k, double mass_kg, int year);
+    /// A wind-felled tree: uprooted (its stem lies downwind, its root plate stands on edge) or
+    /// broken (the lower half of its mass stands as a snag, the top lies downwind).
+    void add_wind(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
+                  double mass_kg, int year);
     void fall(DeadStem& d, const RasterD& dem, int year);
 
     DeadWoodOptions m_opt;
     Rng m_rng;
+    double m_storm_to_az = 0;
     std::vector<DeadStem> m_pieces;
     DeadWoodSums m_sums;
 };
 
 /// The dead wood of one moment summed for the yearly series (per hectare of `area_m2`).
 struct DeadWoodMetrics {
-    double snags_per_ha = 0, logs_per_ha = 0, stumps_per_ha = 0;
+    double snags_per_ha = 0, logs_per_ha = 0, stumps_per_ha = 0, root_plates_per_ha = 0;
     double snag_volume_m3_per_ha = 0, log_volume_m3_per_ha = 0, stump_volume_m3_per_ha = 0;
     std::array<double, 5> volume_by_class_m3_per_ha{};
     double stock_kg = 0;

@@ -90,6 +90,8 @@ private:
     /// The year's management operations: marks the trees they cut in `dead` (DeathCause::harvest)
     /// and sums them into m_harvest.
     void harvest(std::vector<char>& dead, bool allometric_mass);
+    /// The year's storm: marks the trees it fells in `dead` (windthrow.hpp) into m_storm.
+    void storm(std::vector<char>& dead);
     /// Removes the dead, refreshes the structure (coupled) and the canopy.
     void refresh_canopy();
     void year_end_coupled();
@@ -117,6 +119,8 @@ private:
     Rng m_rng_seed, m_rng_mort, m_rng_arrival;
     Population m_pop;
     DeadWood m_dead;
+    Windthrow m_wind;
+    StormResult m_storm; ///< the year's (reset at year end)
     /// The year's harvest (reset at year end, so never in a checkpoint).
     struct HarvestSums {
         double stems = 0, basal_area_m2_per_ha = 0, wood_kg = 0;

@@ -34,6 +34,9 @@ struct YearRow {
            deadwood_decay_kg = 0, snags_fallen = 0, stumps_per_ha = 0, stump_volume_m3_per_ha = 0;
     // The year's harvest (management.hpp).
     double harvested_stems = 0, harvested_basal_area_m2_per_ha = 0, harvested_wood_kg = 0;
+    // The year's storm (windthrow.hpp) and the root plates at year end.
+    double storm_wind_m_per_s = 0, windthrow_uprooted = 0, windthrow_broken = 0,
+           windthrow_basal_area_m2_per_ha = 0, root_plates_per_ha = 0;
     // The year's water budget: the daily series summed over the year's days, mm.
     double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
            runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0;

@@ -7,6 +7,7 @@
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/management.hpp"
 #include "ecoterra/eco/species.hpp"
+#include "ecoterra/eco/windthrow.hpp"
 #include "ecoterra/hydro/scene.hpp"
 
 #include <nlohmann/json.hpp>
@@ -37,6 +38,7 @@ struct EcoScene {
     GrowthModel growth = GrowthModel::paper002;
     DeadWoodOptions deadwood;
     ManagementOptions management; ///< vegetation.management (management.hpp)
+    WindthrowOptions windthrow;   ///< vegetation.windthrow (windthrow.hpp)
     double extinction = 0.5;      ///< Beer-Lambert k
     LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell

@@ -133,6 +133,14 @@ struct Species {
     double deadwood_decay_rate_per_yr = 0.045;
     double snag_decay_rate_per_yr = 0.015;
     double snag_fall_multiplier = 1.0;
+    // Wind (windthrow.hpp): ForestGALES' species parameters (fgr species_parameters; the
+    // defaults are its oak's, Creg on free-draining mineral soil with medium rooting).
+    double wind_creg_n_m_per_kg = 202.4;
+    double wind_mor_pa = 59e6;
+    double wind_green_density_kg_per_m3 = 1158;
+    double wind_knot_factor = 1.0;
+    double wind_drag_c = 2.6575, wind_drag_n = 0.846;
+    double wind_crown_depth_intercept_m = 1.41, wind_crown_depth_per_height = 0.4;
 
     /// Physiology keys that took their default (for the report).
     std::vector<std::string> defaulted;

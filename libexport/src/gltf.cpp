@@ -343,12 +343,11 @@ void GlbScene::add_deadwood() {
     const json role = {{"role", "dead wood: solid (collision); a trunk mesh scaled to the piece"}};
     const int mesh =
         m_b.mesh(unit_trunk(), "deadwood", m_b.material("deadwood", kDeadWoodColour), role);
-    constexpr const char* kKinds[] = {"stem", "stump", "top", "snapped", "root_plate"};
     const float s = static_cast<float>(std::sqrt(0.5));
     for (const auto& d : m_s.deadwood) {
         const double dia = std::max(d.diameter_m, 1e-3), len = std::max(d.length_m, 1e-3);
         json n = {
-            {"name", "deadwood_" + std::to_string(d.id) + "_" + kKinds[std::clamp(d.piece, 0, 4)]},
+            {"name", "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece)},
             {"mesh", mesh},
             {"scale", gltf_scale({dia, dia, len})}};
         if (d.standing) {
@@ -365,7 +364,7 @@ void GlbScene::add_deadwood() {
         }
         n["extras"] = {{"plant_id", d.id},
                        {"species", m_s.species[static_cast<std::size_t>(d.species)].name},
-                       {"piece", kKinds[std::clamp(d.piece, 0, 4)]},
+                       {"piece", dead_piece_name(d.piece)},
                        {"standing", d.standing},
                        {"decay_class", d.decay_class},
                        {"diameter_m", d.diameter_m},

@@ -206,6 +206,11 @@ void add_deadwood(Scene& s, const RasterD& full) {
 }
 } // namespace
 
+const char* dead_piece_name(int piece) {
+    constexpr const char* kKinds[] = {"stem", "stump", "top", "snapped", "root_plate"};
+    return kKinds[std::clamp(piece, 0, 4)];
+}
+
 std::string tuft_mesh_name(const Scene& s, int k) {
     return file_safe(s.species[static_cast<std::size_t>(k)].name) + "_grass";
 }

@@ -500,13 +500,14 @@ void GazeboWorld::add_size_classes(const ExportOptions& opt) {
 
 void GazeboWorld::add_deadwood() {
     if (m_s.deadwood.empty()) return;
-    constexpr const char* kKinds[] = {"stem", "stump", "slash"};
     m_world += "    <model name=\"deadwood\">\n      <static>true</static>\n";
     for (const auto& d : m_s.deadwood) {
         const double len = std::max(d.length_m, 1e-3);
-        // A stump at its diameter; a stem or slash at its mean diameter, as a trunk's collision.
+        // A stump or root plate at its diameter; a stem or top at its mean diameter, as a
+        // trunk's collision.
+        const bool whole = d.piece == 1 || d.piece == 4;
         const double r = 0.5 * std::max(d.diameter_m, 1e-3) *
-                         (d.piece == 1 ? 1.0 : (1 + kTopDiameterFraction) / 2);
+                         (whole ? 1.0 : (1 + kTopDiameterFraction) / 2);
         std::string pose;
         if (d.standing) {
             pose = num(d.x_m) + " " + num(d.y_m) + " " + num(d.z_m + 0.5 * len) + " 0 0 0";
@@ -521,7 +522,7 @@ void GazeboWorld::add_deadwood() {
         const std::string geometry = "<geometry><cylinder><radius>" + num(r) + "</radius><length>" +
                                      num(len) + "</length></cylinder></geometry>";
         m_world += "      <link name=\"piece_" + std::to_string(d.id) + "_" +
-                   kKinds[std::clamp(d.piece, 0, 2)] + "\">\n        <pose>" + pose +
+                   dead_piece_name(d.piece) + "\">\n        <pose>" + pose +
                    "</pose>\n        <collision name=\"collision\">" + geometry +
                    "</collision>\n        <visual name=\"visual\">" + geometry +
                    "</visual>\n      </link>\n";

@@ -157,6 +157,51 @@ TEST_CASE("mobility: the issue's invocations work as written", "[mobility][cli]"
     CHECK_THAT(r.out, Catch::Contains("car.json") && Catch::Contains("width_m"));
 }
 
+TEST_CASE("mobility: a windthrown stand is slower than the same stand before the storm",
+          "[mobility][cli][windthrow]") {
+    test::TempDir dir;
+    auto scene = test::small_scene(14);
+    scene["vegetation"]["windthrow"] = {
+        {"storms", {{{"year", 14}, {"wind_m_per_s", 28}, {"from_deg", 200}}}}};
+    std::ofstream(dir / "scene.json") << scene.dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
+    const std::string veh = (test::data_dir() / "vehicles/mrzr4.json").string();
+    auto smg = [&](const std::string& snapshot, const std::string& out) {
+        const auto r = test::run(dir, "mobility run.h5 --snapshot " + snapshot + " --vehicle " +
+                                          veh + " --lines 100 --length 20 --seed 3 --json " +
+                                          out + " --no-pictures");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        return read_json(dir / out);
+    };
+    const json before = smg("-2", "before.json"), after = smg("-1", "after.json");
+    // The storm felled trees: fewer stand, more lie (logs and root plates), and the vehicle
+    // meets more it cannot climb.
+    CHECK(after["trees"].get<double>() < before["trees"].get<double>());
+    CHECK(after["logs"].get<double>() > before["logs"].get<double>());
+    CHECK(after["logs_avoided_per_line"].get<double>() >
+          before["logs_avoided_per_line"].get<double>());
+    CHECK(after["smg_mean_m_per_s"].get<double>() < before["smg_mean_m_per_s"].get<double>());
+    // The exported lists (with snapped stems and root plates) give the same figures.
+    REQUIRE(test::run(dir, "export vegetation run.h5 -o stems.csv").code == 0);
+    REQUIRE(test::run(dir, "export deadwood run.h5 -o dead.csv").code == 0);
+    const std::string dead = io::read_text(dir / "dead.csv");
+    CHECK(dead.find(",4,7,") != std::string::npos); // a root plate of an uprooted tree
+    REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 20 --cell 2 --rms 0.8 "
+                           "--seed 5 -o dem.h5")
+                .code == 0);
+    const auto r = test::run(dir, "mobility --stems stems.csv --deadwood dead.csv --dem dem.h5 "
+                                  "--vehicle " +
+                                      veh + " --lines 100 --length 20 --seed 3 --json csv.json "
+                                            "--no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json c = read_json(dir / "csv.json");
+    CHECK(c["smg_mean_m_per_s"].get<double>() ==
+          Approx(after["smg_mean_m_per_s"].get<double>()).epsilon(1e-6));
+    for (const char* k : {"snags", "logs"}) CHECK(c[k] == after[k]);
+}
+
 TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli]") {
     test::TempDir dir;
     REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 1000 --cell 0.05 "

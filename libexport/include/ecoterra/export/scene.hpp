@@ -69,7 +69,7 @@ struct Tuft {
 struct DeadPiece {
     std::int64_t id = 0; ///< the tree's plant id
     int species = 0;
-    int piece = 0; ///< 0 a whole stem (snag or log), 1 a stump, 2 slash
+    int piece = 0; ///< eco::PieceKind: 0 stem, 1 stump, 2 top (slash), 3 snapped, 4 root plate
     bool standing = true;
     int decay_class = 1;
     double x_m = 0, y_m = 0, z_m = 0; ///< the base, on the terrain
@@ -78,6 +78,9 @@ struct DeadPiece {
     double diameter_m = 0;            ///< at the base
     double top_height_m = 0;          ///< lying: the top above the ground at the base
 };
+
+/// A piece's kind as node and link names give it: stem, stump, top, snapped, root_plate.
+const char* dead_piece_name(int piece);
 
 struct SpeciesLook {
     std::string name;

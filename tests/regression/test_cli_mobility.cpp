@@ -168,8 +168,8 @@ TEST_CASE("mobility: a windthrown stand is slower than the same stand before the
     const std::string veh = (test::data_dir() / "vehicles/mrzr4.json").string();
     auto smg = [&](const std::string& snapshot, const std::string& out) {
         const auto r = test::run(dir, "mobility run.h5 --snapshot " + snapshot + " --vehicle " +
-                                          veh + " --lines 100 --length 20 --seed 3 --json " +
-                                          out + " --no-pictures");
+                                          veh + " --lines 100 --length 20 --seed 3 --json " + out +
+                                          " --no-pictures");
         INFO(r.out);
         REQUIRE(r.code == 0);
         return read_json(dir / out);
@@ -192,8 +192,9 @@ TEST_CASE("mobility: a windthrown stand is slower than the same stand before the
                 .code == 0);
     const auto r = test::run(dir, "mobility --stems stems.csv --deadwood dead.csv --dem dem.h5 "
                                   "--vehicle " +
-                                      veh + " --lines 100 --length 20 --seed 3 --json csv.json "
-                                            "--no-pictures");
+                                      veh +
+                                      " --lines 100 --length 20 --seed 3 --json csv.json "
+                                      "--no-pictures");
     INFO(r.out);
     REQUIRE(r.code == 0);
     const json c = read_json(dir / "csv.json");

@@ -78,10 +78,9 @@ TEST_CASE("windthrow: the drawn annual maxima follow ForestGALES' Gumbel law of 
             for (auto& x : u) x = wind::annual_maximum(rng.uniform(), a, k);
             for (const double q : {0.5, 0.9, 0.99}) {
                 const double speed = wind::annual_maximum(q, a, k);
-                const double above =
-                    static_cast<double>(std::count_if(u.begin(), u.end(),
-                                                      [&](double x) { return x > speed; })) /
-                    static_cast<double>(u.size());
+                const double above = static_cast<double>(std::count_if(
+                                         u.begin(), u.end(), [&](double x) { return x > speed; })) /
+                                     static_cast<double>(u.size());
                 const double p = wind::annual_exceedance(speed, a, k);
                 CHECK(p == Approx(1 - q).margin(1e-12));
                 CHECK(std::abs(above - p) < 4 * std::sqrt(p * (1 - p) / 20000.0));
@@ -306,7 +305,8 @@ TEST_CASE("windthrow in the engine: a storm's fallen trees are the wind pieces, 
             again.run_year();
             const Table& t = e.yearly();
             const std::size_t r = t.rows() - 1;
-            CHECK(t.column("storm_wind_m_per_s")[r] == again.yearly().column("storm_wind_m_per_s")[r]);
+            CHECK(t.column("storm_wind_m_per_s")[r] ==
+                  again.yearly().column("storm_wind_m_per_s")[r]);
             if (y == 6) CHECK(t.column("storm_wind_m_per_s")[r] == 24);
             const double up = t.column("windthrow_uprooted")[r];
             const double br = t.column("windthrow_broken")[r];

@@ -506,8 +506,8 @@ void GazeboWorld::add_deadwood() {
         // A stump or root plate at its diameter; a stem or top at its mean diameter, as a
         // trunk's collision.
         const bool whole = d.piece == 1 || d.piece == 4;
-        const double r = 0.5 * std::max(d.diameter_m, 1e-3) *
-                         (whole ? 1.0 : (1 + kTopDiameterFraction) / 2);
+        const double r =
+            0.5 * std::max(d.diameter_m, 1e-3) * (whole ? 1.0 : (1 + kTopDiameterFraction) / 2);
         std::string pose;
         if (d.standing) {
             pose = num(d.x_m) + " " + num(d.y_m) + " " + num(d.z_m + 0.5 * len) + " 0 0 0";
@@ -635,6 +635,35 @@ void write_unreal_grass(const Scene& s, OutputFolder& folder) {
     if (!s.tufts.empty()) folder.write("grass.csv", grass);
 }
 
+/// deadwood.csv and the unit trunk mesh (nothing without dead wood): one row per piece, the trunk
+/// (base at the origin, axis +Z, 1 m long and 1 m across at the base) scaled to the piece, standing
+/// at its base or pitched -90 degrees (its axis onto +X) and yawed onto its azimuth, its axis at
+/// the piece's top height less half its diameter.
+void write_unreal_deadwood(const Scene& s, OutputFolder& folder) {
+    if (s.deadwood.empty()) return;
+    std::string csv = "Name,species,piece,decay_class,mesh,x_cm,y_cm,z_cm,pitch_deg,yaw_deg,"
+                      "scale_x,scale_y,scale_z,diameter_m,length_m,top_height_m\n";
+    for (const auto& d : s.deadwood) {
+        const double dia = std::max(d.diameter_m, 1e-3), len = std::max(d.length_m, 1e-3);
+        const double z = d.z_m + (d.standing ? 0.0 : d.top_height_m - 0.5 * dia);
+        csv += "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece) + "," +
+               s.species[static_cast<std::size_t>(d.species)].name + "," +
+               dead_piece_name(d.piece) + "," + std::to_string(d.decay_class) + ",deadwood," +
+               num(d.x_m * kCmPerM) + "," + num(-d.y_m * kCmPerM) + "," + num(z * kCmPerM) + "," +
+               (d.standing ? "0" : "-90") + "," +
+               num(d.standing ? 0.0 : -rad_to_deg(d.azimuth_rad)) + "," + num(dia) + "," +
+               num(dia) + "," + num(len) + "," + num(d.diameter_m) + "," + num(d.length_m) + "," +
+               num(d.standing ? d.length_m : d.top_height_m) + "\n";
+    }
+    folder.write("deadwood.csv", csv);
+    const Mesh unit = unit_trunk();
+    folder.write("meshes/deadwood.mtl", to_mtl({{"deadwood", kDeadWoodColour}}));
+    folder.write("meshes/deadwood.obj",
+                 to_obj({{&unit, "deadwood"}},
+                        "ecoterra dead wood: the unit trunk (base at the origin, axis +Z, 1 m)",
+                        "deadwood.mtl"));
+}
+
 void write_unreal_readme(const Scene& s, OutputFolder& folder, const UnrealLandscape& l) {
     const RasterD& land = l.land;
     const double offset_m = l.offset_m, scale_m = l.scale_m, loc_x = l.loc_x, loc_y = l.loc_y,
@@ -661,6 +690,13 @@ void write_unreal_readme(const Scene& s, OutputFolder& folder, const UnrealLands
                  : "| grass.csv, meshes/*_grass.obj | the ground layer as " +
                        std::to_string(s.tufts.size()) +
                        " grass tufts (visual only, passable), a table like trees.csv |\n") +
+            (s.deadwood.empty()
+                 ? std::string()
+                 : "| deadwood.csv, meshes/deadwood.obj | the dead wood as " +
+                       std::to_string(s.deadwood.size()) +
+                       " pieces (solid): the unit trunk (axis +Z, 1 m) scaled by scale_x/y/z "
+                       "(m), a lying piece rotated by Pitch pitch_deg then Yaw yaw_deg "
+                       "(FRotator), its axis at z_cm |\n") +
             "\n"
             "Landscape import: Location X " +
             num(loc_x) + ", Y " + num(loc_y) + ", Z " + num(loc_z) + " cm; Scale X " +
@@ -687,6 +723,7 @@ void write_unreal(const Scene& s, OutputFolder& folder, const ExportOptions& opt
     folder.write("meshes/trees.mtl", to_mtl(tree_materials(s)));
     write_unreal_trees(s, folder, opt);
     write_unreal_grass(s, folder);
+    write_unreal_deadwood(s, folder);
     write_unreal_readme(s, folder, l);
 }
 

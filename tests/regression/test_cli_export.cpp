@@ -18,6 +18,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 using namespace ecoterra;
@@ -202,12 +203,21 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
           "read back by GDAL",
           "[export][layers][deadwood]") {
     test::TempDir dir;
-    // 15 years: snags, logs, and a thinning's stumps and slash at year 10.
+    // 15 years: snags, logs, a thinning's stumps and slash at year 10, and a storm's snapped
+    // stems, tops, stems and root plates at year 13.
     json scene = test::small_scene(15);
     scene["vegetation"]["management"] = {
         {"operations",
          json::array({json{
              {"year", 10}, {"type", "thin_from_below"}, {"target_basal_area_m2_per_ha", 5}}})}};
+    scene["vegetation"]["windthrow"] = {
+        {"storms", {{{"year", 13}, {"wind_m_per_s", 26}, {"from_deg", 200}}}}};
+    // Birch of weak wood (MOR 15 MPa), so that some stems break rather than uproot.
+    json eco = read_json(test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json");
+    for (auto& sp : eco["Species"])
+        if (sp["Species Name"] == "Birch") sp["physiology"]["wind"]["mor_pa"] = 15e6;
+    std::ofstream(dir / "eco.json") << eco.dump(1);
+    scene["vegetation"]["ecosystem"] = (dir / "eco.json").string();
     std::ofstream(dir / "scene.json") << scene.dump(2);
     succeeds(dir, "run scene.json -o run.h5 --no-pictures");
     succeeds(dir, "export layers run.h5 -o layers");
@@ -337,6 +347,43 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
         ends_checked += !d.standing;
     }
     CHECK(ends_checked > 0);
+
+    // Unreal: a row per piece; the unit trunk's axis end, turned by Unreal's rotation matrix
+    // (FRotationMatrix: for Roll 0 the local Z axis goes to (-sin P cos Y, -sin P sin Y, cos P))
+    // and scaled, lands on the piece's end in Unreal's axes (100 x, -100 y cm).
+    succeeds(dir, "export scene run.h5 --format unreal -o ue --no-pictures");
+    std::ifstream ue(dir / "ue/deadwood.csv");
+    std::string line;
+    std::getline(ue, line);
+    CHECK(line.starts_with("Name,species,piece,decay_class,mesh,x_cm,y_cm,z_cm,pitch_deg,yaw_deg"));
+    std::size_t rows = 0;
+    std::set<std::string> kinds_seen;
+    const double deg = std::numbers::pi / 180;
+    for (; std::getline(ue, line); ++rows) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+        REQUIRE(f.size() == 16);
+        REQUIRE(rows < sc.deadwood.size());
+        const DeadPiece& d = sc.deadwood[rows];
+        CHECK(f[0] == "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece));
+        kinds_seen.insert(f[2]);
+        const double p = std::stod(f[8]) * deg, y = std::stod(f[9]) * deg;
+        const double len_cm = 100 * std::stod(f[12]);
+        const double ex = std::stod(f[5]) - std::sin(p) * std::cos(y) * len_cm;
+        const double ey = std::stod(f[6]) - std::sin(p) * std::sin(y) * len_cm;
+        const double end_x = d.standing ? d.x_m : d.x_m + d.length_m * std::cos(d.azimuth_rad);
+        const double end_y = d.standing ? d.y_m : d.y_m + d.length_m * std::sin(d.azimuth_rad);
+        CHECK(ex == Approx(100 * end_x).margin(0.2));
+        CHECK(ey == Approx(-100 * end_y).margin(0.2));
+        if (d.standing) CHECK(std::stod(f[7]) == Approx(100 * d.z_m).margin(0.2));
+    }
+    CHECK(rows == sc.deadwood.size());
+    for (const char* k : {"stem", "top", "snapped", "root_plate", "stump"}) {
+        CAPTURE(k);
+        CHECK(kinds_seen.count(k) == 1);
+    }
+    CHECK(std::filesystem::file_size(dir / "ue/meshes/deadwood.obj") > 100);
 }
 
 TEST_CASE("export scene: every format holds the snapshot's stems, checked by its own consumer",

@@ -28,11 +28,11 @@ constexpr std::uint32_t kSectionCanopy = 1; // the ground shade
 constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 // the hydrology's state and vegetation density (2: with the surface layer's depletion)
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
-constexpr std::uint32_t kSectionSeries = 1;   // the daily and yearly series, by column name
-constexpr std::uint32_t kSectionBudget = 1;   // the year's sums and the carbon ledger
+constexpr std::uint32_t kSectionSeries = 1;    // the daily and yearly series, by column name
+constexpr std::uint32_t kSectionBudget = 1;    // the year's sums and the carbon ledger
 constexpr std::uint32_t kSectionWindthrow = 1; // the storm stream and the last thinning
-constexpr std::uint32_t kSectionDeadWood = 2; // snags and logs (optional: none before it);
-                                              // 2: stumps and slash
+constexpr std::uint32_t kSectionDeadWood = 2;  // snags and logs (optional: none before it);
+                                               // 2: stumps and slash
 
 /// The daily columns of the processes that came with hydrology state version 2 (interception,
 /// drainage). Runs checkpointed before had neither: their rows hold 0, not "unknown".

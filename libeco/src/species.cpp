@@ -601,7 +601,8 @@ const ParamCatalog<Species>& physiology_catalog() {
              number<S>("wind.drag_n", &S::wind_drag_n, "1", 0, 3,
                        "crown streamlining exponent (ForestGALES n_drag)"),
              number<S>("wind.crown_depth_intercept_m", &S::wind_crown_depth_intercept_m, "m", -50,
-                       50, "crown depth = intercept + slope x height (ForestGALES param0_cr_depth)"),
+                       50,
+                       "crown depth = intercept + slope x height (ForestGALES param0_cr_depth)"),
              number<S>("wind.crown_depth_per_height", &S::wind_crown_depth_per_height, "1", 0, 1,
                        "crown depth per m of height (ForestGALES param1_cr_depth)")});
         return ParamCatalog<S>("physiology", std::move(v));

@@ -20,7 +20,7 @@ constexpr double kMaxWind = 100; ///< m/s: above any measured surface wind
 // fgr_constants (ForestGALES): the annual-maximum polynomial and dispersion, Raupach's constants.
 constexpr double kUc1 = -0.5903, kUc2 = 4.4345, kUc3 = -11.8633, kUc4 = 13.569, kUa = 5;
 constexpr double kCd1 = 7.5, kCs = 0.003, kCr = 0.3, kVonKarman = 0.4, kCw = 2;
-constexpr double kEdgeHeights = 9;   ///< tree_heights_inside_forest: past it no edge effect
+constexpr double kEdgeHeights = 9;    ///< tree_heights_inside_forest: past it no edge effect
 constexpr double kMaxGapHeights = 10; ///< a gap's effect saturates at 10 heights
 constexpr double kDragFloor = 10;     ///< m/s: the drag regression's lower limit
 constexpr double kElevateTop = 1.05;  ///< fgr elevates from 1.05 x the top height
@@ -85,8 +85,8 @@ WindthrowOptions read_windthrow(const json& j, int years) {
         auto number = [&](const char* key, double lo, double hi) {
             if (!o.contains(key)) throw InputError(at + "." + key + ": missing");
             const json& v = o.at(key);
-            if (!v.is_number()) throw InputError(at + "." + key + " must be a number, got " +
-                                                 v.dump());
+            if (!v.is_number())
+                throw InputError(at + "." + key + " must be a number, got " + v.dump());
             const double x = v.get<double>();
             if (!(x >= lo && x <= hi))
                 throw InputError(at + "." + key + " = " + format_number(x) + " is outside [" +
@@ -218,8 +218,8 @@ TreeWind tree_wind(const Species& s, double dbh, double h, double light, const S
 
 } // namespace wind
 
-double exposed_spacing_m(const Population& pop, const std::vector<Species>& species,
-                         double area_m2, double min_height_m) {
+double exposed_spacing_m(const Population& pop, const std::vector<Species>& species, double area_m2,
+                         double min_height_m) {
     std::size_t n = 0;
     for (std::size_t k = 0; k < pop.size(); ++k) n += exposed(pop, species, k, min_height_m);
     return n ? std::sqrt(area_m2 / static_cast<double>(n)) : 0.0;
@@ -249,10 +249,9 @@ wind::StandAero stand_aero(const Population& pop, const std::vector<Species>& sp
     a.mean_height_m = sum / n;
     a.spacing_m = std::sqrt(area_m2 / n);
     a.crown_width_m = cw / n, a.crown_depth_m = cd / n, a.drag_c = dc / n, a.drag_n = dn / n;
-    const std::size_t top =
-        std::clamp<std::size_t>(static_cast<std::size_t>(std::lround(kTopStemsPerHa * area_m2 /
-                                                                     kM2PerHa)),
-                                1, heights.size());
+    const std::size_t top = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::lround(kTopStemsPerHa * area_m2 / kM2PerHa)), 1,
+        heights.size());
     std::partial_sort(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(top),
                       heights.end(), std::greater<>());
     double t = 0;

@@ -346,10 +346,9 @@ void GlbScene::add_deadwood() {
     const float s = static_cast<float>(std::sqrt(0.5));
     for (const auto& d : m_s.deadwood) {
         const double dia = std::max(d.diameter_m, 1e-3), len = std::max(d.length_m, 1e-3);
-        json n = {
-            {"name", "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece)},
-            {"mesh", mesh},
-            {"scale", gltf_scale({dia, dia, len})}};
+        json n = {{"name", "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece)},
+                  {"mesh", mesh},
+                  {"scale", gltf_scale({dia, dia, len})}};
         if (d.standing) {
             n["translation"] = to_gltf(
                 {static_cast<float>(d.x_m), static_cast<float>(d.y_m), static_cast<float>(d.z_m)});

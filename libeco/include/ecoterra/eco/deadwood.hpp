@@ -46,10 +46,10 @@ struct DeadWoodOptions {
 
 /// What part of a tree a piece is.
 enum class PieceKind : std::uint8_t {
-    stem = 0,  ///< the whole stem: a snag, then a log
-    stump = 1, ///< the stump left by a cut (standing, never falls)
-    slash = 2,   ///< a top lying apart from its stem: the slash of a cut, a storm's broken top
-    snapped = 3, ///< the standing lower stem of a tree a storm broke (a snag that falls later)
+    stem = 0,       ///< the whole stem: a snag, then a log
+    stump = 1,      ///< the stump left by a cut (standing, never falls)
+    slash = 2,      ///< a top lying apart from its stem: the slash of a cut, a storm's broken top
+    snapped = 3,    ///< the standing lower stem of a tree a storm broke (a snag that falls later)
     root_plate = 4, ///< the root plate of an uprooted tree, standing on edge (no wood mass)
 };
 

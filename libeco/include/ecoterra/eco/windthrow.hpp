@@ -32,8 +32,8 @@
 namespace ecoterra::eco {
 
 struct StormSpec {
-    int year = 0;               ///< the year-end it strikes at (1-based)
-    double wind_m_per_s = 0;    ///< hourly mean wind 10 m above the zero-plane displacement
+    int year = 0;                   ///< the year-end it strikes at (1-based)
+    double wind_m_per_s = 0;        ///< hourly mean wind 10 m above the zero-plane displacement
     std::optional<double> from_deg; ///< where it blows from, clockwise from north; none: drawn
 };
 
@@ -124,8 +124,8 @@ double crown_depth_m(const Species& s, double height_m);
 
 /// The year's storm and what it did.
 struct StormResult {
-    double wind_m_per_s = 0;     ///< 0: no storm (windthrow off)
-    double to_azimuth_rad = 0;   ///< where it blows to, counterclockwise from east
+    double wind_m_per_s = 0;   ///< 0: no storm (windthrow off)
+    double to_azimuth_rad = 0; ///< where it blows to, counterclockwise from east
     double uprooted = 0, broken = 0, basal_area_m2_per_ha = 0;
 };
 
@@ -147,9 +147,9 @@ public:
     /// The critical winds of every plant (NaN for plants not exposed) for a wind from
     /// `to_azimuth_rad`.
     std::vector<wind::TreeWind> critical_winds(const Population& pop,
-                                         const std::vector<Species>& species,
-                                         const GridSpec& area, double to_azimuth_rad,
-                                         int year) const;
+                                               const std::vector<Species>& species,
+                                               const GridSpec& area, double to_azimuth_rad,
+                                               int year) const;
 
     void save(ArchiveWriter& a) const;
     void load(ArchiveReader& a);
@@ -162,7 +162,7 @@ private:
 };
 
 /// The mean spacing of the exposed trees (at least `min_height_m` tall), m; 0 with none.
-double exposed_spacing_m(const Population& pop, const std::vector<Species>& species,
-                         double area_m2, double min_height_m);
+double exposed_spacing_m(const Population& pop, const std::vector<Species>& species, double area_m2,
+                         double min_height_m);
 
 } // namespace ecoterra::eco

@@ -254,6 +254,34 @@ TEST_CASE("export layers: the dead-wood volume integrates to the pieces inside t
         if (!p.standing || p.piece == 1) any_top = std::max({any_top, p.height_m, p.end_height_m});
     CHECK(highest <= any_top * (1 + 1e-6));
     CHECK(highest >= 0.8 * top);
+    // The pits of the root plates: each pit's centre cell (a plate thickness and radius upwind of
+    // the stem base) is as deep as half the plate is thick, and every cell with a pit lies
+    // within a plate radius of some pit's centre.
+    const RasterD pit = terrain::io::read_raster(dir / "layers/windthrow_pit_depth_m.tif");
+    std::vector<std::array<double, 3>> pits; // centre x, y and radius
+    std::size_t centres = 0;
+    for (const auto& p : pieces) {
+        if (p.piece != 4) continue;
+        const double r = 0.5 * p.height_m, t = p.length_m;
+        const double cx = p.x_m + (t + r) * std::cos(p.azimuth_rad);
+        const double cy = p.y_m + (t + r) * std::sin(p.azimuth_rad);
+        pits.push_back({cx, cy, r});
+        if (!g.contains_point(cx, cy)) continue;
+        const int i = std::clamp(static_cast<int>(std::lround(g.col_of(cx))), 0, g.nx - 1);
+        const int j = std::clamp(static_cast<int>(std::lround(g.row_of(cy))), 0, g.ny - 1);
+        if (std::hypot(g.x_of(i) - cx, g.y_of(j) - cy) > r) continue;
+        CHECK(pit(i, j) >= 0.5 * t - 1e-6);
+        ++centres;
+    }
+    CHECK(centres > 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            if (pit(i, j) <= 0) continue;
+            bool near = false;
+            for (const auto& c : pits)
+                near = near || std::hypot(g.x_of(i) - c[0], g.y_of(j) - c[1]) <= c[2] + 1e-9;
+            CHECK(near);
+        }
 
     // glTF: one node per piece whose base is on the terrain, valid for the Khronos validator; a
     // lying piece's node carries the trunk's axis from its base to its end point.

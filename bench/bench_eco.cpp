@@ -1,9 +1,9 @@
 // Ecosystem benchmarks: plant-years/s and simulated years per wall second, coupled and light-only,
 // for the 1 ha quickstart scene and its undergrowth variant (shrubs and a ground layer; 100
 // years each, and the ratio of their times), the quickstart with dead wood, windthrow and two
-// thinnings against the living stand alone (the ratio of their times), and a 1 km x 1 km scene (1 m plant grid, 8 m
-// hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year time it implies).
-// Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
+// thinnings against the living stand alone (the ratio of their times), and a 1 km x 1 km scene (1 m
+// plant grid, 8 m hydrology grid, 300 stems/ha to start; --years N, default 10, and the 100-year
+// time it implies). Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 
@@ -86,8 +86,8 @@ int main(int argc, char** argv) {
         report("1 ha, no dead wood, no storms", mode, 100, b);
         const Result d = grow(eco::load_eco_scene(busy, data / "scenes"), 100);
         report("1 ha, dead wood, storms, 2 thinnings", mode, 100, d);
-        std::printf("%-34s %-10s dead wood, storms and thinnings / neither: %.2f x the time\n",
-                    "", mode, d.seconds / b.seconds);
+        std::printf("%-34s %-10s dead wood, storms and thinnings / neither: %.2f x the time\n", "",
+                    mode, d.seconds / b.seconds);
     }
     if (skip_1km) return 0;
     json k = q;

@@ -51,6 +51,22 @@ struct DeadStemV1 {
 };
 static_assert(sizeof(DeadStemV1) == 96, "DeadStemV1 is not version 1's row");
 
+/// The top of stem `d` above height `z`, lying from there along `az` (a cut's slash or a storm's
+/// broken top), with `mass_kg`, down in `year`.
+DeadStem lying_top(const DeadStem& d, double z, double az, double mass_kg, int year) {
+    DeadStem top = d;
+    top.piece = static_cast<std::uint8_t>(PieceKind::slash);
+    top.standing = 0;
+    top.offset_m = z;
+    top.length_m = d.tree_height_m - z;
+    top.azimuth_rad = az;
+    top.x_m += z * std::cos(az);
+    top.y_m += z * std::sin(az);
+    top.mass0_kg = top.mass_kg = mass_kg;
+    top.year_falls = top.year_down = year;
+    return top;
+}
+
 /// A piece of tree k of the population that died of `cause` in `year`: where and what it was.
 DeadStem from_tree(const Population& pop, std::size_t k, DeathCause cause, int year) {
     DeadStem d;
@@ -233,12 +249,16 @@ void DeadWood::add(const Species& s, const Population& pop, std::size_t k, Death
     d.mass0_kg = d.mass_kg = mass_kg;
     // Each snag's fall year uniform over the span's years after its death: the cohort's standing
     // share falls by 1/span a year, linearly, as FFE's.
-    d.year_falls = year + 1 +
-                   static_cast<std::int32_t>(
-                       std::floor(m_rng.uniform() * deadwood::snag_fall_span_yr(s, d.dbh_m)));
+    d.year_falls = fall_year(s, d.dbh_m, year);
     m_sums.input_kg += mass_kg;
     m_sums.new_snags += 1;
     m_pieces.push_back(d);
+}
+
+std::int32_t DeadWood::fall_year(const Species& s, double dbh_m, int year) {
+    return year + 1 +
+           static_cast<std::int32_t>(
+               std::floor(m_rng.uniform() * deadwood::snag_fall_span_yr(s, dbh_m)));
 }
 
 void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int year) {
@@ -261,17 +281,7 @@ void DeadWood::add_cut(const Population& pop, std::size_t k, double mass_kg, int
         m_sums.cut_kept_kg += stump_kg;
     }
     if (slash_kg > 0 && h > z_top) {
-        DeadStem top = d;
-        top.piece = static_cast<std::uint8_t>(PieceKind::slash);
-        top.standing = 0;
-        top.offset_m = z_top;
-        top.length_m = h - z_top;
-        top.azimuth_rad = az;
-        top.x_m += z_top * std::cos(az);
-        top.y_m += z_top * std::sin(az);
-        top.mass0_kg = top.mass_kg = slash_kg;
-        top.year_falls = top.year_down = year;
-        m_pieces.push_back(top);
+        m_pieces.push_back(lying_top(d, z_top, az, slash_kg, year));
         m_sums.input_kg += slash_kg;
         m_sums.cut_kept_kg += slash_kg;
     }
@@ -314,22 +324,10 @@ void DeadWood::add_wind(const Species& s, const Population& pop, std::size_t k, 
     snag.piece = static_cast<std::uint8_t>(PieceKind::snapped);
     snag.length_m = z;
     snag.mass0_kg = snag.mass_kg = kSnapMassFraction * mass_kg;
-    snag.year_falls = year + 1 +
-                      static_cast<std::int32_t>(
-                          std::floor(m_rng.uniform() * deadwood::snag_fall_span_yr(s, d.dbh_m)));
+    snag.year_falls = fall_year(s, d.dbh_m, year);
     m_pieces.push_back(snag);
     m_sums.new_snags += 1;
-    DeadStem top = d;
-    top.piece = static_cast<std::uint8_t>(PieceKind::slash);
-    top.standing = 0;
-    top.offset_m = z;
-    top.length_m = h - z;
-    top.azimuth_rad = az;
-    top.x_m += z * std::cos(az);
-    top.y_m += z * std::sin(az);
-    top.mass0_kg = top.mass_kg = (1 - kSnapMassFraction) * mass_kg;
-    top.year_falls = top.year_down = year;
-    m_pieces.push_back(top);
+    m_pieces.push_back(lying_top(d, z, az, (1 - kSnapMassFraction) * mass_kg, year));
 }
 
 void DeadWood::fall(DeadStem& d, const RasterD& dem, int year) {

@@ -159,6 +159,9 @@ private:
     void add_wind(const Species& s, const Population& pop, std::size_t k, DeathCause cause,
                   double mass_kg, int year);
     void fall(DeadStem& d, const RasterD& dem, int year);
+    /// The year a snag of this species and DBH that died in `year` falls: uniform over FFE's
+    /// span after its death (one draw of the stream).
+    std::int32_t fall_year(const Species& s, double dbh_m, int year);
 
     DeadWoodOptions m_opt;
     Rng m_rng;

@@ -181,7 +181,8 @@ double u10_from_uh(const StandAero& a, double uh) {
     double d = 0, z0 = 0;
     displacement_and_roughness(a, uh, d, z0);
     const double top = std::max(kElevateTop * a.top_height_m, d + 2 * z0);
-    return uh * std::log(kAnemometerM / z0) / std::log((top - d) / z0);
+    // z0 stays under 0.14 h; only a canopy over ~70 m would put 10 m inside the roughness layer.
+    return uh * std::log(std::max(kAnemometerM / z0, 1.01)) / std::log((top - d) / z0);
 }
 
 double crown_depth_m(const Species& s, double h) {

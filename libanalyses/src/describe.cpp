@@ -1,4 +1,6 @@
 #include "ecoterra/analyses/describe.hpp"
+#include "ecoterra/data_dir.hpp"
+#include "ecoterra/hydro/soil_strength.hpp"
 
 #include "ecoterra/analyses/analyses.hpp"
 
@@ -241,6 +243,58 @@ std::string text(const std::vector<Section>& sections) {
     return out;
 }
 
+/// The rating cone index's coefficients by texture class, with its value at three soil waters.
+Section soil_strength_section() {
+    Section s{"Soil strength: rating cone index by texture",
+              "RCI = exp(a + b ln(mc)) psi, mc = 100 theta / bulk density the gravimetric water "
+              "in per cent (Sullivan & Anderson 2000, ERDC, as the WLDAS_RCI script applies it to "
+              "the STATSGO texture classes; bulk densities of Morris & Lowery 1988). Snapshots "
+              "store it per cell at the root-zone water as rating_cone_index_kpa (docs/mobility.md "
+              "s7).",
+              {"texture", "a", "b", "bulk density g/cm3", "RCI psi at theta 0.2 / 0.3 / 0.4"},
+              {}};
+    for (int t = 0; t < hydro::kTextureCount; ++t) {
+        const auto tex = static_cast<hydro::Texture>(t);
+        const auto c = hydro::cone_index_coefficients(tex);
+        std::string at;
+        for (const double th : {0.2, 0.3, 0.4})
+            at += (at.empty() ? "" : " / ") +
+                  format_number(std::round(hydro::rating_cone_index_psi(tex, th)));
+        s.rows.push_back({hydro::texture_name(tex), format_number(c.a), format_number(c.b),
+                          format_number(c.bulk_density_g_per_cm3), at});
+    }
+    return s;
+}
+
+/// The shipped vehicles' mobility index and vehicle cone indices.
+Section vehicle_cone_index_section() {
+    Section s{"Vehicle cone index of the shipped vehicles",
+              "WES's wheeled mobility index (Priddy 1999) and VCI1, VCI50 from it (Priddy & "
+              "Willoughby 2006), from each file's mass, axles, tyres, wheel radius, tyre width "
+              "and clearance (docs/mobility.md s7). A mobility index at or below 0 is outside "
+              "the regressions (fit to military vehicles): no VCI.",
+              {"file", "mobility index", "VCI1 psi (kPa)", "VCI50 psi (kPa)"},
+              {}};
+    std::vector<std::filesystem::path> files;
+    const auto dir = data_dir() / "vehicles";
+    if (std::filesystem::is_directory(dir))
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            if (e.path().extension() == ".json") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+        const auto n = mobility::cone_index_needs(mobility::load_vehicle(f));
+        auto both = [](double psi) {
+            return std::isnan(psi) ? std::string("none (outside the regressions)")
+                                   : format_number(std::round(psi * 10) / 10) + " (" +
+                                         format_number(std::round(psi * hydro::kKpaPerPsi)) + ")";
+        };
+        s.rows.push_back({f.filename().string(),
+                          format_number(std::round(n.mobility_index * 100) / 100), both(n.vci1_psi),
+                          both(n.vci50_psi)});
+    }
+    return s;
+}
+
 std::vector<Section> vehicle_sections() {
     Section s =
         params("Vehicle files",
@@ -248,7 +302,7 @@ std::vector<Section> vehicle_sections() {
                "[speed m/s, force N], from speed 0, speeds strictly increasing, forces >= 0; "
                "linear between rows, 0 beyond the last.",
                describe(mobility::vehicle_catalog(), mobility::Vehicle{}));
-    return {s};
+    return {s, soil_strength_section(), vehicle_cone_index_section()};
 }
 
 } // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ecoterra::mobility {
 
@@ -53,8 +54,64 @@ const ParamCatalog<Vehicle>& vehicle_catalog() {
              number<V>("max_side_slope_deg", &V::max_side_slope_deg, "deg", 0, 90,
                        "steepest side slope"),
              number<V>("tip_over_deg", &V::tip_over_deg, "deg", 0, 90,
-                       "roll or pitch at which the vehicle tips over")});
+                       "roll or pitch at which the vehicle tips over"),
+             number<V>("tyre_width_m", &V::tyre_width_m, "m", 0.01, 3,
+                       "tyre section width (the mobility index)"),
+             integer<V>("tyres_per_axle", &V::tyres_per_axle, "1", 1, 8, "tyres on each axle"),
+             integer<V>("axles", &V::axles, "1", 1, 12, "axles carrying the weight"),
+             flag<V>("tyre_chains", &V::tyre_chains,
+                     "chains on the tyres (the mobility index's grouser factor 1.05)"),
+             flag<V>("manual_transmission", &V::manual_transmission,
+                     "a manual gearbox (transmission factor 1.05; automatic and hydraulic 1.00)"),
+             optional_number<V>("engine_power_kw", &V::engine_power_kw, "kW", 0.01, 1e5,
+                                "engine power (engine factor 1.05 below 10 hp per short ton); "
+                                "none: taken as at least that")});
     return c;
+}
+
+namespace {
+constexpr double kLbPerKg = 2.2046226, kInPerM = 39.370079, kHpPerKw = 1.3410221;
+constexpr double kKgPerShortTon = 907.18474;
+/// WES's weight factor of an axle load of x kips.
+double weight_factor(double x) {
+    if (x < 2) return 0.553 * x;
+    if (x < 13.5) return 0.033 * x + 1.05;
+    if (x < 20) return 0.142 * x - 0.42;
+    return 0.278 * x - 3.115;
+}
+} // namespace
+
+double ConeIndexNeeds::vci1_kpa() const {
+    return vci1_psi * 6.894757;
+}
+double ConeIndexNeeds::vci50_kpa() const {
+    return vci50_psi * 6.894757;
+}
+
+ConeIndexNeeds cone_index_needs(const Vehicle& v) {
+    const double w = v.mass_kg * kLbPerKg / v.axles; // axle load, lb
+    const double d = 2 * v.wheel_radius_m * kInPerM, b = v.tyre_width_m * kInPerM;
+    const double cpf = w / (0.5 * v.tyres_per_axle * d * b); // contact pressure factor, psi
+    const double wf = weight_factor(w / 1000);
+    const double tef = (10 + b) / 100;
+    const double gf = v.tyre_chains ? 1.05 : 1.0;
+    const double wlf = w / 2000;
+    const double cf = v.ground_clearance_m * kInPerM / 10;
+    const double hp_per_ton =
+        v.engine_power_kw ? *v.engine_power_kw * kHpPerKw / (v.mass_kg / kKgPerShortTon) : 10.0;
+    const double ef = hp_per_ton < 10 ? 1.05 : 1.0;
+    const double tf = v.manual_transmission ? 1.05 : 1.0;
+    ConeIndexNeeds n;
+    n.mobility_index = (cpf * wf / (tef * gf) + wlf - cf) * ef * tf;
+    const double mi = n.mobility_index;
+    n.calibrated = mi > 0;
+    if (!n.calibrated) {
+        n.vci1_psi = n.vci50_psi = std::numeric_limits<double>::quiet_NaN();
+        return n;
+    }
+    n.vci1_psi = mi <= 115 ? 11.48 + 0.2 * mi - 39.2 / (mi + 3.74) : 4.1 * std::pow(mi, 0.446);
+    n.vci50_psi = mi <= 115 ? 28.23 + 0.43 * mi - 92.67 / (mi + 3.67) : 9 * std::pow(mi, 0.446);
+    return n;
 }
 
 double Vehicle::tractive_force_at(double v) const {

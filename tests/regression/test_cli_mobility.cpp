@@ -5,9 +5,11 @@
 
 #include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/error.hpp"
+#include "ecoterra/hydro/soil_strength.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/random.hpp"
+#include "ecoterra/run/run_reader.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -201,6 +203,24 @@ TEST_CASE("mobility: a windthrown stand is slower than the same stand before the
     CHECK(c["smg_mean_m_per_s"].get<double>() ==
           Approx(after["smg_mean_m_per_s"].get<double>()).epsilon(1e-6));
     for (const char* k : {"snags", "logs"}) CHECK(c[k] == after[k]);
+}
+
+TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil water",
+          "[mobility][soil][cli]") {
+    test::TempDir dir;
+    std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
+    REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
+    const RasterD terrain = run::read_run_terrain(dir / "run.h5");
+    const RasterD theta =
+        run::read_snapshot_raster(dir / "run.h5", -1, "soil_moisture", terrain.grid());
+    const RasterD rci =
+        run::read_snapshot_raster(dir / "run.h5", -1, "rating_cone_index_kpa", terrain.grid());
+    // The small scene's uniform soil: 15 % sand, 70 % silt, 15 % clay, a silt loam.
+    const auto tex = hydro::classify_texture(15, 70, 15);
+    for (int j = 0; j < theta.ny(); ++j)
+        for (int i = 0; i < theta.nx(); ++i)
+            CHECK(rci(i, j) ==
+                  Approx(hydro::rating_cone_index_kpa(tex, theta(i, j))).epsilon(1e-5));
 }
 
 TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli]") {

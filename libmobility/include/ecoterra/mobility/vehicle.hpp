@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,13 @@ struct Vehicle {
     double max_climb_deg = 30;
     double max_side_slope_deg = 25;
     double tip_over_deg = 45;
+    // The mobility index's inputs (WES, Priddy 1999; reference trafficability.md s3a).
+    double tyre_width_m = 0.25;
+    int tyres_per_axle = 2;
+    int axles = 2;
+    bool tyre_chains = false;
+    bool manual_transmission = false;
+    std::optional<double> engine_power_kw; ///< none: taken as at least 10 hp per short ton
 
     /// Gross vehicle weight, N.
     double weight_n() const { return mass_kg * kGravity_m_per_s2; }
@@ -49,6 +57,20 @@ struct Vehicle {
     /// Checks rules across keys; throws InputError naming `where` and the keys.
     void validate(const std::string& where) const;
 };
+
+/// The wheeled mobility index and vehicle cone indices (docs/mobility.md s7): WES's formula (Priddy
+/// 1999, ERDC TR GL-99-8, pp. 42-43; Kennedy & Rush 1968) in its units (lb, in, psi), and VCI1,
+/// VCI50 from it (Priddy & Willoughby 2006, J. Terramech. 43:85; FM 5-430-00-1), at the nominal
+/// 15 % tyre deflection. The regressions were fit to military vehicles: a mobility index at or
+/// below 0 (a small robot's clearance outweighs its load) is outside them and gives no VCI.
+struct ConeIndexNeeds {
+    double mobility_index = 0;
+    double vci1_psi = 0, vci50_psi = 0; ///< NaN outside the regressions
+    bool calibrated = false;
+    double vci1_kpa() const;
+    double vci50_kpa() const;
+};
+ConeIndexNeeds cone_index_needs(const Vehicle& v);
 
 /// The scalar keys of a vehicle file.
 const ParamCatalog<Vehicle>& vehicle_catalog();

@@ -14,9 +14,11 @@
 #include "ecoterra/terrain/missions.hpp"
 #include "ecoterra/units.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 namespace ecoterra::app {
 
@@ -27,7 +29,7 @@ using nlohmann::json;
 struct MobilityArgs {
     // Defaults of the mobility analysis's catalogue (analyses.hpp), as an ensemble's.
     std::string run, stems, deadwood, dem, vehicle, json_out, layout = "random", pictures;
-    bool no_pictures = false, force = false, no_deadwood = false;
+    bool no_pictures = false, force = false, no_deadwood = false, no_soil = false;
     int snapshot = -1, lines = analyses::MobilityAnalysis{}.lines;
     long long seed = 1;
     double length_m = analyses::MobilityAnalysis{}.length_m;
@@ -50,11 +52,12 @@ struct StandInput {
     mobility::StandDeadWood dead;
     RasterD dem;
     json source;
+    std::optional<RasterD> rci_kpa; ///< the snapshot's soil strength (runs that store it)
 };
 
 StandInput read_stand_input(const MobilityArgs& a) {
     StandInput in;
-    auto& [stems, dead, dem, source] = in;
+    auto& [stems, dead, dem, source, rci] = in;
     if (!a.run.empty()) {
         const auto s = run::read_snapshot_plants(a.run, a.snapshot);
         stems = run::stand_stems(s.plants);
@@ -62,6 +65,8 @@ StandInput read_stand_input(const MobilityArgs& a) {
             dead = run::stand_deadwood(run::read_snapshot_deadwood(a.run, s.index).pieces);
         dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
+        if (!a.no_soil && run::snapshot_has_dataset(a.run, s.index, "rating_cone_index_kpa"))
+            rci = run::read_snapshot_raster(a.run, s.index, "rating_cone_index_kpa", dem.grid());
     } else {
         stems = mobility::read_stem_csv(a.stems);
         if (!a.deadwood.empty()) dead = mobility::read_deadwood_csv(a.deadwood);
@@ -105,6 +110,12 @@ void run_mobility(const MobilityArgs& a) {
     else if (a.layout != "random")
         throw InputError("--layout must be random or transects, got '" + a.layout + "'");
     StandInput in = read_stand_input(a);
+    const mobility::ConeIndexNeeds needs = mobility::cone_index_needs(v);
+    if (in.rci_kpa && needs.calibrated) {
+        opt.smg.rating_cone_index_kpa = &*in.rci_kpa;
+        opt.smg.vci1_kpa = needs.vci1_kpa();
+    }
+    in.source["soil_strength_applied"] = opt.smg.rating_cone_index_kpa != nullptr;
     auto& stems = in.stems;
     const auto& dead = in.dead;
     const RasterD& dem = in.dem;
@@ -133,6 +144,17 @@ void run_mobility(const MobilityArgs& a) {
         std::printf("logs: %.2f climbed per 100 m (step limit %.2f m), %.2f too high across each "
                     "line\n",
                     m.log_crossings_per_100m, m.step_limit_m, m.logs_avoided_per_line);
+    if (opt.smg.rating_cone_index_kpa) {
+        const auto [lo, hi] =
+            std::minmax_element(in.rci_kpa->data(), in.rci_kpa->data() + in.rci_kpa->size());
+        std::printf("soil: rating cone index %.0f-%.0f kPa against VCI1 %.0f kPa (VCI50 %.0f)\n",
+                    *lo, *hi, needs.vci1_kpa(), needs.vci50_kpa());
+    } else if (in.rci_kpa) {
+        std::printf(
+            "soil: not applied (the vehicle's mobility index %.2f is outside the cone-index "
+            "regressions)\n",
+            needs.mobility_index);
+    }
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
         json j = analyses::mobility_json(m, v);
@@ -252,6 +274,9 @@ void add_mobility_command(CLI::App& app) {
                   "dead-wood list CSV (`ecoterra export deadwood`) with --stems: snags and logs");
     m->add_flag("--no-deadwood", a->no_deadwood,
                 "leave out the run's dead wood (the living stand only)");
+    m->add_flag("--no-soil", a->no_soil,
+                "drive on firm ground: leave out the snapshot's soil strength (a cell whose "
+                "rating cone index is below the vehicle's VCI1 is otherwise NO-GO)");
     m->add_option("--dem", a->dem, "terrain raster under the stem list");
     m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json)")->required();
     m->add_option("--lines", a->lines, "number of straight lines")->capture_default_str();

@@ -481,6 +481,18 @@ bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResul
                           ", " + format_number(mid.y_m) + ")";
         return false;
     }
+    if (const RasterD* rci = m_opt.rating_cone_index_kpa; rci && !std::isnan(m_opt.vci1_kpa)) {
+        const auto [ci, cj] = rci->cell_at(mid.x_m, mid.y_m); // the cell's soil; off it: firm
+        const double r = ci < 0 ? std::numeric_limits<double>::quiet_NaN() : (*rci)(ci, cj);
+        if (r < m_opt.vci1_kpa) {
+            out.nogo = true;
+            out.nogo_reason = "soil too soft: rating cone index " + format_number(std::round(r)) +
+                              " kPa below the vehicle's VCI1 of " +
+                              format_number(std::round(m_opt.vci1_kpa)) + " kPa at (" +
+                              format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
+            return false;
+        }
+    }
     const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
     const double speed = steady_speed_m_per_s(v, base + force);
     if (speed <= 0) {

@@ -221,6 +221,25 @@ TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil wat
         for (int i = 0; i < theta.nx(); ++i)
             CHECK(rci(i, j) ==
                   Approx(hydro::rating_cone_index_kpa(tex, theta(i, j))).epsilon(1e-5));
+    // `ecoterra mobility` applies it for the MRZR (the report says against what), not for the
+    // Husky (outside the regressions), and --no-soil leaves it out.
+    const std::string mrzr = (test::data_dir() / "vehicles/mrzr4.json").string();
+    const std::string husky = (test::data_dir() / "vehicles/husky_a200.json").string();
+    auto r = test::run(dir, "mobility run.h5 --vehicle " + mrzr +
+                                " --lines 20 --length 15 --json s.json --no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("soil: rating cone index") && Catch::Contains("VCI1 98"));
+    CHECK(read_json(dir / "s.json")["source"]["soil_strength_applied"] == true);
+    r = test::run(dir, "mobility run.h5 --vehicle " + husky + " --lines 20 --length 15");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("soil: not applied"));
+    r = test::run(dir, "mobility run.h5 --vehicle " + mrzr +
+                           " --lines 20 --length 15 --json n.json --no-pictures --no-soil");
+    REQUIRE(r.code == 0);
+    const json n = read_json(dir / "n.json");
+    CHECK(n["source"]["soil_strength_applied"] == false);
+    // A small scene's silt loam after two years is far firmer than the MRZR needs: the same lines.
+    CHECK(n["smg_mean_m_per_s"] == read_json(dir / "s.json")["smg_mean_m_per_s"]);
 }
 
 TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli]") {

@@ -4,6 +4,7 @@
 // regressions, the factors' directions; the rating cone index's published form by texture and
 // its direction with soil water (the snapshot's map of it: tests/regression/test_cli_mobility.cpp).
 #include "ecoterra/hydro/soil_strength.hpp"
+#include "ecoterra/mobility/smg.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "support/scenes.hpp"
 
@@ -114,4 +115,38 @@ TEST_CASE("soil strength: the rating cone index by texture and soil water", "[hy
     // Clay holds up better than sandy clay loam at the same water (a larger a).
     CHECK(hydro::rating_cone_index_psi(Texture::clay, 0.35) >
           hydro::rating_cone_index_psi(Texture::sandy_clay_loam, 0.35));
+}
+
+TEST_CASE("soil strength: a line is NO-GO where the soil's rating cone index falls below the "
+          "vehicle's VCI1, and as fast as on firm ground elsewhere",
+          "[mobility][soil]") {
+    const Vehicle v = load_vehicle(test::data_dir() / "vehicles/mrzr4.json");
+    const double vci1 = cone_index_needs(v).vci1_kpa();
+    RasterD rci(GridSpec{60, 20, 2.0, -10.0, -20.0}, 2 * vci1); // 120 m x 40 m, firm
+    const StemIndex none({}, 2.0);
+    const Point a{0, 0}, b{100, 0};
+    const LineResult firm = drive_line(v, none, nullptr, a, b);
+    SmgOptions opt;
+    opt.rating_cone_index_kpa = &rci;
+    opt.vci1_kpa = vci1;
+    const LineResult same = drive_line(v, none, nullptr, a, b, opt);
+    CHECK_FALSE(same.nogo);
+    CHECK(same.time_s == firm.time_s);
+    // A soft band across the line (x 50-54 m) just below VCI1: NO-GO, and the reason says why.
+    for (int j = 0; j < rci.ny(); ++j)
+        for (int i = 30; i < 32; ++i) rci(i, j) = 0.99 * vci1;
+    const LineResult soft = drive_line(v, none, nullptr, a, b, opt);
+    CHECK(soft.nogo);
+    CHECK_THAT(soft.nogo_reason, Catch::Contains("soil too soft"));
+    // Just above it: GO at firm-ground speed (the slow-going between VCI1 and VCI50 is not yet
+    // modelled).
+    for (int j = 0; j < rci.ny(); ++j)
+        for (int i = 30; i < 32; ++i) rci(i, j) = 1.01 * vci1;
+    CHECK(drive_line(v, none, nullptr, a, b, opt).time_s == firm.time_s);
+    // A vehicle outside the regressions (NaN VCI1) drives on as on firm ground.
+    opt.vci1_kpa =
+        cone_index_needs(load_vehicle(test::data_dir() / "vehicles/husky_a200.json")).vci1_kpa();
+    for (int j = 0; j < rci.ny(); ++j)
+        for (int i = 30; i < 32; ++i) rci(i, j) = 1;
+    CHECK_FALSE(drive_line(v, none, nullptr, a, b, opt).nogo);
 }

@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,6 +76,11 @@ struct SmgOptions {
     double margin_m = 25;
     /// When set, the planning area is also kept inside [x0, x1] x [y0, y1] (the terrain), m.
     std::optional<std::array<double, 4>> bounds_m;
+    /// The soil's rating cone index, kPa (a snapshot's rating_cone_index_kpa), and the vehicle's
+    /// VCI1, kPa: a cell whose RCI is below it is NO-GO (one pass impossible; FM 5-430's rule,
+    /// docs/mobility.md s9). nullptr or a NaN VCI1: the ground is firm everywhere.
+    const RasterD* rating_cone_index_kpa = nullptr;
+    double vci1_kpa = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Stems in buckets of a fixed size, for queries by rectangle and disk.

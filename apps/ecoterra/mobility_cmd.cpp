@@ -81,7 +81,25 @@ StandInput read_stand_input(const MobilityArgs& a) {
     return in;
 }
 
-void run_mobility(const MobilityArgs& a) {
+/// The soil line of the report: the snapshot's rating cone index against the vehicle's needs,
+/// or why it was not applied.
+void print_soil(const StandInput& in, const mobility::StandLinesOptions& opt,
+                const mobility::ConeIndexNeeds& needs) {
+    if (opt.smg.rating_cone_index_kpa) {
+        const auto [lo, hi] =
+            std::minmax_element(in.rci_kpa->data(), in.rci_kpa->data() + in.rci_kpa->size());
+        std::printf("soil: rating cone index %.0f-%.0f kPa against VCI1 %.0f kPa (VCI50 %.0f)\n",
+                    *lo, *hi, needs.vci1_kpa(), needs.vci50_kpa());
+    } else if (in.rci_kpa) {
+        std::printf(
+            "soil: not applied (the vehicle's mobility index %.2f is outside the cone-index "
+            "regressions)\n",
+            needs.mobility_index);
+    }
+}
+
+/// The combinations of inputs `ecoterra mobility` refuses.
+void check_mobility_inputs(const MobilityArgs& a) {
     if (a.run.empty() == a.stems.empty())
         throw InputError("mobility: give a run file, or --stems FILE.csv with --dem");
     if (!a.stems.empty() && a.dem.empty())
@@ -90,6 +108,10 @@ void run_mobility(const MobilityArgs& a) {
         throw InputError("mobility: --deadwood goes with --stems (a run brings its own dead wood)");
     if (!a.deadwood.empty() && a.no_deadwood)
         throw InputError("mobility: --deadwood and --no-deadwood contradict each other");
+}
+
+void run_mobility(const MobilityArgs& a) {
+    check_mobility_inputs(a);
     if (!a.json_out.empty()) {
         std::vector<std::string> inputs{a.vehicle};
         for (const auto& p : {a.run, a.stems, a.deadwood, a.dem})
@@ -144,17 +166,7 @@ void run_mobility(const MobilityArgs& a) {
         std::printf("logs: %.2f climbed per 100 m (step limit %.2f m), %.2f too high across each "
                     "line\n",
                     m.log_crossings_per_100m, m.step_limit_m, m.logs_avoided_per_line);
-    if (opt.smg.rating_cone_index_kpa) {
-        const auto [lo, hi] =
-            std::minmax_element(in.rci_kpa->data(), in.rci_kpa->data() + in.rci_kpa->size());
-        std::printf("soil: rating cone index %.0f-%.0f kPa against VCI1 %.0f kPa (VCI50 %.0f)\n",
-                    *lo, *hi, needs.vci1_kpa(), needs.vci50_kpa());
-    } else if (in.rci_kpa) {
-        std::printf(
-            "soil: not applied (the vehicle's mobility index %.2f is outside the cone-index "
-            "regressions)\n",
-            needs.mobility_index);
-    }
+    print_soil(in, opt, needs);
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
         json j = analyses::mobility_json(m, v);

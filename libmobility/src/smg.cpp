@@ -297,6 +297,8 @@ private:
     bool drive_cell(Point c0, double len, double ux, double uy, LineResult& out);
     /// Obstacles whose inflated disk meets the straight line.
     std::int64_t count_avoided(double straight_m) const;
+    /// False (and NO-GO) when the soil of the cell at `mid` is softer than the vehicle's VCI1.
+    bool soil_holds(Point mid, LineResult& out) const;
 
     const Vehicle& m_v;
     const StemIndex& m_index;
@@ -481,18 +483,7 @@ bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResul
                           ", " + format_number(mid.y_m) + ")";
         return false;
     }
-    if (const RasterD* rci = m_opt.rating_cone_index_kpa; rci && !std::isnan(m_opt.vci1_kpa)) {
-        const auto [ci, cj] = rci->cell_at(mid.x_m, mid.y_m); // the cell's soil; off it: firm
-        const double r = ci < 0 ? std::numeric_limits<double>::quiet_NaN() : (*rci)(ci, cj);
-        if (r < m_opt.vci1_kpa) {
-            out.nogo = true;
-            out.nogo_reason = "soil too soft: rating cone index " + format_number(std::round(r)) +
-                              " kPa below the vehicle's VCI1 of " +
-                              format_number(std::round(m_opt.vci1_kpa)) + " kPa at (" +
-                              format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
-            return false;
-        }
-    }
+    if (!soil_holds(mid, out)) return false;
     const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
     const double speed = steady_speed_m_per_s(v, base + force);
     if (speed <= 0) {
@@ -662,6 +653,19 @@ LineResult LineDrive::run() {
 }
 
 } // namespace
+
+bool LineDrive::soil_holds(Point mid, LineResult& out) const {
+    const RasterD* rci = m_opt.rating_cone_index_kpa;
+    if (!rci || std::isnan(m_opt.vci1_kpa)) return true;
+    const auto [ci, cj] = rci->cell_at(mid.x_m, mid.y_m); // the cell's soil; off it: firm
+    if (ci < 0 || !((*rci)(ci, cj) < m_opt.vci1_kpa)) return true;
+    out.nogo = true;
+    out.nogo_reason =
+        "soil too soft: rating cone index " + format_number(std::round((*rci)(ci, cj))) +
+        " kPa below the vehicle's VCI1 of " + format_number(std::round(m_opt.vci1_kpa)) +
+        " kPa at (" + format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
+    return false;
+}
 
 LineResult drive_line(const Vehicle& v, const StemIndex& index, const LogIndex& logs,
                       const RasterD* dem, Point a, Point b, const SmgOptions& opt) {

@@ -299,7 +299,10 @@ const ParamCatalog<MobilityAnalysis>& mobility_catalog() {
                    "random lines, or parallel transects across the stand"),
          flag<M>("deadwood", &M::deadwood,
                  "drive through the run's snags and over or around its logs (false: the living "
-                 "stand only)")});
+                 "stand only)"),
+         flag<M>("soil", &M::soil,
+                 "a cell whose rating cone index (the run's snapshot) is below the vehicle's "
+                 "VCI1 is NO-GO (false: firm ground; stem lists have no soil)")});
     return c;
 }
 

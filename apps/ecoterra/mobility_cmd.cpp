@@ -84,7 +84,14 @@ StandInput read_stand_input(const MobilityArgs& a) {
 /// The soil line of the report: the snapshot's rating cone index against the vehicle's needs,
 /// or why it was not applied.
 void print_soil(const StandInput& in, const mobility::StandLinesOptions& opt,
-                const mobility::ConeIndexNeeds& needs) {
+                const mobility::Vehicle& v, const mobility::ConeIndexNeeds& needs) {
+    if (in.rci_kpa && !v.cone_index_defaults.empty()) {
+        std::string keys;
+        for (const auto& k : v.cone_index_defaults) keys += (keys.empty() ? "" : ", ") + k;
+        std::printf("soil: the vehicle file gives no %s: the defaults (ecoterra describe vehicle) "
+                    "are taken\n",
+                    keys.c_str());
+    }
     if (opt.smg.rating_cone_index_kpa) {
         const auto [lo, hi] =
             std::minmax_element(in.rci_kpa->data(), in.rci_kpa->data() + in.rci_kpa->size());
@@ -166,7 +173,7 @@ void run_mobility(const MobilityArgs& a) {
         std::printf("logs: %.2f climbed per 100 m (step limit %.2f m), %.2f too high across each "
                     "line\n",
                     m.log_crossings_per_100m, m.step_limit_m, m.logs_avoided_per_line);
-    print_soil(in, opt, needs);
+    print_soil(in, opt, v, needs);
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
         json j = analyses::mobility_json(m, v);

@@ -157,6 +157,10 @@ Vehicle parse_vehicle(const json& j, const std::string& source) {
     return with_context(source, [&] {
         if (!j.is_object()) throw InputError("a vehicle file must be a JSON object");
         Vehicle v = vehicle_catalog().read(j, Vehicle{}, {kTableKey});
+        for (const auto& k : vehicle_catalog().absent(j))
+            if (k == "tyre_width_m" || k == "tyres_per_axle" || k == "axles" ||
+                k == "tyre_chains" || k == "manual_transmission" || k == "engine_power_kw")
+                v.cone_index_defaults.push_back(k);
         if (!j.contains(kTableKey))
             throw InputError(std::string("missing key '") + kTableKey +
                              "' (rows [speed m/s, tractive force N])");

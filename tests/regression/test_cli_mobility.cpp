@@ -229,6 +229,9 @@ TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil wat
                                 " --lines 20 --length 15 --json s.json --no-pictures");
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("soil: rating cone index") && Catch::Contains("VCI1 98"));
+    // The shipped file gives every mobility-index key but the engine's power: said so.
+    CHECK_THAT(r.out,
+               Catch::Contains("gives no engine_power_kw") && !Catch::Contains("tyre_width_m"));
     CHECK(read_json(dir / "s.json")["source"]["soil_strength_applied"] == true);
     r = test::run(dir, "mobility run.h5 --vehicle " + husky + " --lines 20 --length 15");
     REQUIRE(r.code == 0);

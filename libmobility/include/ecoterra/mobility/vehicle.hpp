@@ -49,6 +49,8 @@ struct Vehicle {
     bool tyre_chains = false;
     bool manual_transmission = false;
     std::optional<double> engine_power_kw; ///< none: taken as at least 10 hp per short ton
+    /// The mobility index's keys the file did not give (they took their defaults), for reports.
+    std::vector<std::string> cone_index_defaults;
 
     /// Gross vehicle weight, N.
     double weight_n() const { return mass_kg * kGravity_m_per_s2; }

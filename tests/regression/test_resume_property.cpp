@@ -3,6 +3,7 @@
 // catchments, groundwater, generators, the daily and yearly series), so equal checkpoint bytes
 // at the end mean every dataset and series is equal bit for bit. The quickstart scene and a
 // groundwater scene; splits at every year end.
+#include "support/scenes.hpp"
 #include "support/temp_dir.hpp"
 
 #include "ecoterra/archive.hpp"
@@ -147,6 +148,35 @@ TEST_CASE("resume: undergrowth and MAVS objects split at every year end bit for 
         j["simulation"]["years"] = 8;
         const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
         check_every_split(scene, 8, 1);
+    }
+}
+
+TEST_CASE("resume: storms that fell trees, a thinning between them, split at every year end "
+          "bit for bit as one run",
+          "[eco][resume][property][windthrow]") {
+    // Windthrow's state (the storm stream, the last thinning for the turning-moment ratio) and
+    // its pieces (logs downwind, root plates, snapped snags falling later), in both modes; the
+    // drawn storms of a windy climate as well as the listed ones.
+    for (const std::string mode : {"coupled", "light_only"}) {
+        CAPTURE(mode);
+        auto j = test::small_scene(8, mode);
+        j["vegetation"]["windthrow"] = {{"weibull_scale_m_per_s", 6.0},
+                                        {"storms",
+                                         {{{"year", 3}, {"wind_m_per_s", 24}, {"from_deg", 90}},
+                                          {{"year", 6}, {"wind_m_per_s", 28}}}}};
+        j["vegetation"]["management"] = {
+            {"operations",
+             {{{"year", 4}, {"type", "thin_from_below"}, {"target_basal_area_m2_per_ha", 3}}}}};
+        const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+        eco::Ecosystem probe(scene);
+        double felled = 0;
+        for (int y = 1; y <= 8; ++y) {
+            probe.run_year();
+            felled += probe.yearly().column("windthrow_uprooted").back() +
+                      probe.yearly().column("windthrow_broken").back();
+        }
+        REQUIRE(felled > 0);
+        CHECK(check_every_split(scene, 8, 1) > 0);
     }
 }
 

@@ -65,8 +65,7 @@ StandInput read_stand_input(const MobilityArgs& a) {
             dead = run::stand_deadwood(run::read_snapshot_deadwood(a.run, s.index).pieces);
         dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
-        if (!a.no_soil && run::snapshot_has_dataset(a.run, s.index, "rating_cone_index_kpa"))
-            rci = run::read_snapshot_raster(a.run, s.index, "rating_cone_index_kpa", dem.grid());
+        if (!a.no_soil) rci = run::read_snapshot_soil(a.run, s.index, dem.grid());
     } else {
         stems = mobility::read_stem_csv(a.stems);
         if (!a.deadwood.empty()) dead = mobility::read_deadwood_csv(a.deadwood);
@@ -140,11 +139,7 @@ void run_mobility(const MobilityArgs& a) {
         throw InputError("--layout must be random or transects, got '" + a.layout + "'");
     StandInput in = read_stand_input(a);
     const mobility::ConeIndexNeeds needs = mobility::cone_index_needs(v);
-    if (in.rci_kpa && needs.calibrated) {
-        opt.smg.rating_cone_index_kpa = &*in.rci_kpa;
-        opt.smg.vci1_kpa = needs.vci1_kpa();
-    }
-    in.source["soil_strength_applied"] = opt.smg.rating_cone_index_kpa != nullptr;
+    in.source["soil_strength_applied"] = in.rci_kpa && mobility::use_soil(opt.smg, *in.rci_kpa, v);
     auto& stems = in.stems;
     const auto& dead = in.dead;
     const RasterD& dem = in.dem;

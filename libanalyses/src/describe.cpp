@@ -1,6 +1,7 @@
 #include "ecoterra/analyses/describe.hpp"
 #include "ecoterra/data_dir.hpp"
 #include "ecoterra/hydro/soil_strength.hpp"
+#include "ecoterra/units.hpp"
 
 #include "ecoterra/analyses/analyses.hpp"
 
@@ -286,7 +287,7 @@ Section vehicle_cone_index_section() {
         auto both = [](double psi) {
             return std::isnan(psi) ? std::string("none (outside the regressions)")
                                    : format_number(std::round(psi * 10) / 10) + " (" +
-                                         format_number(std::round(psi * hydro::kKpaPerPsi)) + ")";
+                                         format_number(std::round(psi * kKpaPerPsi)) + ")";
         };
         s.rows.push_back({f.filename().string(),
                           format_number(std::round(n.mobility_index * 100) / 100), both(n.vci1_psi),

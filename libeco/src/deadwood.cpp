@@ -130,6 +130,11 @@ double root_plate_thickness_m(double dbh) {
 
 namespace deadwood {
 
+double wrap_azimuth(double a) {
+    const double two_pi = 2 * std::numbers::pi;
+    return a - two_pi * std::floor(a / two_pi);
+}
+
 int decay_class(double f) {
     int c = 1;
     for (const double t : kClassThresholds) {
@@ -202,8 +207,7 @@ double fall_azimuth_rad(const RasterD& dem, double x, double y, Rng& rng) {
     const double slope = std::hypot(gx, gy);
     const double two_pi = 2.0 * std::numbers::pi;
     if (slope > 0 && u1 < std::min(1.0, slope / kSlopeAllDownhill)) {
-        const double a = std::atan2(-gy, -gx) + (u2 - 0.5) * kDownhillSpreadRad;
-        return a - two_pi * std::floor(a / two_pi);
+        return wrap_azimuth(std::atan2(-gy, -gx) + (u2 - 0.5) * kDownhillSpreadRad);
     }
     return two_pi * u2;
 }
@@ -291,9 +295,8 @@ void DeadWood::add_wind(const Species& s, const Population& pop, std::size_t k, 
                         double mass_kg, int year) {
     const DeadStem d = from_tree(pop, k, cause, year);
     const double h = d.tree_height_m;
-    const double two_pi = 2 * std::numbers::pi;
-    double az = m_storm_to_az + (m_rng.uniform() - 0.5) * kWindSpreadRad;
-    az -= two_pi * std::floor(az / two_pi);
+    const double az =
+        deadwood::wrap_azimuth(m_storm_to_az + (m_rng.uniform() - 0.5) * kWindSpreadRad);
     m_sums.input_kg += mass_kg;
     if (cause == DeathCause::wind_uprooted) {
         DeadStem log = d;
@@ -307,8 +310,8 @@ void DeadWood::add_wind(const Species& s, const Population& pop, std::size_t k, 
         plate.piece = static_cast<std::uint8_t>(PieceKind::root_plate);
         plate.standing = 0;
         plate.length_m = root_plate_thickness_m(d.dbh_m);
-        const double back = az + std::numbers::pi; // the plate tips up on the windward side
-        plate.azimuth_rad = back - two_pi * std::floor(back / two_pi);
+        // The plate tips up on the windward side.
+        plate.azimuth_rad = deadwood::wrap_azimuth(az + std::numbers::pi);
         plate.year_falls = plate.year_down = year;
         m_pieces.push_back(plate);
         return;

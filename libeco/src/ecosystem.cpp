@@ -320,6 +320,7 @@ void Ecosystem::storm(std::vector<char>& dead) {
 }
 
 void Ecosystem::harvest(std::vector<char>& dead, bool allometric_mass) {
+    if (m_scene.management.operations.empty()) return; // nothing to cut, nothing to count
     const auto& species = m_scene.ecosystem.species;
     const auto& pg = plant_grid();
     const double area_m2 = pg.width_m() * pg.height_m();

@@ -29,13 +29,7 @@ const std::vector<std::pair<std::string, CutKind>>& kinds() {
 
 double number_at(const json& o, const std::string& key, const std::string& where, double lo,
                  double hi) {
-    const json& v = o.at(key);
-    if (!v.is_number()) throw InputError(where + "." + key + " must be a number, got " + v.dump());
-    const double x = v.get<double>();
-    if (!(x >= lo && x <= hi))
-        throw InputError(where + "." + key + " = " + format_number(x) + " is outside [" +
-                         format_number(lo) + ", " + format_number(hi) + "]");
-    return x;
+    return get_number(o, key, 0, where, lo, hi); // callers check that the key is there
 }
 
 ManagementOp read_op(const json& o, const std::string& where, int years) {

@@ -2,8 +2,10 @@
 // (windthrow.hpp).
 #include "ecoterra/eco/windthrow.hpp"
 
+#include "ecoterra/eco/deadwood.hpp"
 #include "ecoterra/error.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +17,6 @@ using nlohmann::json;
 
 namespace {
 constexpr std::uint32_t kStateVersion = 1;
-constexpr double kM2PerHa = 1e4;
 constexpr double kMaxWind = 100; ///< m/s: above any measured surface wind
 // fgr_constants (ForestGALES): the annual-maximum polynomial and dispersion, Raupach's constants.
 constexpr double kUc1 = -0.5903, kUc2 = 4.4345, kUc3 = -11.8633, kUc4 = 13.569, kUa = 5;
@@ -25,8 +26,7 @@ constexpr double kMaxGapHeights = 10; ///< a gap's effect saturates at 10 height
 constexpr double kDragFloor = 10;     ///< m/s: the drag regression's lower limit
 constexpr double kElevateTop = 1.05;  ///< fgr elevates from 1.05 x the top height
 constexpr double kAnemometerM = 10;
-constexpr double kBreastHeightM = 1.3; ///< fgr's breast height
-constexpr double kThinningYears = 5;   ///< a thinning's effect on the moment fades in 5 years
+constexpr double kThinningYears = 5; ///< a thinning's effect on the moment fades in 5 years
 /// A gap is upwind ground whose canopy is under this share of the stand's mean height.
 constexpr double kGapHeightFraction = 0.5;
 constexpr double kTopStemsPerHa = 100; ///< top height: the mean of the 100 tallest per ha
@@ -34,9 +34,7 @@ constexpr double kFaoU2Numerator = 4.87, kFaoA = 67.8, kFaoB = 5.42; // FAO-56 E
 
 double from_deg_to_azimuth(double from_deg) {
     // Blowing from `from` (clockwise from north) toward from + 180; counterclockwise from east.
-    const double a = (90.0 - (from_deg + 180.0)) * std::numbers::pi / 180.0;
-    const double two_pi = 2 * std::numbers::pi;
-    return a - two_pi * std::floor(a / two_pi);
+    return deadwood::wrap_azimuth((90.0 - (from_deg + 180.0)) * std::numbers::pi / 180.0);
 }
 
 bool exposed(const Population& pop, const std::vector<Species>& species, std::size_t k,
@@ -84,14 +82,7 @@ WindthrowOptions read_windthrow(const json& j, int years) {
         require_known_keys(o, {"year", "wind_m_per_s", "from_deg"}, at);
         auto number = [&](const char* key, double lo, double hi) {
             if (!o.contains(key)) throw InputError(at + "." + key + ": missing");
-            const json& v = o.at(key);
-            if (!v.is_number())
-                throw InputError(at + "." + key + " must be a number, got " + v.dump());
-            const double x = v.get<double>();
-            if (!(x >= lo && x <= hi))
-                throw InputError(at + "." + key + " = " + format_number(x) + " is outside [" +
-                                 format_number(lo) + ", " + format_number(hi) + "]");
-            return x;
+            return get_number(o, key, 0, at, lo, hi);
         };
         StormSpec s;
         const double y = number("year", 1, years);

@@ -82,12 +82,6 @@ void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
         {"class_width_cm", s.class_width_cm}, {"stems_per_ha", per_ha}, {"area_ha", s.area_ha}};
 }
 
-/// The last snapshot's rating cone index, if the run stores it.
-std::optional<RasterD> snapshot_soil(const fs::path& run, const RasterD& dem) {
-    if (!run::snapshot_has_dataset(run, -1, "rating_cone_index_kpa")) return std::nullopt;
-    return run::read_snapshot_raster(run, -1, "rating_cone_index_kpa", dem.grid());
-}
-
 /// `dead` is read when analyses.mobility.deadwood is true (read_dead); `rci` is the soil's rating
 /// cone index (a run's snapshot; none for stem lists), applied when analyses.mobility.soil is true
 /// and the vehicle has a VCI1.
@@ -101,11 +95,7 @@ void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::St
     if (opt.deadwood) dead = read_dead();
     stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
     auto lines = opt.lines_options();
-    const auto needs = mobility::cone_index_needs(v);
-    if (opt.soil && rci && needs.calibrated) {
-        lines.smg.rating_cone_index_kpa = &*rci;
-        lines.smg.vci1_kpa = needs.vci1_kpa();
-    }
+    if (opt.soil && rci) mobility::use_soil(lines.smg, *rci, v);
     const auto r = mobility::analyse_stand(v, stems, dem, lines, dead.logs);
     json j = analyses::mobility_json(r, v);
     j["seed"] = opt.seed;
@@ -186,7 +176,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
                 [&] {
                     return run::stand_deadwood(run::read_snapshot_deadwood(opt.output, -1).pieces);
                 },
-                dem, snapshot_soil(opt.output, dem), stage, metrics);
+                dem, run::read_snapshot_soil(opt.output, -1, dem.grid()), stage, metrics);
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
         if (an.contains("export"))

@@ -150,10 +150,10 @@ void add_water_layers(const Scene& s, std::vector<Layer>& layers) {
 /// The pits of the snapshot's root plates (docs/ecosystem.md s13): each a disc of the plate's
 /// diameter just windward of the plate (its centre a thickness and a radius from the stem base,
 /// upwind), half the plate's thickness deep; a cell takes the deepest pit over its centre.
-RasterD pit_depths(const Scene& s) {
+RasterD pit_depths(const Scene& s, const std::vector<run::DeadWoodRecord>& pieces) {
     const GridSpec& g = s.terrain.grid();
     RasterD depth(g, 0.0);
-    for (const auto& p : run::read_snapshot_deadwood(s.run, s.snapshot).pieces) {
+    for (const auto& p : pieces) {
         if (p.piece != static_cast<int>(eco::PieceKind::root_plate)) continue;
         const double r = 0.5 * p.height_m, t = p.length_m; // the plate's radius and thickness
         const double cx = p.x_m + (t + r) * std::cos(p.azimuth_rad) - s.frame.origin_x_m;
@@ -186,7 +186,8 @@ void add_deadwood_layers(const Scene& s, std::vector<Layer>& layers) {
         volume(i, j) += v_m3 / cell_ha;
         top(i, j) = std::max(top(i, j), h_m);
     };
-    for (const auto& p : run::read_snapshot_deadwood(s.run, s.snapshot).pieces) {
+    const auto pieces = run::read_snapshot_deadwood(s.run, s.snapshot).pieces;
+    for (const auto& p : pieces) {
         if (p.standing) {
             add(p.x_m, p.y_m, p.volume_m3, p.piece == 1 ? p.height_m : 0.0);
             continue;
@@ -212,7 +213,7 @@ void add_deadwood_layers(const Scene& s, std::vector<Layer>& layers) {
     layers.push_back({"windthrow_pit_depth_m.tif", "m",
                       "depth of the pit an uprooted tree's root plate left (0: none): a disc as "
                       "wide as the plate, windward of it, half the plate's thickness deep",
-                      pit_depths(s)});
+                      pit_depths(s, pieces)});
 }
 
 void write_layers_readme(const Scene& s, OutputFolder& folder, const std::string& table) {

@@ -654,6 +654,14 @@ LineResult LineDrive::run() {
 
 } // namespace
 
+bool use_soil(SmgOptions& opt, const RasterD& rci_kpa, const Vehicle& v) {
+    const ConeIndexNeeds needs = cone_index_needs(v);
+    if (!needs.calibrated) return false;
+    opt.rating_cone_index_kpa = &rci_kpa;
+    opt.vci1_kpa = needs.vci1_kpa();
+    return true;
+}
+
 bool LineDrive::soil_holds(Point mid, LineResult& out) const {
     const RasterD* rci = m_opt.rating_cone_index_kpa;
     if (!rci || std::isnan(m_opt.vci1_kpa)) return true;

@@ -68,6 +68,16 @@ std::vector<StandStem> read_stem_csv(const std::filesystem::path& path) {
     return out;
 }
 
+void StandDeadWood::add(int piece, bool standing, Point base, Point end, double dbh_m,
+                        double height_m, double end_height_m) {
+    if (piece == 1) // a stump: a step as high as it is (a log of no length)
+        logs.push_back({base, base, height_m, height_m, dbh_m});
+    else if (standing) // a snag as tall as it stands (its top lost, or snapped)
+        snags.push_back({base.x_m, base.y_m, dbh_m, height_m, StemKind::snag});
+    else // a log; a root plate (piece 4) a wall as wide as it is high
+        logs.push_back({base, end, height_m, end_height_m, piece == 4 ? height_m : dbh_m});
+}
+
 StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
     CsvReader csv(path, "dead-wood list");
     const char* names[] = {"standing", "x_m",           "y_m",      "end_x_m",  "end_y_m",
@@ -97,14 +107,8 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
             throw InputError(csv.where() + ": piece = " + format_number(piece) +
                              " is not 0 (a stem), 1 (a stump), 2 (a top), 3 (a snapped stem) or 4 "
                              "(a root plate)");
-        if (piece == 1) { // a stump: a step as high as it is
-            out.logs.push_back({{x, y}, {x, y}, h0, h0, dbh});
-            continue;
-        }
-        if (standing == 1) {
-            // A snag as tall as it stands (height_m: its top lost, or snapped).
-            StandStem s{x, y, dbh, h0, StemKind::snag};
-            out.snags.push_back(s);
+        if (piece == 1 || standing == 1) { // a stump or a snag: at its base
+            out.add(static_cast<int>(piece), standing == 1, {x, y}, {x, y}, dbh, h0, h1);
             continue;
         }
         const Point b{csv.number(c[3], names[3]), csv.number(c[4], names[4])};
@@ -112,8 +116,7 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {
         if (std::abs(span - length) > 1e-3 * std::max(1.0, length))
             throw InputError(csv.where() + ": length_m = " + format_number(length) +
                              " but the ends are " + format_number(span) + " m apart");
-        // A root plate: a wall as wide as it is high.
-        out.logs.push_back({{x, y}, b, h0, h1, piece == 4 ? h0 : dbh});
+        out.add(static_cast<int>(piece), false, {x, y}, b, dbh, h0, h1);
     }
     return out;
 }

@@ -2,10 +2,12 @@
 
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
+#include "ecoterra/units.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 namespace ecoterra::mobility {
 
@@ -82,10 +84,10 @@ double weight_factor(double x) {
 } // namespace
 
 double ConeIndexNeeds::vci1_kpa() const {
-    return vci1_psi * 6.894757;
+    return vci1_psi * kKpaPerPsi;
 }
 double ConeIndexNeeds::vci50_kpa() const {
-    return vci50_psi * 6.894757;
+    return vci50_psi * kKpaPerPsi;
 }
 
 ConeIndexNeeds cone_index_needs(const Vehicle& v) {
@@ -109,9 +111,13 @@ ConeIndexNeeds cone_index_needs(const Vehicle& v) {
         n.vci1_psi = n.vci50_psi = std::numeric_limits<double>::quiet_NaN();
         return n;
     }
-    n.vci1_psi = mi <= 115 ? 11.48 + 0.2 * mi - 39.2 / (mi + 3.74) : 4.1 * std::pow(mi, 0.446);
-    n.vci50_psi = mi <= 115 ? 28.23 + 0.43 * mi - 92.67 / (mi + 3.67) : 9 * std::pow(mi, 0.446);
+    std::tie(n.vci1_psi, n.vci50_psi) = vci_from_mobility_index(mi);
     return n;
+}
+
+std::pair<double, double> vci_from_mobility_index(double mi) {
+    if (mi > 115) return {4.1 * std::pow(mi, 0.446), 9 * std::pow(mi, 0.446)};
+    return {11.48 + 0.2 * mi - 39.2 / (mi + 3.74), 28.23 + 0.43 * mi - 92.67 / (mi + 3.67)};
 }
 
 double Vehicle::tractive_force_at(double v) const {

@@ -97,6 +97,11 @@ RasterD read_run_soil(const fs::path& run, const std::string& name, const GridSp
     return RasterD(grid, r.array());
 }
 
+std::optional<RasterD> read_snapshot_soil(const fs::path& run, int index, const GridSpec& grid) {
+    if (!snapshot_has_dataset(run, index, "rating_cone_index_kpa")) return std::nullopt;
+    return read_snapshot_raster(run, index, "rating_cone_index_kpa", grid);
+}
+
 bool snapshot_has_dataset(const fs::path& run, int index, const std::string& name) {
     bool has = false;
     open_snapshot(run, resolve_snapshot_index(run, index),
@@ -290,18 +295,9 @@ std::vector<mobility::StandStem> stand_stems(const std::vector<PlantRecord>& pla
 
 mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces) {
     mobility::StandDeadWood out;
-    for (const auto& p : pieces) {
-        if (p.piece == 1) // a stump: a step as high as it is (a log of no length)
-            out.logs.push_back({{p.x_m, p.y_m}, {p.x_m, p.y_m}, p.height_m, p.height_m, p.dbh_m});
-        else if (p.standing) // a snag as tall as it stands (its top lost, or snapped)
-            out.snags.push_back({p.x_m, p.y_m, p.dbh_m, p.height_m, mobility::StemKind::snag});
-        else if (p.piece == 4) // a root plate: a wall as wide as it is high
-            out.logs.push_back(
-                {{p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.height_m, p.end_height_m, p.height_m});
-        else
-            out.logs.push_back(
-                {{p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.height_m, p.end_height_m, p.dbh_m});
-    }
+    for (const auto& p : pieces)
+        out.add(p.piece, p.standing != 0, {p.x_m, p.y_m}, {p.end_x_m, p.end_y_m}, p.dbh_m,
+                p.height_m, p.end_height_m);
     return out;
 }
 

@@ -10,5 +10,7 @@ inline constexpr double kM2PerHa = 1e4;
 inline constexpr double kFt2PerAcrePerM2PerHa = 4.356;
 /// Breast height, where the trunk diameter (DBH) is measured, m.
 inline constexpr double kBreastHeightM = 1.3;
+/// 1 psi (lb/in2, the Army's cone-index unit) in kPa.
+inline constexpr double kKpaPerPsi = 6.894757;
 
 } // namespace ecoterra

@@ -88,6 +88,8 @@ double root_plate_diameter_m(double dbh_m);
 double root_plate_thickness_m(double dbh_m);
 
 namespace deadwood {
+/// An angle in [0, 2 pi), rad.
+double wrap_azimuth(double a_rad);
 /// Decay class 1 (sound) .. 5 from the share of the mass left: iLand's thresholds 0.9, 0.7, 0.4,
 /// 0.2 (deadtree.cpp, decayClassThresholds).
 int decay_class(double mass_fraction);

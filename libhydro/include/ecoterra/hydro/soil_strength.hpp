@@ -6,10 +6,9 @@
 // texture classes; the volumetric water is made gravimetric with the class's bulk density, Morris
 // & Lowery 1988). RCI is in psi, as the Army's cone index is; rating_cone_index_kpa converts.
 #include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/units.hpp"
 
 namespace ecoterra::hydro {
-
-inline constexpr double kKpaPerPsi = 6.894757;
 
 /// The coefficients of a texture class: RCI = exp(a + b ln(mc)), and its bulk density.
 struct ConeIndexCoefficients {

@@ -83,6 +83,10 @@ struct SmgOptions {
     double vci1_kpa = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Sets `opt`'s soil to `rci_kpa` and the vehicle's VCI1 when the vehicle has one
+/// (cone_index_needs); returns whether it did.
+bool use_soil(SmgOptions& opt, const RasterD& rci_kpa, const Vehicle& v);
+
 /// Stems in buckets of a fixed size, for queries by rectangle and disk.
 class StemIndex {
 public:

@@ -41,6 +41,12 @@ std::vector<StandStem> read_stem_csv(const std::filesystem::path& path);
 struct StandDeadWood {
     std::vector<StandStem> snags;
     std::vector<Log> logs;
+    /// One piece of the dead-wood table (its `piece` kind, whether it stands, base and far end,
+    /// DBH and heights above the ground at both ends) as the vehicle meets it: a stump is a step
+    /// as high as it is at a point, a standing piece a snag as tall as it stands, a root plate a
+    /// wall as wide as it is high, anything else a log.
+    void add(int piece, bool standing, Point base, Point end, double dbh_m, double height_m,
+             double end_height_m);
 };
 
 /// Reads a dead-wood list: the CSV of `ecoterra export deadwood` (docs/formats.md), by its header:

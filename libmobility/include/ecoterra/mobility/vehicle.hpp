@@ -73,6 +73,8 @@ struct ConeIndexNeeds {
     double vci50_kpa() const;
 };
 ConeIndexNeeds cone_index_needs(const Vehicle& v);
+/// VCI1 and VCI50, psi, of a wheeled vehicle of mobility index mi > 0 (the regressions above).
+std::pair<double, double> vci_from_mobility_index(double mi);
 
 /// The scalar keys of a vehicle file.
 const ParamCatalog<Vehicle>& vehicle_catalog();

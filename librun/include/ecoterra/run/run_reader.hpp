@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,10 @@ RasterD read_snapshot_raster(const std::filesystem::path& run, int index, const 
 /// Whether snapshot `index` holds the dataset `name` (e.g. ground_cover, absent in runs made
 /// before life forms).
 bool snapshot_has_dataset(const std::filesystem::path& run, int index, const std::string& name);
+/// The snapshot's rating cone index (kPa, on the terrain's grid), or none in runs made before
+/// it.
+std::optional<RasterD> read_snapshot_soil(const std::filesystem::path& run, int index,
+                                          const GridSpec& grid);
 /// The snapshot index `index` stands for (negative: from the last), checked against the run.
 int resolve_snapshot_index(const std::filesystem::path& run, int index);
 

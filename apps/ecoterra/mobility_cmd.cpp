@@ -4,7 +4,11 @@
 #include "subcommands.hpp"
 
 #include "ecoterra/analyses/analyses.hpp"
+#include "ecoterra/hydro/soil.hpp"
+#include "ecoterra/hydro/soil_strength.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/io/staging.hpp"
+#include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/run/pictures.hpp"
@@ -52,12 +56,12 @@ struct StandInput {
     mobility::StandDeadWood dead;
     RasterD dem;
     json source;
-    std::optional<RasterD> rci_kpa; ///< the snapshot's soil strength (runs that store it)
+    std::optional<run::SnapshotGround> ground; ///< the snapshot's soil and standing water
 };
 
 StandInput read_stand_input(const MobilityArgs& a) {
     StandInput in;
-    auto& [stems, dead, dem, source, rci] = in;
+    auto& [stems, dead, dem, source, ground] = in;
     if (!a.run.empty()) {
         const auto s = run::read_snapshot_plants(a.run, a.snapshot);
         stems = run::stand_stems(s.plants);
@@ -65,7 +69,7 @@ StandInput read_stand_input(const MobilityArgs& a) {
             dead = run::stand_deadwood(run::read_snapshot_deadwood(a.run, s.index).pieces);
         dem = terrain::io::read_hdf5(a.run, terrain::io::kRunTerrainDataset);
         source = {{"run", a.run}, {"snapshot", s.index}, {"year", s.year}};
-        if (!a.no_soil) rci = run::read_snapshot_soil(a.run, s.index, dem.grid());
+        if (!a.no_soil) ground = run::read_snapshot_ground(a.run, s.index, dem.grid());
     } else {
         stems = mobility::read_stem_csv(a.stems);
         if (!a.deadwood.empty()) dead = mobility::read_deadwood_csv(a.deadwood);
@@ -80,27 +84,35 @@ StandInput read_stand_input(const MobilityArgs& a) {
     return in;
 }
 
-/// The soil line of the report: the snapshot's rating cone index against the vehicle's needs,
-/// or why it was not applied.
-void print_soil(const StandInput& in, const mobility::StandLinesOptions& opt,
-                const mobility::Vehicle& v, const mobility::ConeIndexNeeds& needs) {
-    if (in.rci_kpa && !v.cone_index_defaults.empty()) {
+/// The ground lines of the report: the snapshot's rating cone index against the vehicle's needs,
+/// and its standing water against the fording depth.
+void print_ground(const StandInput& in, const mobility::Vehicle& v,
+                  const mobility::ConeIndexNeeds& needs) {
+    if (!in.ground) return;
+    if (in.ground->rci_kpa && !v.cone_index_defaults.empty()) {
         std::string keys;
         for (const auto& k : v.cone_index_defaults) keys += (keys.empty() ? "" : ", ") + k;
         std::printf("soil: the vehicle file gives no %s: the defaults (ecoterra describe vehicle) "
                     "are taken\n",
                     keys.c_str());
     }
-    if (opt.smg.rating_cone_index_kpa) {
-        const auto [lo, hi] =
-            std::minmax_element(in.rci_kpa->data(), in.rci_kpa->data() + in.rci_kpa->size());
-        std::printf("soil: rating cone index %.0f-%.0f kPa against VCI1 %.0f kPa (VCI50 %.0f)\n",
-                    *lo, *hi, needs.vci1_kpa(), needs.vci50_kpa());
-    } else if (in.rci_kpa) {
-        std::printf(
-            "soil: not applied (the vehicle's mobility index %.2f is outside the cone-index "
-            "regressions)\n",
-            needs.mobility_index);
+    if (const auto& rci = in.ground->rci_kpa) {
+        const auto [lo, hi] = std::minmax_element(rci->data(), rci->data() + rci->size());
+        if (needs.calibrated)
+            std::printf("soil: rating cone index %.0f-%.0f kPa against VCI1 %.0f kPa (VCI50 %.0f); "
+                        "soft soil slows the vehicle (Brixius)\n",
+                        *lo, *hi, needs.vci1_kpa(), needs.vci50_kpa());
+        else
+            std::printf("soil: rating cone index %.0f-%.0f kPa; no VCI1 (the vehicle's mobility "
+                        "index %.2f is outside the regressions): soft soil slows or stops it by "
+                        "Brixius's traction alone\n",
+                        *lo, *hi, needs.mobility_index);
+    }
+    if (const auto& w = in.ground->water_depth_m) {
+        const double deepest = *std::max_element(w->data(), w->data() + w->size());
+        std::printf("water: standing water up to %.3g m against a fording depth of %.3g m%s\n",
+                    deepest, v.fording_depth(),
+                    v.fording_depth_m ? "" : " (none given: the ground clearance)");
     }
 }
 
@@ -139,7 +151,9 @@ void run_mobility(const MobilityArgs& a) {
         throw InputError("--layout must be random or transects, got '" + a.layout + "'");
     StandInput in = read_stand_input(a);
     const mobility::ConeIndexNeeds needs = mobility::cone_index_needs(v);
-    in.source["soil_strength_applied"] = in.rci_kpa && mobility::use_soil(opt.smg, *in.rci_kpa, v);
+    if (in.ground) opt.smg.ground = in.ground->maps();
+    in.source["soil_strength_applied"] = in.ground && in.ground->rci_kpa.has_value();
+    in.source["standing_water_applied"] = in.ground && in.ground->water_depth_m.has_value();
     auto& stems = in.stems;
     const auto& dead = in.dead;
     const RasterD& dem = in.dem;
@@ -168,7 +182,7 @@ void run_mobility(const MobilityArgs& a) {
         std::printf("logs: %.2f climbed per 100 m (step limit %.2f m), %.2f too high across each "
                     "line\n",
                     m.log_crossings_per_100m, m.step_limit_m, m.logs_avoided_per_line);
-    print_soil(in, opt, v, needs);
+    print_ground(in, v, needs);
     std::printf("%.3f s (%.3g lines/s)\n", seconds, opt.lines / std::max(seconds, 1e-9));
     if (!a.json_out.empty()) {
         json j = analyses::mobility_json(m, v);
@@ -185,6 +199,221 @@ void run_mobility(const MobilityArgs& a) {
         run::draw_mobility_pictures(m, v, dem, pics);
         std::printf("pictures: %s/{smg_lines,smg_histogram}.png\n", pics.string().c_str());
     }
+}
+
+struct MapArgs {
+    MobilityArgs in; ///< the stand and ground (run or stem list), the vehicle, --force
+    std::string output, soil_moisture, texture, water_depth;
+    double cell_m = 0;
+    int headings = mobility::MapOptions{}.headings;
+};
+
+/// USDA classes whose silt + clay is mostly 50 % or more (the USCS's fine-grained soils): their
+/// share of sand in the textural triangle lies mostly below 50 %.
+bool texture_fine_grained(hydro::Texture t) {
+    using T = hydro::Texture;
+    return t == T::loam || t == T::silt_loam || t == T::silt || t == T::clay_loam ||
+           t == T::silty_clay_loam || t == T::silty_clay || t == T::clay;
+}
+
+/// A raster given beside --dem that must cover it cell for cell.
+RasterD read_beside_dem(const std::string& option, const std::string& file, const RasterD& dem,
+                        const std::string& dem_file) {
+    std::vector<std::string> warnings;
+    RasterD r = terrain::io::read_raster(file, &warnings);
+    print_warnings(warnings);
+    const GridSpec &g = r.grid(), &d = dem.grid();
+    const double tol = 1e-6 * d.cell_size_m;
+    if (g.nx != d.nx || g.ny != d.ny || std::abs(g.cell_size_m - d.cell_size_m) > tol ||
+        std::abs(g.origin_x_m - d.origin_x_m) > tol || std::abs(g.origin_y_m - d.origin_y_m) > tol)
+        throw InputError(option + " " + file + ": " + std::to_string(g.nx) + " x " +
+                         std::to_string(g.ny) + " cells of " + format_number(g.cell_size_m) +
+                         " m from (" + format_number(g.origin_x_m) + ", " +
+                         format_number(g.origin_y_m) + ") does not cover the DEM " + dem_file +
+                         " (" + std::to_string(d.nx) + " x " + std::to_string(d.ny) + " cells of " +
+                         format_number(d.cell_size_m) + " m from (" + format_number(d.origin_x_m) +
+                         ", " + format_number(d.origin_y_m) + ")) cell for cell");
+    return r;
+}
+
+/// The ground of a stem list's map: the rating cone index from --soil-moisture and --texture,
+/// and --water-depth.
+run::SnapshotGround ground_beside_dem(const MapArgs& a, const RasterD& dem) {
+    run::SnapshotGround g;
+    if (!a.soil_moisture.empty()) {
+        const auto tex = hydro::parse_texture(a.texture);
+        if (!tex) throw InputError("--texture: '" + a.texture + "' is not a USDA texture class");
+        RasterD theta = read_beside_dem("--soil-moisture", a.soil_moisture, dem, a.in.dem);
+        for (int j = 0; j < theta.ny(); ++j)
+            for (int i = 0; i < theta.nx(); ++i) {
+                const double t = theta(i, j);
+                if (!(t >= 0 && t <= 1) && !std::isnan(t))
+                    throw InputError("--soil-moisture " + a.soil_moisture + ": cell (" +
+                                     std::to_string(i) + ", " + std::to_string(j) + ") holds " +
+                                     format_number(t) +
+                                     ", not a volumetric water content "
+                                     "(0-1 m3/m3)");
+                theta(i, j) = std::isnan(t) ? t : hydro::rating_cone_index_kpa(*tex, t);
+            }
+        g.rci_kpa = std::move(theta);
+        g.fine_grained = RasterU8(dem.grid(), texture_fine_grained(*tex) ? 1 : 0);
+    }
+    if (!a.water_depth.empty()) {
+        RasterD w = read_beside_dem("--water-depth", a.water_depth, dem, a.in.dem);
+        for (int j = 0; j < w.ny(); ++j)
+            for (int i = 0; i < w.nx(); ++i)
+                if (w(i, j) < 0)
+                    throw InputError("--water-depth " + a.water_depth + ": cell (" +
+                                     std::to_string(i) + ", " + std::to_string(j) + ") holds " +
+                                     format_number(w(i, j)) + " m, below 0");
+        g.water_depth_m = std::move(w);
+    }
+    return g;
+}
+
+void check_map_inputs(const MapArgs& a) {
+    check_mobility_inputs(a.in);
+    if (!a.in.run.empty() && (!a.soil_moisture.empty() || !a.water_depth.empty()))
+        throw InputError("mobility map: --soil-moisture and --water-depth go with --stems (a run "
+                         "brings its own soil water)");
+    if (a.soil_moisture.empty() != a.texture.empty())
+        throw InputError("mobility map: --soil-moisture and --texture go together");
+    std::vector<std::string> inputs{a.in.vehicle};
+    for (const auto& p :
+         {a.in.run, a.in.stems, a.in.deadwood, a.in.dem, a.soil_moisture, a.water_depth})
+        if (!p.empty()) inputs.push_back(p);
+    refuse_output_over_input("-o", a.output, inputs);
+    claim_output("-o", a.output, a.in.force);
+}
+
+/// A categorical raster as GeoTIFF values (its nodata code as NaN).
+RasterD codes(const RasterU8& r) {
+    RasterD out(r.grid());
+    out.set_crs_wkt(r.crs_wkt());
+    for (int j = 0; j < r.ny(); ++j)
+        for (int i = 0; i < r.nx(); ++i)
+            out(i, j) = r(i, j) == static_cast<std::uint8_t>(mobility::Limit::nodata) ? std::nan("")
+                                                                                      : r(i, j);
+    return out;
+}
+
+/// Writes the map's layers, summary and pictures into `folder`; returns the layers' names.
+json write_map(const mobility::MobilityMap& m, const RasterD& dem, bool pictures,
+               io::OutputFolder& folder) {
+    json layers = json::array();
+    auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
+                     const std::string& what) {
+        terrain::io::write_geotiff(r, folder.staged_path(name), units);
+        layers.push_back({{"file", name}, {"units", units}, {"what", what}});
+    };
+    layer(m.speed_mean_m_per_s, "speed_mean_m_per_s.tif", "m/s",
+          "mean over the headings of the steady speed across the cell (NO-GO as 0)");
+    layer(m.go_fraction, "go_fraction.tif", "1", "share of the headings that are GO");
+    layer(codes(m.limiting), "limiting_factor.tif", "code",
+          "the factor that limits most headings: 0 none, 1 slope, 2 soil, 3 vegetation, 4 "
+          "water, 5 obstacle");
+    for (std::size_t h = 0; h < m.headings_deg.size(); ++h) {
+        char deg[16];
+        std::snprintf(deg, sizeof deg, "%03.0f", m.headings_deg[h]);
+        layer(m.speed_m_per_s[h], std::string("speed_") + deg + "deg_m_per_s.tif", "m/s",
+              std::string("steady speed heading ") + deg + " deg (clockwise from north)");
+        layer(codes(m.limit[h]), std::string("limit_") + deg + "deg.tif", "code",
+              std::string("limiting factor heading ") + deg + " deg");
+    }
+    layer(m.rci_kpa, "rating_cone_index_kpa.tif", "kPa",
+          "the soil strength the map used (NaN: firm ground, not modelled)");
+    layer(m.water_depth_m, "water_depth_m.tif", "m", "the standing water the map used");
+    if (pictures)
+        run::draw_mobility_map_pictures(m, dem, folder.staged_path("speed.png"),
+                                        folder.staged_path("limiting_factor.png"));
+    return layers;
+}
+
+void run_mobility_map(const MapArgs& a) {
+    check_map_inputs(a);
+    const mobility::Vehicle v = mobility::load_vehicle(a.in.vehicle);
+    StandInput in = read_stand_input(a.in);
+    if (a.in.run.empty() && (!a.soil_moisture.empty() || !a.water_depth.empty()))
+        in.ground = ground_beside_dem(a, in.dem);
+    mobility::MapOptions opt;
+    opt.cell_m = a.cell_m;
+    opt.headings = a.headings;
+    io::OutputFolder folder(a.output, a.in.force);
+    Stopwatch sw;
+    const mobility::GroundMaps ground = in.ground ? in.ground->maps() : mobility::GroundMaps{};
+    const auto m = with_context(a.in.run.empty() ? a.in.stems : a.in.run, [&] {
+        return mobility::mobility_map(v, in.dem, in.stems, in.dead.logs, ground, opt);
+    });
+    const double seconds = sw.seconds();
+    const double cell_headings = static_cast<double>(m.grid.size()) * m.headings_deg.size();
+    std::printf("%s map of %d x %d cells of %.4g m, %zu headings: mean speed %.3f m/s (top "
+                "%.3f); GO in %.1f %% of cell-headings, %.1f %% of cells in some heading\n",
+                v.name.c_str(), m.grid.nx, m.grid.ny, m.grid.cell_size_m, m.headings_deg.size(),
+                m.mean_speed_m_per_s, m.top_speed_m_per_s, 100 * m.go_share, 100 * m.any_go_share);
+    std::string shares;
+    for (int k = 0; k < mobility::kLimitKinds; ++k) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s%s %.1f %%", k ? ", " : "",
+                      mobility::limit_name(static_cast<mobility::Limit>(k)),
+                      100 * m.limit_share[static_cast<std::size_t>(k)]);
+        shares += buf;
+    }
+    std::printf("limiting factor (cell-headings): %s\n", shares.c_str());
+    print_ground(in, v, mobility::cone_index_needs(v));
+    std::printf("%.3f s (%.3g cell-headings/s)\n", seconds,
+                cell_headings / std::max(seconds, 1e-9));
+    json j = mobility::to_json(m);
+    j["layers"] = write_map(m, in.dem, !a.in.no_pictures, folder);
+    j["vehicle"] = mobility::to_json(v);
+    j["vehicle_cone_index"] = {{"vci1_kpa", mobility::cone_index_needs(v).vci1_kpa()},
+                               {"fording_depth_m", v.fording_depth()}};
+    in.source["soil_strength_applied"] = in.ground && in.ground->rci_kpa.has_value();
+    in.source["standing_water_applied"] = in.ground && in.ground->water_depth_m.has_value();
+    if (!a.soil_moisture.empty())
+        in.source["soil_moisture"] = a.soil_moisture, in.source["texture"] = a.texture;
+    if (!a.water_depth.empty()) in.source["water_depth"] = a.water_depth;
+    j["source"] = in.source;
+    j["seconds"] = seconds;
+    j["provenance"] = provenance();
+    folder.write("summary.json", j.dump(2) + "\n");
+    folder.commit();
+    std::printf("wrote %s/{summary.json, speed_mean_m_per_s.tif, go_fraction.tif, "
+                "limiting_factor.tif, ...}%s\n",
+                a.output.c_str(), a.in.no_pictures ? "" : " and speed.png, limiting_factor.png");
+}
+
+/// `ecoterra mobility map`'s options.
+void add_map_command(CLI::App* mobility_cmd) {
+    auto a = std::make_shared<MapArgs>();
+    CLI::App* c = mobility_cmd->add_subcommand(
+        "map", "a mobility map: per cell and heading the steady speed, GO/NO-GO and what limits "
+               "it (slope, soil, vegetation, water, obstacle) as GeoTIFF layers and pictures");
+    MobilityArgs& in = a->in;
+    c->add_option("run", in.run,
+                  "ecosystem run file (its snapshot's plants, dead wood, soil "
+                  "and standing water, and its terrain)");
+    c->add_option("--snapshot", in.snapshot, "snapshot of the run (negative: from the last)")
+        ->capture_default_str();
+    c->add_option("--stems", in.stems, "stem list CSV instead of a run (as `ecoterra mobility`)");
+    c->add_option("--deadwood", in.deadwood, "dead-wood list CSV with --stems");
+    c->add_option("--dem", in.dem, "terrain raster under the stem list");
+    c->add_option("--soil-moisture", a->soil_moisture,
+                  "with --stems: root-zone water raster (m3/m3) on the DEM's grid");
+    c->add_option("--texture", a->texture, "with --soil-moisture: the USDA texture class");
+    c->add_option("--water-depth", a->water_depth,
+                  "with --stems: standing water raster (m) on the DEM's grid");
+    c->add_flag("--no-deadwood", in.no_deadwood, "leave out the run's dead wood");
+    c->add_flag("--no-soil", in.no_soil,
+                "firm, dry ground: leave out the snapshot's soil strength and standing water");
+    c->add_option("--vehicle", in.vehicle, "vehicle file (data/vehicles/*.json)")->required();
+    c->add_option("--cell", a->cell_m,
+                  "map cell, m: a whole multiple of the terrain's (default: the terrain's)");
+    c->add_option("--headings", a->headings, "headings, evenly spaced from north")
+        ->capture_default_str();
+    c->add_option("-o,--output", a->output, "output folder")->required();
+    c->add_flag("--no-pictures", in.no_pictures, "write no pictures");
+    add_force_flag(c, in.force);
+    c->callback([a] { run_mobility_map(*a); });
 }
 
 struct TraverseArgs {
@@ -289,10 +518,11 @@ void add_mobility_command(CLI::App& app) {
     m->add_flag("--no-deadwood", a->no_deadwood,
                 "leave out the run's dead wood (the living stand only)");
     m->add_flag("--no-soil", a->no_soil,
-                "drive on firm ground: leave out the snapshot's soil strength (a cell whose "
-                "rating cone index is below the vehicle's VCI1 is otherwise NO-GO)");
+                "drive on firm, dry ground: leave out the snapshot's soil strength (otherwise "
+                "NO-GO below the vehicle's VCI1 and slower on soft soil) and standing water "
+                "(otherwise NO-GO over the fording depth)");
     m->add_option("--dem", a->dem, "terrain raster under the stem list");
-    m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json)")->required();
+    m->add_option("--vehicle", a->vehicle, "vehicle file (data/vehicles/*.json); required");
     m->add_option("--lines", a->lines, "number of straight lines")->capture_default_str();
     m->add_option("--length", a->length_m, "length of each line, m")->capture_default_str();
     m->add_option("--layout", a->layout,
@@ -304,7 +534,12 @@ void add_mobility_command(CLI::App& app) {
                   "picture folder (default: NAME.pictures beside --json NAME.json)");
     m->add_flag("--no-pictures", a->no_pictures, "write no pictures");
     add_force_flag(m, a->force);
-    m->callback([a] { run_mobility(*a); });
+    add_map_command(m);
+    m->callback([a, m] {
+        if (m->got_subcommand("map")) return;
+        if (a->vehicle.empty()) throw InputError("mobility: --vehicle is required");
+        run_mobility(*a);
+    });
 }
 
 } // namespace ecoterra::app

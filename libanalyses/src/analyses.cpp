@@ -301,8 +301,9 @@ const ParamCatalog<MobilityAnalysis>& mobility_catalog() {
                  "drive through the run's snags and over or around its logs (false: the living "
                  "stand only)"),
          flag<M>("soil", &M::soil,
-                 "a cell whose rating cone index (the run's snapshot) is below the vehicle's "
-                 "VCI1 is NO-GO (false: firm ground; stem lists have no soil)")});
+                 "the snapshot's ground: soil strength (NO-GO below the vehicle's VCI1, slower "
+                 "on soft soil) and standing water (NO-GO over the fording depth) (false: firm, "
+                 "dry ground; stem lists have neither)")});
     return c;
 }
 

@@ -82,20 +82,21 @@ void add_stand(const eco::StandMetrics& s, Metrics& out, json& record) {
         {"class_width_cm", s.class_width_cm}, {"stems_per_ha", per_ha}, {"area_ha", s.area_ha}};
 }
 
-/// `dead` is read when analyses.mobility.deadwood is true (read_dead); `rci` is the soil's rating
-/// cone index (a run's snapshot; none for stem lists), applied when analyses.mobility.soil is true
-/// and the vehicle has a VCI1.
+/// `dead` is read when analyses.mobility.deadwood is true (read_dead); `ground` is the snapshot's
+/// soil strength and standing water (none for stem lists), applied when analyses.mobility.soil is
+/// true.
 template <class ReadDead>
 void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::StandStem> stems,
-                      ReadDead&& read_dead, const RasterD& dem, const std::optional<RasterD>& rci,
-                      const fs::path& stage, Metrics& out) {
+                      ReadDead&& read_dead, const RasterD& dem,
+                      const std::optional<run::SnapshotGround>& ground, const fs::path& stage,
+                      Metrics& out) {
     const auto opt = analyses::mobility_catalog().read(a, {});
     const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
     mobility::StandDeadWood dead;
     if (opt.deadwood) dead = read_dead();
     stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
     auto lines = opt.lines_options();
-    if (opt.soil && rci) mobility::use_soil(lines.smg, *rci, v);
+    if (opt.soil && ground) lines.smg.ground = ground->maps();
     const auto r = mobility::analyse_stand(v, stems, dem, lines, dead.logs);
     json j = analyses::mobility_json(r, v);
     j["seed"] = opt.seed;
@@ -176,7 +177,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
                 [&] {
                     return run::stand_deadwood(run::read_snapshot_deadwood(opt.output, -1).pieces);
                 },
-                dem, run::read_snapshot_soil(opt.output, -1, dem.grid()), stage, metrics);
+                dem, run::read_snapshot_ground(opt.output, -1, dem.grid()), stage, metrics);
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
         if (an.contains("export"))

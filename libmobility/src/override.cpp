@@ -53,10 +53,14 @@ double rolling_resistance_n(const Vehicle& v, double grade) {
 }
 
 double steady_speed_m_per_s(const Vehicle& v, double resistance_n) {
+    return steady_speed_m_per_s(v, resistance_n, v.traction_coefficient);
+}
+
+double steady_speed_m_per_s(const Vehicle& v, double resistance_n, double traction) {
     // Net force g(v) = F_t(v) - k v^2 - R. Between two rows of the tractive table it is concave
     // (linear minus a parabola), so from standstill the vehicle speeds up to the first root.
     auto net = [&](double s) {
-        return v.tractive_force_at(s) - v.drag_n_per_m2_s2 * s * s - resistance_n;
+        return v.tractive_force_at(s, traction) - v.drag_n_per_m2_s2 * s * s - resistance_n;
     };
     if (!(net(0.0) > 0)) return 0.0;
     std::vector<double> knots;

@@ -18,6 +18,52 @@ double point_segment_distance(Point p, Point a, Point b) {
     return std::hypot(a.x_m + t * dx - p.x_m, a.y_m + t * dy - p.y_m);
 }
 
+double segment_distance(Point p0, Point p1, Point q0, Point q1) {
+    auto cross = [](Point o, Point a, Point b) {
+        return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
+    };
+    const double d1 = cross(q0, q1, p0), d2 = cross(q0, q1, p1);
+    const double d3 = cross(p0, p1, q0), d4 = cross(p0, p1, q1);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+        return 0.0;
+    return std::min({point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1),
+                     point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)});
+}
+
+std::pair<double, double> log_high_part(const Log& l, double limit) {
+    const bool ha = l.height_a_m > limit, hb = l.height_b_m > limit;
+    if (ha && hb) return {0.0, 1.0};
+    if (!ha && !hb) return {1.0, 0.0};
+    const double u = (limit - l.height_a_m) / (l.height_b_m - l.height_a_m);
+    return ha ? std::pair{0.0, u} : std::pair{u, 1.0};
+}
+
+Point point_along(const Log& l, double u) {
+    return {l.a.x_m + u * (l.b.x_m - l.a.x_m), l.a.y_m + u * (l.b.y_m - l.a.y_m)};
+}
+
+bool log_in_footprint(const Log& l, Point c0, double len, double ux, double uy, double half,
+                      double& lo, double& hi) {
+    // The log's axis in the footprint's frame (t along, s across), clipped to 0 <= t <= len,
+    // |s| <= half (Liang-Barsky).
+    auto t_of = [&](Point p) { return (p.x_m - c0.x_m) * ux + (p.y_m - c0.y_m) * uy; };
+    auto s_of = [&](Point p) { return -(p.x_m - c0.x_m) * uy + (p.y_m - c0.y_m) * ux; };
+    const double t0 = t_of(l.a), dt = t_of(l.b) - t0;
+    const double s0 = s_of(l.a), ds = s_of(l.b) - s0;
+    lo = 0;
+    hi = 1;
+    auto clip = [&](double p, double q) { // keeps p u <= q
+        if (p == 0) return q >= 0;
+        const double r = q / p;
+        if (p < 0)
+            lo = std::max(lo, r);
+        else
+            hi = std::min(hi, r);
+        return lo <= hi;
+    };
+    return clip(-dt, t0) && clip(dt, len - t0) && clip(-ds, s0 + half) && clip(ds, half - s0);
+}
+
 namespace {
 
 /// The planning grid refuses areas larger than this many cells.
@@ -48,33 +94,6 @@ struct Grid {
 
 double distance(Point p, Point q) {
     return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
-}
-
-/// Distance between the segments p0-p1 and q0-q1 (0 when they cross).
-double segment_distance(Point p0, Point p1, Point q0, Point q1) {
-    auto cross = [](Point o, Point a, Point b) {
-        return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
-    };
-    const double d1 = cross(q0, q1, p0), d2 = cross(q0, q1, p1);
-    const double d3 = cross(p0, p1, q0), d4 = cross(p0, p1, q1);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-        return 0.0;
-    return std::min({point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1),
-                     point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)});
-}
-
-/// The part [u0, u1] of a log (0 at end a, 1 at end b) whose top is above `limit`; u0 > u1 when
-/// none is.
-std::pair<double, double> high_part(const Log& l, double limit) {
-    const bool ha = l.height_a_m > limit, hb = l.height_b_m > limit;
-    if (ha && hb) return {0.0, 1.0};
-    if (!ha && !hb) return {1.0, 0.0};
-    const double u = (limit - l.height_a_m) / (l.height_b_m - l.height_a_m);
-    return ha ? std::pair{0.0, u} : std::pair{u, 1.0};
-}
-
-Point along(const Log& l, double u) {
-    return {l.a.x_m + u * (l.b.x_m - l.a.x_m), l.a.y_m + u * (l.b.y_m - l.a.y_m)};
 }
 
 /// True when the segment p-q crosses no blocked cell (sampled at a quarter cell).
@@ -255,7 +274,8 @@ public:
               Point a, Point b, const SmgOptions& opt)
         : m_v(v), m_index(index), m_stems(index.stems()), m_logs(logs), m_dem(dem), m_a(a), m_b(b),
           m_opt(opt), m_w(v.width_m), m_d_crit(critical_diameter_m(v.weight_n(), v.push_height_m)),
-          m_reach(0.5 * (index.max_diameter_m() + v.width_m)), m_step(step_limit_m(v)) {}
+          m_reach(0.5 * (index.max_diameter_m() + v.width_m)), m_step(step_limit_m(v)),
+          m_ground(v) {}
 
     LineResult run();
 
@@ -280,7 +300,7 @@ private:
     /// The part of log k to drive around ([0, 1] once a drive has met its high part).
     std::pair<double, double> log_high_part(std::int64_t k) const {
         if (std::binary_search(m_high_logs.begin(), m_high_logs.end(), k)) return {0.0, 1.0};
-        return high_part(m_logs.logs()[static_cast<std::size_t>(k)], m_step);
+        return mobility::log_high_part(m_logs.logs()[static_cast<std::size_t>(k)], m_step);
     }
     /// Marks the cells within half the vehicle's width and a planning cell of the logs' parts
     /// above the step limit.
@@ -297,8 +317,10 @@ private:
     bool drive_cell(Point c0, double len, double ux, double uy, LineResult& out);
     /// Obstacles whose inflated disk meets the straight line.
     std::int64_t count_avoided(double straight_m) const;
-    /// False (and NO-GO) when the soil of the cell at `mid` is softer than the vehicle's VCI1.
-    bool soil_holds(Point mid, LineResult& out) const;
+    /// False (and NO-GO) where the side slope across the track at `mid` is beyond the limit.
+    bool side_slope_holds(Point mid, double ux, double uy, LineResult& out) const;
+    /// The ground of the cell at `mid`; NO-GO (with the reason) where it stops the vehicle.
+    GroundEffect ground_at(Point mid, LineResult& out) const;
 
     const Vehicle& m_v;
     const StemIndex& m_index;
@@ -307,8 +329,9 @@ private:
     const RasterD* m_dem;
     Point m_a, m_b;
     const SmgOptions& m_opt;
-    double m_w, m_d_crit, m_reach;         ///< width; critical diameter; the farthest a stem blocks
-    double m_step;                         ///< the highest log the vehicle climbs
+    double m_w, m_d_crit, m_reach; ///< width; critical diameter; the farthest a stem blocks
+    double m_step;                 ///< the highest log the vehicle climbs
+    VehicleGround m_ground;
     std::vector<std::int64_t> m_heavy;     ///< stems of clusters found too heavy (sorted)
     std::vector<std::int64_t> m_high_logs; ///< logs met above the step limit (sorted)
     Grid m_g;
@@ -389,7 +412,7 @@ void LineDrive::block_high_logs() {
             const auto [u0, u1] = log_high_part(k);
             if (u0 > u1) return;
             const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
-            const Point p = along(l, u0), q = along(l, u1);
+            const Point p = point_along(l, u0), q = point_along(l, u1);
             const double rad = 0.5 * (l.diameter_m + m_w) + g.r;
             for (int j = std::max(0, g.row(std::min(p.y_m, q.y_m) - rad));
                  j <= std::min(g.ny - 1, g.row(std::max(p.y_m, q.y_m) + rad)); ++j)
@@ -411,25 +434,8 @@ bool LineDrive::logs_in_cell(Point c0, double len, double ux, double uy, double&
         std::min(c0.x_m, c1.x_m) - half, std::min(c0.y_m, c1.y_m) - half,
         std::max(c0.x_m, c1.x_m) + half, std::max(c0.y_m, c1.y_m) + half, [&](std::int64_t k) {
             const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
-            // The log's axis in the cell's frame (t along, s across), clipped to the footprint
-            // 0 <= t <= len, |s| <= w / 2 (Liang-Barsky).
-            auto t_of = [&](Point p) { return (p.x_m - c0.x_m) * ux + (p.y_m - c0.y_m) * uy; };
-            auto s_of = [&](Point p) { return -(p.x_m - c0.x_m) * uy + (p.y_m - c0.y_m) * ux; };
-            const double t0 = t_of(l.a), dt = t_of(l.b) - t0;
-            const double s0 = s_of(l.a), ds = s_of(l.b) - s0;
             double lo = 0, hi = 1;
-            auto clip = [&](double p, double q) { // keeps p u <= q
-                if (p == 0) return q >= 0;
-                const double r = q / p;
-                if (p < 0)
-                    lo = std::max(lo, r);
-                else
-                    hi = std::min(hi, r);
-                return lo <= hi;
-            };
-            if (!(clip(-dt, t0) && clip(dt, len - t0) && clip(-ds, s0 + half) &&
-                  clip(ds, half - s0)))
-                return;
+            if (!log_in_footprint(l, c0, len, ux, uy, half, lo, hi)) return;
             const auto [u0, u1] = log_high_part(k);
             if (u0 <= u1 && lo <= u1 && hi >= u0) {
                 ok = false;
@@ -442,6 +448,21 @@ bool LineDrive::logs_in_cell(Point c0, double len, double ux, double uy, double&
         });
     if (!ok) std::sort(m_high_logs.begin(), m_high_logs.end());
     return ok;
+}
+
+bool LineDrive::side_slope_holds(Point mid, double ux, double uy, LineResult& out) const {
+    // The height difference across the vehicle's track at the cell's middle (a wheel off the
+    // DEM's edge falls back to the centre line).
+    const double half = 0.5 * m_v.track_m;
+    const double zl = side_elevation({mid.x_m - half * uy, mid.y_m + half * ux}, mid);
+    const double zr = side_elevation({mid.x_m + half * uy, mid.y_m - half * ux}, mid);
+    const double side = std::abs(zl - zr) / m_v.track_m;
+    if (std::atan(side) <= m_v.max_side_slope_deg * std::numbers::pi / 180) return true;
+    out.nogo = true;
+    out.nogo_reason = "a side slope of " + format_number(side) +
+                      " beyond the vehicle's side-slope limit at (" + format_number(mid.x_m) +
+                      ", " + format_number(mid.y_m) + ")";
+    return false;
 }
 
 bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResult& out) {
@@ -469,32 +490,24 @@ bool LineDrive::drive_cell(Point c0, double len, double ux, double uy, LineResul
                           format_number(c0.y_m) + ")";
         return false;
     }
-    // Side slope: the height difference across the vehicle's track at the cell's middle (a wheel
-    // off the DEM's edge falls back to the centre line).
     const Point mid{0.5 * (c0.x_m + c1.x_m), 0.5 * (c0.y_m + c1.y_m)};
-    const double half = 0.5 * v.track_m;
-    const double zl = side_elevation({mid.x_m - half * uy, mid.y_m + half * ux}, mid);
-    const double zr = side_elevation({mid.x_m + half * uy, mid.y_m - half * ux}, mid);
-    const double side = std::abs(zl - zr) / v.track_m;
-    if (std::atan(side) > v.max_side_slope_deg * std::numbers::pi / 180) {
-        out.nogo = true;
-        out.nogo_reason = "a side slope of " + format_number(side) +
-                          " beyond the vehicle's side-slope limit at (" + format_number(mid.x_m) +
-                          ", " + format_number(mid.y_m) + ")";
-        return false;
-    }
-    if (!soil_holds(mid, out)) return false;
-    const double base = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
-    const double speed = steady_speed_m_per_s(v, base + force);
+    if (!side_slope_holds(mid, ux, uy, out)) return false;
+    const GroundEffect ground = ground_at(mid, out);
+    if (!ground.go()) return false;
+    const double base = resistance_n(v, grade, ground);
+    const double mu = ground.traction_coefficient;
+    const double speed = steady_speed_m_per_s(v, base + force, mu);
     if (speed <= 0) {
-        if (force > 0 && steady_speed_m_per_s(v, base) > 0) {
+        if (force > 0 && steady_speed_m_per_s(v, base, mu) > 0) {
             m_heavy.insert(m_heavy.end(), m_here.begin(), m_here.end());
             std::sort(m_heavy.begin(), m_heavy.end());
             m_replan = true; // a cluster too heavy to push: go around it
         } else {
             out.nogo = true;
-            out.nogo_reason = "a grade of " + format_number(grade) + " it cannot climb at (" +
-                              format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
+            out.nogo_reason =
+                "a grade of " + format_number(grade) + " it cannot climb" +
+                (mu < v.traction_coefficient || ground.soil_resistance > 0 ? " on this soil" : "") +
+                " at (" + format_number(c0.x_m) + ", " + format_number(c0.y_m) + ")";
         }
         return false;
     }
@@ -588,7 +601,8 @@ std::int64_t LineDrive::count_avoided_logs() const {
             const auto [u0, u1] = log_high_part(k);
             if (u0 > u1) return;
             const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
-            n += segment_distance(a, b, along(l, u0), along(l, u1)) <= 0.5 * (l.diameter_m + m_w);
+            n += segment_distance(a, b, point_along(l, u0), point_along(l, u1)) <=
+                 0.5 * (l.diameter_m + m_w);
         });
     return n;
 }
@@ -654,25 +668,23 @@ LineResult LineDrive::run() {
 
 } // namespace
 
-bool use_soil(SmgOptions& opt, const RasterD& rci_kpa, const Vehicle& v) {
-    const ConeIndexNeeds needs = cone_index_needs(v);
-    if (!needs.calibrated) return false;
-    opt.rating_cone_index_kpa = &rci_kpa;
-    opt.vci1_kpa = needs.vci1_kpa();
-    return true;
+void use_soil(SmgOptions& opt, const RasterD& rci_kpa) {
+    opt.ground.rci_kpa = &rci_kpa;
 }
 
-bool LineDrive::soil_holds(Point mid, LineResult& out) const {
-    const RasterD* rci = m_opt.rating_cone_index_kpa;
-    if (!rci || std::isnan(m_opt.vci1_kpa)) return true;
-    const auto [ci, cj] = rci->cell_at(mid.x_m, mid.y_m); // the cell's soil; off it: firm
-    if (ci < 0 || !((*rci)(ci, cj) < m_opt.vci1_kpa)) return true;
-    out.nogo = true;
-    out.nogo_reason =
-        "soil too soft: rating cone index " + format_number(std::round((*rci)(ci, cj))) +
-        " kPa below the vehicle's VCI1 of " + format_number(std::round(m_opt.vci1_kpa)) +
-        " kPa at (" + format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
-    return false;
+GroundEffect LineDrive::ground_at(Point mid, LineResult& out) const {
+    if (m_opt.ground.empty()) {
+        GroundEffect firm;
+        firm.traction_coefficient = m_v.traction_coefficient;
+        return firm;
+    }
+    GroundEffect e = m_ground.effect(m_opt.ground.at(mid.x_m, mid.y_m));
+    if (!e.go()) {
+        out.nogo = true;
+        out.nogo_reason =
+            e.why + " at (" + format_number(mid.x_m) + ", " + format_number(mid.y_m) + ")";
+    }
+    return e;
 }
 
 LineResult drive_line(const Vehicle& v, const StemIndex& index, const LogIndex& logs,

@@ -2,6 +2,7 @@
 
 #include "ecoterra/csv.hpp"
 #include "ecoterra/error.hpp"
+#include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/override.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/units.hpp"
@@ -335,6 +336,17 @@ json to_json(const StandMobility& m, const Vehicle& v) {
         lines.push_back(std::move(j));
     }
     return {{"vehicle", to_json(v)}, {"lines", std::move(lines)}};
+}
+
+MobilityMap mobility_map(const Vehicle& v, const RasterD& dem, const std::vector<StandStem>& stems,
+                         const std::vector<Log>& logs, const GroundMaps& ground,
+                         const MapOptions& opt) {
+    StandMobility counts;
+    counts.area_ha = dem.grid().width_m() * dem.grid().height_m() / kM2PerHa;
+    const StemIndex index(stems_at_push_height(v, stems, dem.grid(), counts),
+                          std::max(v.width_m, 1.0));
+    const LogIndex log_index(logs, std::max(v.width_m, 2.0));
+    return mobility_map(v, dem, index, log_index, ground, opt);
 }
 
 } // namespace ecoterra::mobility

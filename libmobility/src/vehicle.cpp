@@ -67,7 +67,10 @@ const ParamCatalog<Vehicle>& vehicle_catalog() {
                      "a manual gearbox (transmission factor 1.05; automatic and hydraulic 1.00)"),
              optional_number<V>("engine_power_kw", &V::engine_power_kw, "kW", 0.01, 1e5,
                                 "engine power (engine factor 1.05 below 10 hp per short ton); "
-                                "none: taken as at least that")});
+                                "none: taken as at least that"),
+             optional_number<V>("fording_depth_m", &V::fording_depth_m, "m", 0, 10,
+                                "deepest standing water crossed; none: the ground clearance "
+                                "(the floor, as Polaris's manuals advise)")});
     return c;
 }
 
@@ -120,8 +123,8 @@ std::pair<double, double> vci_from_mobility_index(double mi) {
     return {11.48 + 0.2 * mi - 39.2 / (mi + 3.74), 28.23 + 0.43 * mi - 92.67 / (mi + 3.67)};
 }
 
-double Vehicle::tractive_force_at(double v) const {
-    const double limit = traction_coefficient * weight_n();
+double Vehicle::tractive_force_at(double v, double traction) const {
+    const double limit = traction * weight_n();
     const auto& t = tractive_force_n;
     if (t.empty() || v < 0) return 0.0;
     if (v >= t.back().first) return v == t.back().first ? std::min(t.back().second, limit) : 0.0;

@@ -1,5 +1,6 @@
 // Run pictures drawn with Cairo (libcairo2-dev).
 #include "ecoterra/run/pictures.hpp"
+#include "ecoterra/error.hpp"
 #include "ecoterra/hydro/pictures.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/picture.hpp"
@@ -464,6 +465,79 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
     io::create_folder(dir, "the picture folder");
     draw_smg_map(m, v, dem, dir / "smg_lines.png");
     draw_smg_histogram(m, v, dir / "smg_histogram.png");
+}
+
+namespace {
+
+/// The hillshade's grey level (0-1) under each cell of the map grid `g` (nearest terrain cell).
+std::vector<double> shade_under(const RasterD& dem, const GridSpec& g) {
+    const RasterD h = terrain::hillshade(dem);
+    std::vector<double> out(static_cast<std::size_t>(g.size()), 1.0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            const auto [ii, jj] = dem.grid().clamped_cell(g.x_of(i), g.y_of(j));
+            const double v = h(ii, jj);
+            out[static_cast<std::size_t>(j) * g.nx + i] = std::isnan(v) ? 1.0 : v;
+        }
+    return out;
+}
+
+/// `c` darkened by the hillshade (0.45 in full shade to 1 in full light).
+terrain::Rgb shaded(terrain::Rgb c, double shade) {
+    const double f = 0.45 + 0.55 * std::clamp(shade, 0.0, 1.0);
+    auto ch = [&](std::uint8_t x) { return static_cast<std::uint8_t>(std::lround(x * f)); };
+    return {ch(c.r), ch(c.g), ch(c.b)};
+}
+
+} // namespace
+
+void draw_mobility_map_pictures(const mobility::MobilityMap& m, const RasterD& dem,
+                                const fs::path& speed_png, const fs::path& limit_png) {
+    using mobility::Limit;
+    const GridSpec& g = m.grid;
+    const std::vector<double> shade = shade_under(dem, g);
+    const double top = std::max(m.top_speed_m_per_s, 1e-9);
+    const terrain::Rgb nogo{150, 20, 20};
+    terrain::Image speed(g.nx, g.ny), limit(g.nx, g.ny);
+    const std::array<terrain::Rgb, mobility::kLimitKinds> colours{{{225, 225, 225},
+                                                                   {150, 100, 50},
+                                                                   {240, 150, 30},
+                                                                   {40, 150, 50},
+                                                                   {40, 90, 220},
+                                                                   {120, 40, 140}}};
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            const double sh = shade[static_cast<std::size_t>(j) * g.nx + i];
+            const terrain::Rgb c = m.go_fraction(i, j) > 0
+                                       ? terrain::palette_colour(terrain::Palette::viridis,
+                                                                 m.speed_mean_m_per_s(i, j) / top)
+                                       : nogo;
+            speed.at(i, g.ny - 1 - j) = shaded(c, sh);
+            const std::uint8_t l = m.limiting(i, j);
+            limit.at(i, g.ny - 1 - j) =
+                l < colours.size() ? shaded(colours[l], sh) : terrain::Rgb{255, 255, 255};
+        }
+    terrain::MapFigure f;
+    f.title = "Mean speed over " + std::to_string(m.headings_deg.size()) + " headings";
+    f.bar_label = "speed (m/s)";
+    f.vmin = 0;
+    f.vmax = top;
+    f.smooth = false;
+    f.notes = {"dark red: NO-GO in every heading; shaded by the terrain",
+               "mean " + format_number(std::round(m.mean_speed_m_per_s * 100) / 100) +
+                   " m/s; GO in " + format_number(std::round(m.go_share * 1000) / 10) +
+                   " % of cell-headings"};
+    terrain::write_map_figure(speed, g, f, speed_png);
+    terrain::MapFigure fl;
+    fl.title = "What limits the vehicle (most headings)";
+    fl.colour_bar = false;
+    fl.smooth = false;
+    for (int k = 0; k < mobility::kLimitKinds; ++k)
+        fl.legend.push_back({std::string(mobility::limit_name(static_cast<Limit>(k))) + " " +
+                                 format_number(std::round(m.limit_share[k] * 1000) / 10) + " %",
+                             colours[static_cast<std::size_t>(k)]});
+    fl.notes = {"shares of cell-headings; 'none': the vehicle's own power and top speed"};
+    terrain::write_map_figure(limit, g, fl, limit_png);
 }
 
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,

@@ -97,9 +97,23 @@ RasterD read_run_soil(const fs::path& run, const std::string& name, const GridSp
     return RasterD(grid, r.array());
 }
 
-std::optional<RasterD> read_snapshot_soil(const fs::path& run, int index, const GridSpec& grid) {
-    if (!snapshot_has_dataset(run, index, "rating_cone_index_kpa")) return std::nullopt;
-    return read_snapshot_raster(run, index, "rating_cone_index_kpa", grid);
+SnapshotGround read_snapshot_ground(const fs::path& run, int index, const GridSpec& grid) {
+    SnapshotGround g;
+    if (snapshot_has_dataset(run, index, "rating_cone_index_kpa"))
+        g.rci_kpa = read_snapshot_raster(run, index, "rating_cone_index_kpa", grid);
+    if (snapshot_has_dataset(run, index, "surface_water_depth_m"))
+        g.water_depth_m = read_snapshot_raster(run, index, "surface_water_depth_m", grid);
+    g.fine_grained = mobility::fine_grained_mask(read_run_soil(run, "silt_pct", grid),
+                                                 read_run_soil(run, "clay_pct", grid));
+    return g;
+}
+
+mobility::GroundMaps SnapshotGround::maps() const {
+    mobility::GroundMaps m;
+    if (rci_kpa) m.rci_kpa = &*rci_kpa;
+    if (water_depth_m) m.water_depth_m = &*water_depth_m;
+    if (fine_grained) m.fine_grained = &*fine_grained;
+    return m;
 }
 
 bool snapshot_has_dataset(const fs::path& run, int index, const std::string& name) {

@@ -116,35 +116,44 @@ TEST_CASE("soil strength: the rating cone index by texture and soil water", "[hy
 }
 
 TEST_CASE("soil strength: a line is NO-GO where the soil's rating cone index falls below the "
-          "vehicle's VCI1, and as fast as on firm ground elsewhere",
+          "vehicle's VCI1, and slower on soft soil than on firm ground",
           "[mobility][soil]") {
     const Vehicle v = load_vehicle(test::data_dir() / "vehicles/mrzr4.json");
     const double vci1 = cone_index_needs(v).vci1_kpa();
-    RasterD rci(GridSpec{60, 20, 2.0, -10.0, -20.0}, 2 * vci1); // 120 m x 40 m, firm
+    RasterD rci(GridSpec{60, 20, 2.0, -10.0, -20.0}, 1e6); // 120 m x 40 m, rock-hard
     const StemIndex none({}, 2.0);
     const Point a{0, 0}, b{100, 0};
     const LineResult firm = drive_line(v, none, nullptr, a, b);
     SmgOptions opt;
-    opt.rating_cone_index_kpa = &rci;
-    opt.vci1_kpa = vci1;
+    use_soil(opt, rci);
     const LineResult same = drive_line(v, none, nullptr, a, b, opt);
     CHECK_FALSE(same.nogo);
-    CHECK(same.time_s == firm.time_s);
+    CHECK(same.time_s == Approx(firm.time_s).epsilon(1e-3)); // 1/Bn ~ 4e-5 of the weight
     // A soft band across the line (x 50-54 m) just below VCI1: NO-GO, and the reason says why.
-    for (int j = 0; j < rci.ny(); ++j)
-        for (int i = 30; i < 32; ++i) rci(i, j) = 0.99 * vci1;
+    auto band = [&](double value) {
+        for (int j = 0; j < rci.ny(); ++j)
+            for (int i = 30; i < 32; ++i) rci(i, j) = value;
+    };
+    band(0.99 * vci1);
     const LineResult soft = drive_line(v, none, nullptr, a, b, opt);
     CHECK(soft.nogo);
     CHECK_THAT(soft.nogo_reason, Catch::Contains("soil too soft"));
-    // Just above it: GO at firm-ground speed (the slow-going between VCI1 and VCI50 is not yet
-    // modelled).
-    for (int j = 0; j < rci.ny(); ++j)
-        for (int i = 30; i < 32; ++i) rci(i, j) = 1.01 * vci1;
-    CHECK(drive_line(v, none, nullptr, a, b, opt).time_s == firm.time_s);
-    // A vehicle outside the regressions (NaN VCI1) drives on as on firm ground.
-    opt.vci1_kpa =
-        cone_index_needs(load_vehicle(test::data_dir() / "vehicles/husky_a200.json")).vci1_kpa();
-    for (int j = 0; j < rci.ny(); ++j)
-        for (int i = 30; i < 32; ++i) rci(i, j) = 1;
-    CHECK_FALSE(drive_line(v, none, nullptr, a, b, opt).nogo);
+    // Just above it: GO, but slower than on firm ground (the soil's motion resistance), and the
+    // softer the band the slower.
+    band(1.01 * vci1);
+    const double t_soft = drive_line(v, none, nullptr, a, b, opt).time_s;
+    CHECK(t_soft > firm.time_s);
+    band(3 * vci1);
+    const double t_firmer = drive_line(v, none, nullptr, a, b, opt).time_s;
+    CHECK(t_firmer > firm.time_s);
+    CHECK(t_firmer < t_soft);
+    // A vehicle outside the regressions (no VCI1) is stopped by Brixius's traction alone: the
+    // Husky (123 N a wheel) has net traction down to ~19 kPa.
+    const Vehicle husky = load_vehicle(test::data_dir() / "vehicles/husky_a200.json");
+    band(25);
+    CHECK_FALSE(drive_line(husky, none, nullptr, a, b, opt).nogo);
+    band(15);
+    const LineResult stuck = drive_line(husky, none, nullptr, a, b, opt);
+    CHECK(stuck.nogo);
+    CHECK_THAT(stuck.nogo_reason, Catch::Contains("no net traction"));
 }

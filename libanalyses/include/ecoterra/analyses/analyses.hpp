@@ -78,7 +78,7 @@ struct MobilityAnalysis {
     std::uint64_t seed = 1;
     mobility::LineLayout layout = mobility::LineLayout::random;
     bool deadwood = true; ///< drive through the snapshot's snags and over or around its logs
-    bool soil = true;     ///< NO-GO where the snapshot's rating cone index is below VCI1
+    bool soil = true;     ///< the snapshot's soil strength and standing water (ground.hpp)
     mobility::StandLinesOptions lines_options() const;
 };
 const ParamCatalog<MobilityAnalysis>& mobility_catalog();

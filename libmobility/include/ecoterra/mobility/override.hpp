@@ -30,5 +30,7 @@ double rolling_resistance_n(const Vehicle& v, double grade);
 /// The steady-state speed against a resistance `resistance_n` (N, besides drag), m/s; 0 when the
 /// vehicle cannot move (the force at standstill does not exceed the resistance).
 double steady_speed_m_per_s(const Vehicle& v, double resistance_n);
+/// The same with the tractive force capped at `traction` x the weight (a soil's, ground.hpp).
+double steady_speed_m_per_s(const Vehicle& v, double resistance_n, double traction);
 
 } // namespace ecoterra::mobility

@@ -11,6 +11,7 @@
 // the vehicle's step limit, min(ground clearance, wheel radius), the vehicle climbs it at most at
 // sqrt(g (r - h)) (the wheel stays on the log's edge); the part of a log above the limit is an
 // obstacle to drive around.
+#include "ecoterra/mobility/ground.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/raster.hpp"
 
@@ -21,6 +22,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ecoterra::mobility {
@@ -45,6 +47,17 @@ struct Log {
 
 /// Distance from p to the segment a-b, m.
 double point_segment_distance(Point p, Point a, Point b);
+/// Distance between the segments p0-p1 and q0-q1 (0 when they cross), m.
+double segment_distance(Point p0, Point p1, Point q0, Point q1);
+/// The part [u0, u1] of a log (0 at end a, 1 at end b) whose top is above `limit`; u0 > u1 when
+/// none is.
+std::pair<double, double> log_high_part(const Log& l, double limit);
+/// The point at u (0 end a, 1 end b) along a log.
+Point point_along(const Log& l, double u);
+/// Whether the log's axis meets the footprint from c0 along (ux, uy), 0 <= t <= len, |s| <=
+/// half across; [lo, hi] is then the part of the log (0 end a, 1 end b) inside it.
+bool log_in_footprint(const Log& l, Point c0, double len, double ux, double uy, double half,
+                      double& lo, double& hi);
 
 /// The highest log a vehicle drives over: min(ground clearance, wheel radius) (a log thicker than
 /// the clearance hangs the vehicle up; a wheel climbs a step below its radius), m.
@@ -76,16 +89,15 @@ struct SmgOptions {
     double margin_m = 25;
     /// When set, the planning area is also kept inside [x0, x1] x [y0, y1] (the terrain), m.
     std::optional<std::array<double, 4>> bounds_m;
-    /// The soil's rating cone index, kPa (a snapshot's rating_cone_index_kpa), and the vehicle's
-    /// VCI1, kPa: a cell whose RCI is below it is NO-GO (one pass impossible; FM 5-430's rule,
-    /// docs/mobility.md s9). nullptr or a NaN VCI1: the ground is firm everywhere.
-    const RasterD* rating_cone_index_kpa = nullptr;
-    double vci1_kpa = std::numeric_limits<double>::quiet_NaN();
+    /// The ground (ground.hpp): soil strength, standing water and fine-grained soils on the
+    /// terrain's grid. A cell softer than the vehicle's VCI1, without net traction (Brixius) or
+    /// under water deeper than the fording depth is NO-GO; soft soil adds its motion resistance
+    /// and caps the traction. Empty: firm, dry ground everywhere.
+    GroundMaps ground;
 };
 
-/// Sets `opt`'s soil to `rci_kpa` and the vehicle's VCI1 when the vehicle has one
-/// (cone_index_needs); returns whether it did.
-bool use_soil(SmgOptions& opt, const RasterD& rci_kpa, const Vehicle& v);
+/// Sets `opt`'s soil strength to `rci_kpa` (a snapshot's rating_cone_index_kpa).
+void use_soil(SmgOptions& opt, const RasterD& rci_kpa);
 
 /// Stems in buckets of a fixed size, for queries by rectangle and disk.
 class StemIndex {

@@ -49,13 +49,21 @@ struct Vehicle {
     bool tyre_chains = false;
     bool manual_transmission = false;
     std::optional<double> engine_power_kw; ///< none: taken as at least 10 hp per short ton
+    /// Deepest standing water the vehicle crosses, m; none: its ground clearance (the floor;
+    /// Polaris's manuals: no deeper than the bottom of the footrests).
+    std::optional<double> fording_depth_m;
     /// The mobility index's keys the file did not give (they took their defaults), for reports.
     std::vector<std::string> cone_index_defaults;
 
+    double fording_depth() const { return fording_depth_m.value_or(ground_clearance_m); }
     /// Gross vehicle weight, N.
     double weight_n() const { return mass_kg * kGravity_m_per_s2; }
     /// The tractive force at speed v (the table, capped by the traction limit), N.
-    double tractive_force_at(double v_m_per_s) const;
+    double tractive_force_at(double v_m_per_s) const {
+        return tractive_force_at(v_m_per_s, traction_coefficient);
+    }
+    /// The same with the traction limit at `traction` x the weight (a soil's), N.
+    double tractive_force_at(double v_m_per_s, double traction) const;
     /// Checks rules across keys; throws InputError naming `where` and the keys.
     void validate(const std::string& where) const;
 };

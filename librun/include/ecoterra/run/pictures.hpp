@@ -1,6 +1,7 @@
 #pragma once
 // Pictures of an ecosystem run, drawn with Cairo.
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/terrain/picture.hpp"
@@ -26,6 +27,12 @@ void draw_run_pictures(const eco::Ecosystem& eco, const std::filesystem::path& d
 /// marked, the paths driven coloured by SMG) and smg_histogram.png, into `dir`.
 void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Vehicle& v,
                             const RasterD& dem, const std::filesystem::path& dir);
+/// `ecoterra mobility map`: speed.png (the mean speed over the headings over the hillshade, NO-GO
+/// cells dark red, with a colour bar) and limiting_factor.png (the factor that limits most
+/// headings, with a legend), written to the paths given.
+void draw_mobility_map_pictures(const mobility::MobilityMap& m, const RasterD& dem,
+                                const std::filesystem::path& speed_png,
+                                const std::filesystem::path& limit_png);
 /// `ecoterra terrain traverse`: missions.png in `dir`, the missions over the slope map coloured by
 /// outcome.
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,

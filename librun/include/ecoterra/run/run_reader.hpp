@@ -68,10 +68,17 @@ RasterD read_snapshot_raster(const std::filesystem::path& run, int index, const 
 /// Whether snapshot `index` holds the dataset `name` (e.g. ground_cover, absent in runs made
 /// before life forms).
 bool snapshot_has_dataset(const std::filesystem::path& run, int index, const std::string& name);
-/// The snapshot's rating cone index (kPa, on the terrain's grid), or none in runs made before
-/// it.
-std::optional<RasterD> read_snapshot_soil(const std::filesystem::path& run, int index,
-                                          const GridSpec& grid);
+/// The ground a vehicle meets on a snapshot's day (on the terrain's grid): the soil's rating cone
+/// index (none in runs made before it), the standing water and the fine-grained soils.
+struct SnapshotGround {
+    std::optional<RasterD> rci_kpa;
+    std::optional<RasterD> water_depth_m;
+    std::optional<RasterU8> fine_grained;
+    /// Pointers into this object (keep it alive while they are used).
+    mobility::GroundMaps maps() const;
+};
+SnapshotGround read_snapshot_ground(const std::filesystem::path& run, int index,
+                                    const GridSpec& grid);
 /// The snapshot index `index` stands for (negative: from the last), checked against the run.
 int resolve_snapshot_index(const std::filesystem::path& run, int index);
 

@@ -13,6 +13,7 @@
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/run/pictures.hpp"
 #include "ecoterra/run/run_reader.hpp"
+#include "ecoterra/run/season.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
@@ -206,6 +207,8 @@ struct MapArgs {
     std::string output, soil_moisture, texture, water_depth;
     double cell_m = 0;
     int headings = mobility::MapOptions{}.headings;
+    int year = 0;        ///< the snapshot of this year (0: --snapshot's); with --season, its days
+    bool season = false; ///< every day of the year, replayed from the run
 };
 
 /// USDA classes whose silt + clay is mostly 50 % or more (the USCS's fine-grained soils): their
@@ -273,6 +276,10 @@ run::SnapshotGround ground_beside_dem(const MapArgs& a, const RasterD& dem) {
 
 void check_map_inputs(const MapArgs& a) {
     check_mobility_inputs(a.in);
+    if ((a.season || a.year != 0) && a.in.run.empty())
+        throw InputError("mobility map: --year and --season need a run file");
+    if (a.year < 0)
+        throw InputError("mobility map: --year " + std::to_string(a.year) + " is not a year");
     if (!a.in.run.empty() && (!a.soil_moisture.empty() || !a.water_depth.empty()))
         throw InputError("mobility map: --soil-moisture and --water-depth go with --stems (a run "
                          "brings its own soil water)");
@@ -329,9 +336,14 @@ json write_map(const mobility::MobilityMap& m, const RasterD& dem, bool pictures
     return layers;
 }
 
-void run_mobility_map(const MapArgs& a) {
-    check_map_inputs(a);
-    const mobility::Vehicle v = mobility::load_vehicle(a.in.vehicle);
+void run_season_map(const MapArgs& a, const mobility::Vehicle& v);
+
+void run_mobility_map(const MapArgs& given) {
+    check_map_inputs(given);
+    const mobility::Vehicle v = mobility::load_vehicle(given.in.vehicle);
+    if (given.season) return run_season_map(given, v);
+    MapArgs a = given;
+    if (a.year != 0) a.in.snapshot = run::snapshot_of_year(a.in.run, a.year);
     StandInput in = read_stand_input(a.in);
     if (a.in.run.empty() && (!a.soil_moisture.empty() || !a.water_depth.empty()))
         in.ground = ground_beside_dem(a, in.dem);
@@ -382,6 +394,134 @@ void run_mobility_map(const MapArgs& a) {
                 a.output.c_str(), a.in.no_pictures ? "" : " and speed.png, limiting_factor.png");
 }
 
+/// The share of a raster's finite cells' values, its median.
+double raster_median(const RasterD& r) {
+    std::vector<double> v;
+    for (int j = 0; j < r.ny(); ++j)
+        for (int i = 0; i < r.nx(); ++i)
+            if (std::isfinite(r(i, j))) v.push_back(r(i, j));
+    if (v.empty()) return std::nan("");
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+/// Writes the season's layers and pictures; returns the layers' list.
+json write_season(const mobility::MapSeason& season, const RasterD& dem, const json& days,
+                  bool pictures, io::OutputFolder& folder) {
+    json layers = json::array();
+    auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
+                     const std::string& what) {
+        terrain::io::write_geotiff(r, folder.staged_path(name), units);
+        layers.push_back({{"file", name}, {"units", units}, {"what", what}});
+    };
+    const RasterD go = season.go_share_of_days();
+    layer(go, "go_share_of_days.tif", "1", "share of the year's days GO in at least one heading");
+    layer(season.speed_quantile_m_per_s(0.5), "speed_median_m_per_s.tif", "m/s",
+          "median over the days of the day's mean speed over the headings (NO-GO as 0)");
+    layer(season.speed_quantile_m_per_s(0.1), "speed_p10_m_per_s.tif", "m/s",
+          "10th percentile over the days of the day's mean speed over the headings");
+    if (!pictures) return layers;
+    terrain::Image img = terrain::colormap_image(go, 0.0, 1.0);
+    terrain::MapFigure f;
+    f.title = "Share of the year's days GO (" + std::to_string(season.days()) + " days)";
+    f.bar_label = "share of days GO";
+    f.smooth = false;
+    terrain::write_map_figure(img, go.grid(), f, folder.staged_path("season_go_share.png"));
+    run::PlotSeries speed{"mean speed over the map (m/s)", {}, {}, {}, {}};
+    run::PlotSeries share{"GO share of cell-headings x 10", {}, {}, {}, {}};
+    run::PlotSeries rain{"rain (cm)", {}, {}, {}, {}};
+    for (const auto& d : days) {
+        const double x = d["day_of_year"].get<double>();
+        speed.x.push_back(x), speed.y.push_back(d["mean_speed_m_per_s"].get<double>());
+        share.x.push_back(x), share.y.push_back(10 * d["go_share_of_cell_headings"].get<double>());
+        rain.x.push_back(x), rain.y.push_back(d["rain_mm"].get<double>() / 10);
+    }
+    run::draw_line_plot({speed, share, rain}, "The year day by day", "day of year",
+                        "m/s; GO share x 10; rain (cm)", "the map's daily means",
+                        folder.staged_path("season_daily.png"));
+    (void)dem;
+    return layers;
+}
+
+void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
+    mobility::MapOptions opt;
+    opt.cell_m = a.cell_m;
+    opt.headings = a.headings;
+    io::OutputFolder folder(a.output, a.in.force);
+    mobility::MapSeason season;
+    run::SeasonStand stand;
+    json days = json::array();
+    Stopwatch sw;
+    double map_seconds = 0;
+    run::replay_season(
+        a.in.run, a.year,
+        [&](const run::SeasonStand& s) {
+            stand = s;
+            if (!a.in.no_deadwood)
+                stand.stems.insert(stand.stems.end(), s.dead.snags.begin(), s.dead.snags.end());
+            else
+                stand.dead = {};
+        },
+        [&](const run::SeasonDay& d) {
+            mobility::GroundMaps g;
+            if (!a.in.no_soil) {
+                g.rci_kpa = d.rci_kpa;
+                g.water_depth_m = d.water_depth_m;
+                g.fine_grained = &stand.fine_grained;
+            }
+            Stopwatch t;
+            const auto m =
+                mobility::mobility_map(v, stand.dem, stand.stems, stand.dead.logs, g, opt);
+            map_seconds += t.seconds();
+            season.add(m);
+            days.push_back(
+                {{"day_of_year", d.day_of_year},
+                 {"rain_mm", d.weather->rain_mm},
+                 {"mean_speed_m_per_s", m.mean_speed_m_per_s},
+                 {"go_share_of_cell_headings", m.go_share},
+                 {"go_share_of_cells_any_heading", m.any_go_share},
+                 {"rating_cone_index_median_kpa", raster_median(*d.rci_kpa)},
+                 {"standing_water_max_m",
+                  *std::max_element(d.water_depth_m->data(),
+                                    d.water_depth_m->data() + d.water_depth_m->size())}});
+        });
+    const double seconds = sw.seconds();
+    double go_days = 0, worst = 1;
+    for (const auto& d : days) {
+        go_days += d["go_share_of_cell_headings"].get<double>();
+        worst = std::min(worst, d["go_share_of_cell_headings"].get<double>());
+    }
+    std::printf("%s, year %d day by day (%d days, replayed from year %d): GO in %.1f %% of "
+                "cell-headings on the mean day, %.1f %% on the worst\n",
+                v.name.c_str(), stand.year, season.days(), stand.replayed_from,
+                100 * go_days / std::max<std::size_t>(days.size(), 1), 100 * worst);
+    std::printf("%.3f s: %.3f s growing and stepping the days, %.3f s for %d maps (%.3g "
+                "cell-headings/s)\n",
+                seconds, seconds - map_seconds, map_seconds, season.days(),
+                static_cast<double>(season.go_share_of_days().grid().size()) * a.headings *
+                    season.days() / std::max(map_seconds, 1e-9));
+    json j;
+    j["season"] = {
+        {"year", stand.year}, {"days", season.days()}, {"replayed_from_year", stand.replayed_from}};
+    j["cell_size_m"] = season.go_share_of_days().grid().cell_size_m;
+    j["headings"] = a.headings;
+    j["days"] = days;
+    j["layers"] = write_season(season, stand.dem, days, !a.in.no_pictures, folder);
+    j["vehicle"] = mobility::to_json(v);
+    j["source"] = {{"run", a.in.run},
+                   {"deadwood_included", !a.in.no_deadwood},
+                   {"soil_strength_applied", !a.in.no_soil},
+                   {"standing_water_applied", !a.in.no_soil}};
+    j["seconds"] = seconds;
+    j["provenance"] = provenance();
+    folder.write("summary.json", j.dump(2) + "\n");
+    folder.commit();
+    std::printf("wrote %s/{summary.json, go_share_of_days.tif, speed_median_m_per_s.tif, "
+                "speed_p10_m_per_s.tif}%s\n",
+                a.output.c_str(),
+                a.in.no_pictures ? "" : " and season_go_share.png, season_daily.png");
+}
+
 /// `ecoterra mobility map`'s options.
 void add_map_command(CLI::App* mobility_cmd) {
     auto a = std::make_shared<MapArgs>();
@@ -394,6 +534,13 @@ void add_map_command(CLI::App* mobility_cmd) {
                   "and standing water, and its terrain)");
     c->add_option("--snapshot", in.snapshot, "snapshot of the run (negative: from the last)")
         ->capture_default_str();
+    c->add_option("--year", a->year,
+                  "the snapshot of this year; with --season the year replayed (default: the "
+                  "run's last)");
+    c->add_flag("--season", a->season,
+                "every day of the year: replays it from the run (deterministically, nothing "
+                "written to the run) and writes per cell the share of days GO and the median and "
+                "10th-percentile speed");
     c->add_option("--stems", in.stems, "stem list CSV instead of a run (as `ecoterra mobility`)");
     c->add_option("--deadwood", in.deadwood, "dead-wood list CSV with --stems");
     c->add_option("--dem", in.dem, "terrain raster under the stem list");

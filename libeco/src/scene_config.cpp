@@ -68,6 +68,10 @@ const ParamCatalog<EcoScene>& eco_simulation_catalog() {
         "simulation",
         {integer<E>("snapshot_interval_years", &E::snapshot_interval_years, "yr", 1, 100000,
                     "years between snapshots and checkpoints; the last year always gets one"),
+         flag<E>("snapshot_checkpoints", &E::snapshot_checkpoints,
+                 "every snapshot keeps the full state, so that `ecoterra mobility map --season` "
+                 "replays a year from the snapshot before it instead of from the start (larger "
+                 "snapshot files)"),
          optional_number<E>("target_basal_area_m2_per_ha", &E::target_basal_area_m2_per_ha, "m2/ha",
                             0.001, 500, "stop at the first year end at or above this basal area")});
     return c;

@@ -114,15 +114,7 @@ GroundCell GroundMaps::at(double x_m, double y_m) const {
 
 double resistance_n(const Vehicle& v, double grade, const GroundEffect& g) {
     return rolling_resistance_n(v, grade) + grade_resistance_n(v, grade) +
-           g.soil_resistance * v.weight_n() * std::cos(std::atan(grade));
-}
-
-RasterU8 fine_grained_mask(const RasterD& silt_pct, const RasterD& clay_pct) {
-    RasterU8 m(silt_pct.grid(), 0);
-    for (int j = 0; j < m.ny(); ++j)
-        for (int i = 0; i < m.nx(); ++i)
-            m(i, j) = silt_pct(i, j) + clay_pct(i, j) >= kFineGrainedPct ? 1 : 0;
-    return m;
+           g.soil_resistance * v.weight_n() / std::sqrt(1 + grade * grade);
 }
 
 } // namespace ecoterra::mobility

@@ -51,6 +51,21 @@ private:
     /// Every heading of map cell (i, j).
     void cell(int i, int j, MobilityMap& out, std::vector<std::int64_t>& near_stems,
               std::vector<std::int64_t>& near_logs, std::vector<double>& force) const;
+    /// A crossing's constants: the cell's centre, the heading, the resistance and traction of
+    /// its slope and ground, the speed they allow, and the override segments.
+    struct Approach {
+        Point c;
+        double ux, uy, base, mu, v_soil;
+        int nseg;
+        double seg_len;
+    };
+    /// One lane (lateral offset o): its speed (0: closed), and without the logs' slowing.
+    struct Lane {
+        double v = 0, v_vegetation = 0;
+        bool blocked_by_vegetation = false;
+    };
+    Lane lane(const Approach& ap, double o, const std::vector<std::int64_t>& near_stems,
+              const std::vector<std::int64_t>& near_logs, std::vector<double>& force) const;
     /// Crossing the cell centred at `c` along (ux, uy) on ground `g`.
     Crossing cross(Point c, double ux, double uy, const GroundEffect& g,
                    const std::vector<std::int64_t>& near_stems,
@@ -73,7 +88,9 @@ private:
     int m_headings = 8;
     GridSpec m_grid;
     double m_c = 1, m_w = 1, m_d_crit = 0, m_step = 0, m_top = 0;
-    std::vector<double> m_offsets; ///< lateral offsets of the lanes
+    std::vector<double> m_offsets;                 ///< lateral offsets of the lanes
+    std::vector<std::pair<double, double>> m_dirs; ///< the headings' unit vectors (east, north)
+    double m_max_grade = 0, m_max_side = 0;        ///< tangents of the climb and side-slope limits
 };
 
 MapBuilder::MapBuilder(const Vehicle& v, const RasterD& dem, const StemIndex& stems,
@@ -106,6 +123,12 @@ MapBuilder::MapBuilder(const Vehicle& v, const RasterD& dem, const StemIndex& st
     for (int k = 0; k <= lanes; ++k)
         m_offsets.push_back(lanes == 0 ? 0.0 : -0.5 * m_c + m_c * k / lanes);
     m_top = steady_speed_m_per_s(v, rolling_resistance_n(v, 0.0));
+    for (int h = 0; h < m_headings; ++h) {
+        const double th = 2 * std::numbers::pi * h / m_headings;
+        m_dirs.emplace_back(std::sin(th), std::cos(th));
+    }
+    m_max_grade = std::tan(v.max_climb_deg * std::numbers::pi / 180);
+    m_max_side = std::tan(v.max_side_slope_deg * std::numbers::pi / 180);
 }
 
 GroundCell MapBuilder::ground_of(int i, int j) const {
@@ -146,6 +169,65 @@ std::pair<double, double> MapBuilder::slopes(Point c, double ux, double uy) cons
     return {grade, std::abs(zl - zr) / m_v.track_m};
 }
 
+MapBuilder::Lane MapBuilder::lane(const Approach& ap, double o,
+                                  const std::vector<std::int64_t>& near_stems,
+                                  const std::vector<std::int64_t>& near_logs,
+                                  std::vector<double>& force) const {
+    const Vehicle& v = m_v;
+    const auto [c, ux, uy, base, mu, v_soil, nseg, seg_len] = ap;
+    Lane out;
+    force.assign(static_cast<std::size_t>(nseg), 0.0);
+    for (const std::int64_t k : near_stems) {
+        const Stem& s = m_stems.stems()[static_cast<std::size_t>(k)];
+        // The stem in the lane's frame: along from the cell's centre, across from the lane.
+        const double dx = s.x_m - c.x_m, dy = s.y_m - c.y_m;
+        const double along = dx * ux + dy * uy, lat = -dx * uy + dy * ux - o;
+        if (avoided(s)) {
+            // Closer to the lane's centre line (a segment of the cell's length) than (d + w)/2.
+            const double beyond = std::max(0.0, std::abs(along) - 0.5 * m_c);
+            const double reach = 0.5 * (s.diameter_m + m_w);
+            if (beyond * beyond + lat * lat >= reach * reach) continue;
+            out.blocked_by_vegetation = !s.rigid;
+            return out;
+        }
+        if (std::abs(lat) > 0.5 * m_w) continue;
+        const double t = along + 0.5 * m_c;
+        for (int q = 0; q < nseg; ++q) {
+            const double mid = (q + 0.5) * m_c / nseg;
+            if (t >= mid - 0.5 * seg_len && t < mid + 0.5 * seg_len)
+                force[static_cast<std::size_t>(q)] +=
+                    override_force_n(s.diameter_m, v.push_height_m);
+        }
+    }
+    double time = 0;
+    for (const double f : force) {
+        const double sp = f > 0 ? std::min(v_soil, steady_speed_m_per_s(v, base + f, mu)) : v_soil;
+        if (!(sp > 0)) {
+            out.blocked_by_vegetation = true; // a cluster too heavy to push
+            return out;
+        }
+        time += m_c / nseg / sp;
+    }
+    double top = -1;
+    const Point a{c.x_m - 0.5 * m_c * ux - o * uy, c.y_m - 0.5 * m_c * uy + o * ux};
+    for (const std::int64_t k : near_logs) {
+        const Log& l = m_logs.logs()[static_cast<std::size_t>(k)];
+        double lo = 0, hi = 1;
+        if (!log_in_footprint(l, a, m_c, ux, uy, 0.5 * m_w, lo, hi)) continue;
+        const auto [u0, u1] = log_high_part(l, m_step);
+        if (u0 <= u1 && lo <= u1 && hi >= u0) return out; // a log too high to climb
+        const double dh = l.height_b_m - l.height_a_m;
+        top = std::max({top, l.height_a_m + lo * dh, l.height_a_m + hi * dh});
+    }
+    out.v_vegetation = out.v = m_c / time;
+    if (top >= 0) { // the slow crossing lasts until the rear axle is over the log
+        const double cap = step_crossing_speed_m_per_s(v, top);
+        const double slow = std::min(m_c, v.wheelbase_m + seg_len);
+        out.v = m_c / (slow / std::min(cap, out.v) + (m_c - slow) / out.v);
+    }
+    return out;
+}
+
 Crossing MapBuilder::cross(Point c, double ux, double uy, const GroundEffect& g,
                            const std::vector<std::int64_t>& near_stems,
                            const std::vector<std::int64_t>& near_logs,
@@ -153,9 +235,7 @@ Crossing MapBuilder::cross(Point c, double ux, double uy, const GroundEffect& g,
     const Vehicle& v = m_v;
     const auto [grade, side] = slopes(c, ux, uy);
     if (std::isnan(grade)) return {0, Limit::nodata};
-    constexpr double kDeg = std::numbers::pi / 180;
-    if (std::atan(grade) > v.max_climb_deg * kDeg || std::atan(side) > v.max_side_slope_deg * kDeg)
-        return {0, Limit::slope};
+    if (grade > m_max_grade || side > m_max_side) return {0, Limit::slope};
     if (!g.go()) return {0, g.nogo};
     const double firm = rolling_resistance_n(v, grade) + grade_resistance_n(v, grade);
     const double v_slope = std::min(m_top, steady_speed_m_per_s(v, firm));
@@ -165,81 +245,25 @@ Crossing MapBuilder::cross(Point c, double ux, double uy, const GroundEffect& g,
     // Segments of one vehicle width along the cell (one width-long segment centred on a shorter
     // cell).
     const int nseg = std::max(1, static_cast<int>(std::ceil(m_c / m_w - 1e-9)));
-    const double seg_len = std::max(m_c / nseg, m_w);
-    const auto& stems = m_stems.stems();
-    double best = 0, best_veg = 0;
+    const Approach ap{
+        c, ux, uy, base, g.traction_coefficient, v_soil, nseg, std::max(m_c / nseg, m_w)};
+    Lane best;
     bool veg_blocked = false;
     for (const double o : m_offsets) {
-        const Point a{c.x_m - 0.5 * m_c * ux - o * uy, c.y_m - 0.5 * m_c * uy + o * ux};
-        const Point b{a.x_m + m_c * ux, a.y_m + m_c * uy};
-        bool open = true;
-        double time = 0, top = -1;
-        force.assign(static_cast<std::size_t>(nseg), 0.0);
-        for (const std::int64_t k : near_stems) {
-            const Stem& s = stems[static_cast<std::size_t>(k)];
-            if (avoided(s)) {
-                if (point_segment_distance({s.x_m, s.y_m}, a, b) < 0.5 * (s.diameter_m + m_w)) {
-                    open = false;
-                    veg_blocked = veg_blocked || !s.rigid;
-                    break;
-                }
-                continue;
-            }
-            const double dx = s.x_m - c.x_m, dy = s.y_m - c.y_m;
-            const double t = dx * ux + dy * uy + 0.5 * m_c, lat = -dx * uy + dy * ux - o;
-            if (std::abs(lat) > 0.5 * m_w) continue;
-            for (int q = 0; q < nseg; ++q) {
-                const double mid = (q + 0.5) * m_c / nseg;
-                if (t >= mid - 0.5 * seg_len && t < mid + 0.5 * seg_len)
-                    force[static_cast<std::size_t>(q)] +=
-                        override_force_n(s.diameter_m, v.push_height_m);
-            }
-        }
-        for (std::size_t q = 0; open && q < force.size(); ++q) {
-            const double sp = force[q] > 0
-                                  ? std::min(v_soil, steady_speed_m_per_s(v, base + force[q],
-                                                                          g.traction_coefficient))
-                                  : v_soil;
-            if (!(sp > 0)) {
-                open = false;
-                veg_blocked = true; // a cluster too heavy to push
-            }
-            time += m_c / nseg / std::max(sp, 1e-300);
-        }
-        for (std::size_t q = 0; open && q < near_logs.size(); ++q) {
-            const Log& l = m_logs.logs()[static_cast<std::size_t>(near_logs[q])];
-            double lo = 0, hi = 1;
-            if (!log_in_footprint(l, a, m_c, ux, uy, 0.5 * m_w, lo, hi)) continue;
-            const auto [u0, u1] = log_high_part(l, m_step);
-            if (u0 <= u1 && lo <= u1 && hi >= u0) {
-                open = false; // a log too high to climb
-                break;
-            }
-            const double dh = l.height_b_m - l.height_a_m;
-            top = std::max({top, l.height_a_m + lo * dh, l.height_a_m + hi * dh});
-        }
-        if (!open) continue;
-        const double v_veg = m_c / time;
-        double v_lane = v_veg;
-        if (top >= 0) { // the slow crossing lasts until the rear axle is over the log
-            const double cap = step_crossing_speed_m_per_s(v, top);
-            const double slow = std::min(m_c, v.wheelbase_m + seg_len);
-            v_lane = m_c / (slow / std::min(cap, v_veg) + (m_c - slow) / v_veg);
-        }
-        if (v_lane > best) {
-            best = v_lane;
-            best_veg = v_veg;
-        }
+        const Lane l = lane(ap, o, near_stems, near_logs, force);
+        veg_blocked = veg_blocked || l.blocked_by_vegetation;
+        if (l.v > best.v) best = l;
     }
-    if (!(best > 0)) return {0, veg_blocked ? Limit::vegetation : Limit::obstacle};
+    if (!(best.v > 0)) return {0, veg_blocked ? Limit::vegetation : Limit::obstacle};
     // The limiting factor: the one that costs the most speed, if it costs more than 10 %.
-    const std::array<std::pair<double, Limit>, 4> drops{{{m_top - v_slope, Limit::slope},
-                                                         {v_slope - v_soil, Limit::soil},
-                                                         {v_soil - best_veg, Limit::vegetation},
-                                                         {best_veg - best, Limit::obstacle}}};
+    const std::array<std::pair<double, Limit>, 4> drops{
+        {{m_top - v_slope, Limit::slope},
+         {v_slope - v_soil, Limit::soil},
+         {v_soil - best.v_vegetation, Limit::vegetation},
+         {best.v_vegetation - best.v, Limit::obstacle}}};
     const auto worst = *std::max_element(drops.begin(), drops.end(),
                                          [](auto x, auto y) { return x.first < y.first; });
-    return {best, worst.first > kLimitShare * m_top ? worst.second : Limit::none};
+    return {best.v, worst.first > kLimitShare * m_top ? worst.second : Limit::none};
 }
 
 void MapBuilder::cell(int i, int j, MobilityMap& out, std::vector<std::int64_t>& near_stems,
@@ -266,8 +290,8 @@ void MapBuilder::cell(int i, int j, MobilityMap& out, std::vector<std::int64_t>&
     double sum = 0;
     int go = 0;
     for (int h = 0; h < m_headings; ++h) {
-        const double th = out.headings_deg[static_cast<std::size_t>(h)] * std::numbers::pi / 180;
-        const Crossing x = cross(c, std::sin(th), std::cos(th), g, near_stems, near_logs, force);
+        const auto [ux, uy] = m_dirs[static_cast<std::size_t>(h)];
+        const Crossing x = cross(c, ux, uy, g, near_stems, near_logs, force);
         out.speed_m_per_s[static_cast<std::size_t>(h)](i, j) = x.speed;
         out.limit[static_cast<std::size_t>(h)](i, j) = static_cast<std::uint8_t>(x.limit);
         sum += x.speed;
@@ -337,6 +361,56 @@ MobilityMap MapBuilder::build() {
 MobilityMap mobility_map(const Vehicle& v, const RasterD& dem, const StemIndex& stems,
                          const LogIndex& logs, const GroundMaps& ground, const MapOptions& opt) {
     return MapBuilder(v, dem, stems, logs, ground, opt).build();
+}
+
+void MapSeason::add(const MobilityMap& day) {
+    if (m_days == 0) {
+        m_grid = day.grid;
+        m_crs = day.crs_wkt;
+        m_go.assign(static_cast<std::size_t>(m_grid.size()), 0);
+    } else if (day.grid.nx != m_grid.nx || day.grid.ny != m_grid.ny) {
+        throw Error("MapSeason: a day's map is not on the season's grid");
+    }
+    const std::size_t n = static_cast<std::size_t>(m_grid.size());
+    m_speed.reserve(m_speed.size() + n);
+    for (int j = 0; j < m_grid.ny; ++j)
+        for (int i = 0; i < m_grid.nx; ++i) {
+            m_speed.push_back(static_cast<float>(day.speed_mean_m_per_s(i, j)));
+            m_go[static_cast<std::size_t>(j) * m_grid.nx + i] += day.go_fraction(i, j) > 0 ? 1 : 0;
+        }
+    ++m_days;
+}
+
+RasterD MapSeason::go_share_of_days() const {
+    RasterD r(m_grid, 0.0);
+    r.set_crs_wkt(m_crs);
+    for (int j = 0; j < m_grid.ny; ++j)
+        for (int i = 0; i < m_grid.nx; ++i)
+            r(i, j) = m_days > 0
+                          ? static_cast<double>(m_go[static_cast<std::size_t>(j) * m_grid.nx + i]) /
+                                m_days
+                          : 0.0;
+    return r;
+}
+
+RasterD MapSeason::speed_quantile_m_per_s(double q) const {
+    RasterD r(m_grid, 0.0);
+    r.set_crs_wkt(m_crs);
+    const std::size_t n = static_cast<std::size_t>(m_grid.size());
+    std::vector<double> v(static_cast<std::size_t>(m_days));
+    for (std::size_t c = 0; c < n && m_days > 0; ++c) {
+        for (int d = 0; d < m_days; ++d)
+            v[static_cast<std::size_t>(d)] = m_speed[static_cast<std::size_t>(d) * n + c];
+        std::sort(v.begin(), v.end());
+        // Linear between order statistics (the "type 7" quantile of R and numpy).
+        const double h = q * (m_days - 1);
+        const auto lo = static_cast<std::size_t>(std::floor(h));
+        const std::size_t hi = std::min(lo + 1, v.size() - 1);
+        r(static_cast<int>(c % static_cast<std::size_t>(m_grid.nx)),
+          static_cast<int>(c / static_cast<std::size_t>(m_grid.nx))) =
+            v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
+    }
+    return r;
 }
 
 json to_json(const MobilityMap& m) {

@@ -16,8 +16,6 @@ constexpr double kForceB = 0.0534;      // N cm^-4
 constexpr double kLogisticSlope = 5.0;  // cm^-1
 constexpr double kLogisticCentre = 2.5; // cm
 constexpr double kCriticalScale = 10.0; // d_crit: F(d_crit) is about a tenth of the weight
-/// Bisection stops when the bracket is narrower than this, m/s.
-constexpr double kSpeedTolerance = 1e-9;
 } // namespace
 
 double override_force_n(double d_m, double push_height_m) {
@@ -45,11 +43,11 @@ double diameter_at_height_from_base_m(double base_m, double height_m, double h_m
 }
 
 double grade_resistance_n(const Vehicle& v, double grade) {
-    return v.weight_n() * std::sin(std::atan(grade));
+    return v.weight_n() * grade / std::sqrt(1 + grade * grade); // W sin(atan(grade))
 }
 
 double rolling_resistance_n(const Vehicle& v, double grade) {
-    return v.rolling_resistance * v.weight_n() * std::cos(std::atan(grade));
+    return v.rolling_resistance * v.weight_n() / std::sqrt(1 + grade * grade); // cos(atan)
 }
 
 double steady_speed_m_per_s(const Vehicle& v, double resistance_n) {
@@ -57,33 +55,51 @@ double steady_speed_m_per_s(const Vehicle& v, double resistance_n) {
 }
 
 double steady_speed_m_per_s(const Vehicle& v, double resistance_n, double traction) {
-    // Net force g(v) = F_t(v) - k v^2 - R. Between two rows of the tractive table it is concave
-    // (linear minus a parabola), so from standstill the vehicle speeds up to the first root.
+    // Net force g(v) = min(F_t(v), mu W) - k v^2 - R. The table is linear between its rows and
+    // the traction cap a constant, so g is a concave parabola on each piece between the rows and
+    // where the table crosses the cap: from standstill the vehicle speeds up to the first root,
+    // the larger root of the piece whose end the net force does not exceed.
+    const double cap = traction * v.weight_n(), k = v.drag_n_per_m2_s2, top = v.top_speed_m_per_s;
+    const auto& t = v.tractive_force_n;
     auto net = [&](double s) {
-        return v.tractive_force_at(s, traction) - v.drag_n_per_m2_s2 * s * s - resistance_n;
+        return v.tractive_force_at(s, traction) - k * s * s - resistance_n;
     };
     if (!(net(0.0) > 0)) return 0.0;
-    std::vector<double> knots;
-    for (const auto& row : v.tractive_force_n)
-        if (row.first > 0 && row.first < v.top_speed_m_per_s) knots.push_back(row.first);
-    knots.push_back(v.top_speed_m_per_s);
-    double lo = 0.0;
-    for (const double hi_knot : knots) {
-        // Just below a knot the table's value holds (the force drops to 0 after the last row).
-        const double hi = hi_knot;
-        if (net(hi) > 0 && hi < v.top_speed_m_per_s) {
-            lo = hi;
-            continue;
+    // Pieces [lo, hi] with the force a + b s on each.
+    for (std::size_t r = 0; r < t.size(); ++r) {
+        const double lo = t[r].first;
+        if (lo >= top) break;
+        const bool last = r + 1 == t.size();
+        const double hi = last ? top : std::min(t[r + 1].first, top);
+        const double b0 = last ? 0.0 : (t[r + 1].second - t[r].second) / (t[r + 1].first - lo);
+        const double f0 = last ? 0.0 : t[r].second; // beyond the last row the force is 0
+        // Split where the table crosses the cap.
+        double pieces[3] = {lo, hi, hi};
+        if (b0 != 0) {
+            const double x = lo + (cap - f0) / b0;
+            if (x > lo && x < hi) pieces[1] = x;
         }
-        if (net(hi) > 0) return v.top_speed_m_per_s;
-        double a = lo, b = hi;
-        while (b - a > kSpeedTolerance) {
-            const double m = 0.5 * (a + b);
-            (net(m) > 0 ? a : b) = m;
+        for (int p = 0; p < 2; ++p) {
+            const double p0 = pieces[p], p1 = pieces[p + 1];
+            if (!(p1 > p0)) continue;
+            const double mid = 0.5 * (p0 + p1);
+            const bool capped = f0 + b0 * (mid - lo) >= cap;
+            const double b = capped ? 0.0 : b0, a = capped ? cap : f0 - b0 * lo;
+            // The net force on the piece: -k s^2 + b s + c.
+            const double c = a - resistance_n;
+            const double g1 = -k * p1 * p1 + b * p1 + c;
+            if (g1 > 0) continue;
+            double root;
+            if (k > 0) {
+                root = (b + std::sqrt(std::max(0.0, b * b + 4 * k * c))) / (2 * k);
+            } else {
+                const double g0 = b * p0 + c;
+                root = p0 + (p1 - p0) * g0 / (g0 - g1);
+            }
+            return std::clamp(root, p0, p1);
         }
-        return a;
     }
-    return v.top_speed_m_per_s;
+    return top;
 }
 
 } // namespace ecoterra::mobility

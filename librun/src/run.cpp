@@ -156,25 +156,7 @@ void RunJob::start(const EcoScene* scene) {
 }
 
 std::vector<std::uint8_t> RunJob::read_checkpoint(const EcoScene& sc) const {
-    H5::H5File f = open_run(m_out);
-    std::vector<std::uint8_t> bytes;
-    std::string hash, checksum;
-    try {
-        bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
-                                          H5::PredType::NATIVE_UINT8);
-        hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
-        checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
-    } catch (const H5::Exception& e) {
-        throw InputError(m_out.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
-    }
-    if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
-        throw InputError(m_out.string() + ": /checkpoint/state is damaged (its checksum_fnv1a64 " +
-                         checksum + " does not match its " + std::to_string(bytes.size()) +
-                         " bytes)");
-    if (hash != std::to_string(raster_hash(sc.hydro.dem)))
-        throw InputError(m_out.string() + ": the terrain rebuilt from the stored scene differs "
-                                          "from the run's (was the terrain file changed?)");
-    return bytes;
+    return read_run_checkpoint(m_out, sc).bytes;
 }
 
 void RunJob::resume(const EcoScene* scene) {

@@ -98,6 +98,14 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
                   "cover of species " + std::to_string(layer[k]) + " (" +
                       eco.scene().ecosystem.species[layer[k]].name + "), fraction of the ground");
     }
+    if (eco.scene().snapshot_checkpoints) {
+        ArchiveWriter a;
+        eco.save_state(a);
+        h5.series(g + "/checkpoint/state", a.bytes(), "1",
+                  "full model state at this snapshot (binary, ecoterra checkpoint format)");
+        h5.attribute(g + "/checkpoint", "checksum_fnv1a64",
+                     std::to_string(fnv1a64(a.bytes().data(), a.bytes().size())));
+    }
     h5.integer_attribute(g, "year", eco.years_done());
     h5.integer_attribute(g, "day", eco.days_done());
     h5.attribute(g, "date",
@@ -246,6 +254,30 @@ H5::H5File open_run(const fs::path& run) {
         throw InputError(run.string() + ": the HDF5 file is damaged or truncated (" +
                          e.getDetailMsg() + ")");
     }
+}
+
+RunCheckpoint read_run_checkpoint(const fs::path& run, const EcoScene& sc) {
+    H5::H5File f = open_run(run);
+    RunCheckpoint c;
+    std::vector<std::uint8_t>& bytes = c.bytes;
+    std::string hash, checksum;
+    try {
+        bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
+                                          H5::PredType::NATIVE_UINT8);
+        hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
+        checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
+        f.openGroup("/checkpoint").openAttribute("year").read(H5::PredType::NATIVE_INT, &c.year);
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
+    }
+    if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
+        throw InputError(run.string() + ": /checkpoint/state is damaged (its checksum_fnv1a64 " +
+                         checksum + " does not match its " + std::to_string(bytes.size()) +
+                         " bytes)");
+    if (hash != std::to_string(raster_hash(sc.hydro.dem)))
+        throw InputError(run.string() + ": the terrain rebuilt from the stored scene differs "
+                                        "from the run's (was the terrain file changed?)");
+    return c;
 }
 
 /// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.

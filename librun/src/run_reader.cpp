@@ -116,6 +116,20 @@ mobility::GroundMaps SnapshotGround::maps() const {
     return m;
 }
 
+int snapshot_of_year(const fs::path& run, int year) {
+    const int count = read_run_info(run).snapshots;
+    std::string years;
+    for (int k = 0; k < count; ++k) {
+        int y = 0;
+        open_snapshot(
+            run, k, [&](const H5::Group& g) { y = static_cast<int>(read_double_attr(g, "year")); });
+        if (y == year) return k;
+        years += (years.empty() ? "" : ", ") + std::to_string(y);
+    }
+    throw InputError(run.string() + ": no snapshot of year " + std::to_string(year) +
+                     " (the run's snapshots are of years " + years + ")");
+}
+
 bool snapshot_has_dataset(const fs::path& run, int index, const std::string& name) {
     bool has = false;
     open_snapshot(run, resolve_snapshot_index(run, index),

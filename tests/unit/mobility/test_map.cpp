@@ -347,3 +347,45 @@ TEST_CASE("mobility map: coarse cells, any thread count, and bad options", "[mob
     opt.headings = 0;
     CHECK_THROWS_WITH(map_of(v, dem, {}, {}, {}, opt), Catch::Contains("headings = 0"));
 }
+
+TEST_CASE("steady speed: the closed form agrees with a fine search over many vehicles and loads",
+          "[mobility][map]") {
+    // An independent reference: march up from standstill in steps of 1e-4 m/s to the first speed
+    // the net force does not exceed 0, then bisect.
+    Rng rng(17, "test");
+    for (int trial = 0; trial < 300; ++trial) {
+        Vehicle v = mrzr();
+        v.tractive_force_n.clear();
+        double s = 0, f = rng.uniform(2000, 15000);
+        const int rows = 2 + static_cast<int>(rng.uniform(0, 4));
+        for (int r = 0; r < rows; ++r) {
+            v.tractive_force_n.emplace_back(s, f);
+            s += rng.uniform(1, 12);
+            f = std::max(0.0, f + rng.uniform(-6000, 2000));
+        }
+        v.drag_n_per_m2_s2 = trial % 3 == 0 ? 0.0 : rng.uniform(0, 30);
+        v.top_speed_m_per_s = rng.uniform(5, 30);
+        const double mu = rng.uniform(0.2, 1.2);
+        const double resistance = rng.uniform(-2000, 12000);
+        CAPTURE(trial, resistance, mu);
+        auto net = [&](double x) {
+            return v.tractive_force_at(x, mu) - v.drag_n_per_m2_s2 * x * x - resistance;
+        };
+        double ref = 0;
+        if (net(0) > 0) {
+            double x = 0;
+            const double step = 1e-4;
+            while (x < v.top_speed_m_per_s && net(std::min(x + step, v.top_speed_m_per_s)) > 0)
+                x += step;
+            if (x >= v.top_speed_m_per_s) {
+                ref = v.top_speed_m_per_s;
+            } else {
+                double lo = x, hi = std::min(x + step, v.top_speed_m_per_s);
+                for (int it = 0; it < 60; ++it)
+                    (net(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+                ref = lo;
+            }
+        }
+        CHECK(steady_speed_m_per_s(v, resistance, mu) == Approx(ref).margin(1e-7));
+    }
+}

@@ -47,6 +47,7 @@ struct EcoScene {
     int years = 1;
     std::optional<double> target_basal_area_m2_per_ha;
     int snapshot_interval_years = 5;
+    bool snapshot_checkpoints = false; ///< every snapshot keeps the state (fast season replays)
     std::uint64_t seed = 1;
     nlohmann::json resolved;
 };

@@ -105,7 +105,14 @@ struct GroundMaps {
 /// soil's motion resistance, N.
 double resistance_n(const Vehicle& v, double grade, const GroundEffect& g);
 
-/// 1 where a cell's silt + clay is at least kFineGrainedPct.
-RasterU8 fine_grained_mask(const RasterD& silt_pct, const RasterD& clay_pct);
+/// 1 where a cell's silt + clay is at least kFineGrainedPct (rasters of percent, any type).
+template <class R>
+RasterU8 fine_grained_mask(const R& silt_pct, const R& clay_pct) {
+    RasterU8 m(silt_pct.grid(), 0);
+    for (int j = 0; j < m.ny(); ++j)
+        for (int i = 0; i < m.nx(); ++i)
+            m(i, j) = silt_pct(i, j) + clay_pct(i, j) >= kFineGrainedPct ? 1 : 0;
+    return m;
+}
 
 } // namespace ecoterra::mobility

@@ -73,6 +73,24 @@ MobilityMap mobility_map(const Vehicle& v, const RasterD& dem, const std::vector
                          const std::vector<Log>& logs, const GroundMaps& ground,
                          const MapOptions& opt);
 
+/// A season of daily maps of one place (the same grid every day) and what they add up to per
+/// cell: the share of days GO (in at least one heading) and the median and 10th percentile of the
+/// day's mean speed over the headings (NO-GO days as 0). Keeps one float per cell and day.
+class MapSeason {
+public:
+    void add(const MobilityMap& day);
+    int days() const { return m_days; }
+    RasterD go_share_of_days() const;
+    RasterD speed_quantile_m_per_s(double q) const;
+
+private:
+    GridSpec m_grid;
+    std::string m_crs;
+    int m_days = 0;
+    std::vector<float> m_speed; ///< [cell][day]: appended day by day, cell-major on output
+    std::vector<std::uint16_t> m_go;
+};
+
 /// The summary as JSON (units in the keys).
 nlohmann::json to_json(const MobilityMap& m);
 

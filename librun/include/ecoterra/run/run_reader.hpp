@@ -79,6 +79,9 @@ struct SnapshotGround {
 };
 SnapshotGround read_snapshot_ground(const std::filesystem::path& run, int index,
                                     const GridSpec& grid);
+/// The index of the snapshot of year `year`; InputError naming the run and its snapshots' years
+/// if none is.
+int snapshot_of_year(const std::filesystem::path& run, int year);
 /// The snapshot index `index` stands for (negative: from the last), checked against the run.
 int resolve_snapshot_index(const std::filesystem::path& run, int index);
 

@@ -6,6 +6,7 @@
 // per-unit rates; run it alone and beside a busy neighbour.
 // Usage: bench_mobility [--lines N] [--missions N] [--only-map]
 #include "ecoterra/mobility/map.hpp"
+#include "ecoterra/mobility/route.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/random.hpp"
@@ -65,6 +66,13 @@ void bench_map(const Vehicle& v, double side_m, std::size_t stems) {
                 "cells/s  %9.3g cell-headings/s  (mean %.2f m/s, GO %.1f %%)\n",
                 side_m, side_m, stems, logs.size(), m.headings_deg.size(), sec, cells / sec,
                 cells * m.headings_deg.size() / sec, m.mean_speed_m_per_s, 100 * m.go_share);
+    const auto t1 = std::chrono::steady_clock::now();
+    const Route r =
+        fastest_route(m.speed_m_per_s, m.headings_deg, {0.5, 0.5}, {side_m - 0.5, side_m - 0.5});
+    const double rs = seconds_since(t1);
+    std::printf("route corner to corner over it  %7.3f s  %9.3g cells/s  (%s, %.1f s, SMG %.2f "
+                "m/s)\n",
+                rs, cells / rs, r.found ? "found" : "none", r.time_s, r.smg_m_per_s());
 }
 
 } // namespace

@@ -9,6 +9,7 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/io/staging.hpp"
 #include "ecoterra/mobility/map.hpp"
+#include "ecoterra/mobility/route.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/run/pictures.hpp"
@@ -522,6 +523,104 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
                 a.in.no_pictures ? "" : " and season_go_share.png, season_daily.png");
 }
 
+struct RouteArgs {
+    std::string map, from, to, json_out;
+    bool no_pictures = false, force = false;
+};
+
+/// "X,Y" in metres.
+mobility::Point parse_point(const std::string& option, const std::string& text) {
+    const auto comma = text.find(',');
+    double x = 0, y = 0;
+    std::size_t ex = 0, ey = 0;
+    try {
+        if (comma == std::string::npos) throw std::invalid_argument("");
+        x = std::stod(text.substr(0, comma), &ex);
+        y = std::stod(text.substr(comma + 1), &ey);
+    } catch (const std::exception&) {
+        ex = 0;
+    }
+    if (ex == 0 || ex != comma || ey != text.size() - comma - 1 || !std::isfinite(x) ||
+        !std::isfinite(y))
+        throw InputError(option + " '" + text + "' is not X,Y (m, the map's frame)");
+    return {x, y};
+}
+
+void run_route(const RouteArgs& a) {
+    const std::filesystem::path dir = a.map;
+    const std::filesystem::path summary = dir / "summary.json";
+    if (!std::filesystem::exists(summary))
+        throw InputError("route: " + a.map +
+                         " holds no summary.json (give the folder of "
+                         "`ecoterra mobility map -o`)");
+    const json s = parse_json(io::read_text(summary), summary.string());
+    if (!s.contains("headings_deg"))
+        throw InputError("route: " + summary.string() +
+                         " has no headings_deg (a --season folder "
+                         "holds no speeds per heading)");
+    const auto headings = s["headings_deg"].get<std::vector<double>>();
+    std::vector<RasterD> speed;
+    for (const double h : headings) {
+        char name[48];
+        std::snprintf(name, sizeof name, "speed_%03.0fdeg_m_per_s.tif", h);
+        speed.push_back(terrain::io::read_raster(dir / name));
+    }
+    const mobility::Point from = parse_point("--from", a.from), to = parse_point("--to", a.to);
+    if (!a.json_out.empty()) {
+        refuse_output_over_input("--json", a.json_out, {summary.string()});
+        claim_output("--json", a.json_out, a.force);
+    }
+    Stopwatch sw;
+    const mobility::Route r = mobility::fastest_route(speed, headings, from, to);
+    const double seconds = sw.seconds();
+    if (r.found)
+        std::printf("route: %.1f s over %.1f m (straight %.1f m, speed made good %.3f m/s), %zu "
+                    "cells\n",
+                    r.time_s, r.length_m, r.straight_m, r.smg_m_per_s(), r.path.size());
+    else
+        std::printf("route: none: the goal cannot be reached from the start over GO cells\n");
+    std::printf("%.3f s (%.3g cells/s)\n", seconds,
+                static_cast<double>(speed.front().grid().size()) / std::max(seconds, 1e-9));
+    if (a.json_out.empty()) return;
+    json pts = json::array();
+    for (const auto& p : r.path) pts.push_back({p.x_m, p.y_m});
+    const json j = {{"map", a.map},
+                    {"from_m", {from.x_m, from.y_m}},
+                    {"to_m", {to.x_m, to.y_m}},
+                    {"found", r.found},
+                    {"time_s", r.time_s},
+                    {"length_m", r.length_m},
+                    {"straight_m", r.straight_m},
+                    {"smg_m_per_s", r.smg_m_per_s()},
+                    {"path_m", pts},
+                    {"provenance", provenance()}};
+    io::write_text_atomic(a.json_out, j.dump(2) + "\n");
+    std::printf("wrote %s\n", a.json_out.c_str());
+    if (!a.no_pictures) {
+        std::filesystem::path png = a.json_out;
+        png.replace_extension(".png");
+        io::AtomicOutput out(png);
+        run::draw_route_picture(terrain::io::read_raster(dir / "speed_mean_m_per_s.tif"),
+                                s.value("top_speed_m_per_s", 1.0), r, out.temp_path());
+        out.commit();
+        std::printf("picture: %s\n", png.string().c_str());
+    }
+}
+
+void add_route_command(CLI::App* mobility_cmd) {
+    auto a = std::make_shared<RouteArgs>();
+    CLI::App* c = mobility_cmd->add_subcommand(
+        "route", "the fastest route over a mobility map (least time over its 8 headings)");
+    c->add_option("map", a->map, "folder of `ecoterra mobility map -o`")->required();
+    c->add_option("--from", a->from, "X,Y: the start, m in the map's frame")->required();
+    c->add_option("--to", a->to, "X,Y: the goal, m in the map's frame")->required();
+    c->add_option("--json", a->json_out,
+                  "write the route (cells, time, length) as JSON and its picture as NAME.png");
+    c->add_flag("--no-pictures", a->no_pictures, "write no picture");
+    add_force_flag(c, a->force);
+    c->callback([a] { run_route(*a); });
+}
+
 /// `ecoterra mobility map`'s options.
 void add_map_command(CLI::App* mobility_cmd) {
     auto a = std::make_shared<MapArgs>();
@@ -682,8 +781,9 @@ void add_mobility_command(CLI::App& app) {
     m->add_flag("--no-pictures", a->no_pictures, "write no pictures");
     add_force_flag(m, a->force);
     add_map_command(m);
+    add_route_command(m);
     m->callback([a, m] {
-        if (m->got_subcommand("map")) return;
+        if (m->got_subcommand("map") || m->got_subcommand("route")) return;
         if (a->vehicle.empty()) throw InputError("mobility: --vehicle is required");
         run_mobility(*a);
     });

@@ -540,6 +540,34 @@ void draw_mobility_map_pictures(const mobility::MobilityMap& m, const RasterD& d
     terrain::write_map_figure(limit, g, fl, limit_png);
 }
 
+void draw_route_picture(const RasterD& speed, double top, const mobility::Route& route,
+                        const fs::path& png) {
+    const GridSpec& g = speed.grid();
+    terrain::Image img = terrain::colormap_image(speed, 0.0, std::max(top, 1e-9));
+    auto mark = [&](mobility::Point p, terrain::Rgb c) {
+        const auto [i, j] = g.clamped_cell(p.x_m, p.y_m);
+        img.at(i, g.ny - 1 - j) = c;
+    };
+    for (const auto& p : route.path) mark(p, {255, 255, 255});
+    if (!route.path.empty()) {
+        mark(route.path.front(), {230, 30, 30});
+        mark(route.path.back(), {30, 30, 230});
+    }
+    terrain::MapFigure f;
+    f.title = "Fastest route over the mean speed";
+    f.bar_label = "mean speed over the headings (m/s)";
+    f.vmin = 0;
+    f.vmax = std::max(top, 1e-9);
+    f.smooth = false;
+    f.notes = {"white: the route's cells; red: start; blue: goal",
+               route.found
+                   ? "time " + format_number(std::round(route.time_s * 10) / 10) + " s over " +
+                         format_number(std::round(route.length_m)) + " m (straight " +
+                         format_number(std::round(route.straight_m)) + " m)"
+                   : "no route: the goal cannot be reached"};
+    terrain::write_map_figure(img, g, f, png);
+}
+
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
                            const std::vector<mobility::TraverseResult>& results, const RasterD& dem,
                            const fs::path& dir) {

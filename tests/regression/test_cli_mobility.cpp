@@ -314,6 +314,18 @@ TEST_CASE("mobility map: the issue's invocations work as written, GDAL reads the
         for (int i = 0; i < mean.nx(); ++i) sum += mean(i, j);
     CHECK(sum / static_cast<double>(mean.nx() * mean.ny()) ==
           Approx(s["mean_speed_m_per_s"].get<double>()).epsilon(1e-6));
+    // The fastest route over it: the time is what the JSON says, with a picture beside.
+    r = test::run(dir, "mobility route map --from 3,3 --to 30,35 --json route.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const json route = read_json(dir / "route.json");
+    CHECK(route["found"] == true);
+    CHECK(route["time_s"].get<double>() > 0);
+    CHECK(route["smg_m_per_s"].get<double>() <= s["top_speed_m_per_s"].get<double>() + 1e-9);
+    CHECK(std::filesystem::file_size(dir / "route.png") > 1000);
+    r = test::run(dir, "mobility route map --from 3 --to 30,35");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--from '3' is not X,Y"));
     // Coarser cells and more headings; the same map again needs --force.
     r = test::run(dir, "mobility map run.h5 --vehicle " + veh + " -o map --cell " +
                            std::to_string(2 * terrain.grid().cell_size_m) +

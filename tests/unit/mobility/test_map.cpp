@@ -6,6 +6,7 @@
 #include "ecoterra/mobility/ground.hpp"
 #include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/override.hpp"
+#include "ecoterra/mobility/route.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/spectral.hpp"
 
@@ -388,4 +389,71 @@ TEST_CASE("steady speed: the closed form agrees with a fine search over many veh
         }
         CHECK(steady_speed_m_per_s(v, resistance, mu) == Approx(ref).margin(1e-7));
     }
+}
+
+TEST_CASE("route: the fastest path over a map agrees with a brute-force relaxation, and finds "
+          "the gap in a wall",
+          "[mobility][map][route]") {
+    const std::vector<double> headings{0, 45, 90, 135, 180, 225, 270, 315};
+    const int di[8] = {0, 1, 1, 1, 0, -1, -1, -1}, dj[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+    Rng rng(23, "test");
+    for (int trial = 0; trial < 20; ++trial) {
+        CAPTURE(trial);
+        const GridSpec g{12, 9, 2.0, 100.0, 50.0};
+        std::vector<RasterD> speed;
+        for (int h = 0; h < 8; ++h) {
+            RasterD r(g, 0.0);
+            for (int j = 0; j < g.ny; ++j)
+                for (int i = 0; i < g.nx; ++i)
+                    r(i, j) = rng.uniform() < 0.15 ? 0.0 : rng.uniform(0.5, 10);
+            speed.push_back(r);
+        }
+        speed[0](0, 0) = speed[2](0, 0) = 5; // the start can leave
+        // Brute force: relax every edge until nothing changes (Bellman-Ford).
+        std::vector<double> t(static_cast<std::size_t>(g.size()), 1e300);
+        t[0] = 0;
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int j = 0; j < g.ny; ++j)
+                for (int i = 0; i < g.nx; ++i)
+                    for (int m = 0; m < 8; ++m) {
+                        const int ii = i + di[m], jj = j + dj[m];
+                        if (!g.contains(ii, jj)) continue;
+                        const double va = speed[m](i, j), vb = speed[m](ii, jj);
+                        if (!(va > 0 && vb > 0)) continue;
+                        const double step = (m % 2 ? std::sqrt(2.0) : 1.0) * g.cell_size_m;
+                        const double tt = t[static_cast<std::size_t>(j * g.nx + i)] +
+                                          0.5 * step / va + 0.5 * step / vb;
+                        if (tt < t[static_cast<std::size_t>(jj * g.nx + ii)] - 1e-12) {
+                            t[static_cast<std::size_t>(jj * g.nx + ii)] = tt;
+                            changed = true;
+                        }
+                    }
+        }
+        const Route r = fastest_route(speed, headings, {101, 51}, {122.5, 64.5});
+        const double ref = t[static_cast<std::size_t>(7 * g.nx + 11)];
+        CHECK(r.found == (ref < 1e299));
+        if (r.found) {
+            CHECK(r.time_s == Approx(ref).epsilon(1e-12));
+            CHECK(r.path.front().x_m == Approx(101));
+            CHECK(r.path.back().y_m == Approx(65));
+        }
+    }
+    // A NO-GO wall across a uniform map at x = 20 m with one gap: the route goes through the gap.
+    const GridSpec g{40, 40, 1.0, 0.0, 0.0};
+    std::vector<RasterD> speed(8, RasterD(g, 4.0));
+    for (auto& r : speed)
+        for (int j = 0; j < 40; ++j)
+            if (j != 33) r(20, j) = 0;
+    const Route r = fastest_route(speed, headings, {5.5, 5.5}, {35.5, 5.5});
+    REQUIRE(r.found);
+    bool through_gap = false;
+    for (const auto& p : r.path) through_gap = through_gap || (p.x_m == 20.5 && p.y_m == 33.5);
+    CHECK(through_gap);
+    CHECK(r.time_s > 30 / 4.0);
+    // Headings that miss a neighbour direction, points off the map.
+    CHECK_THROWS_WITH(fastest_route({speed[0]}, {0}, {1, 1}, {2, 2}),
+                      Catch::Contains("no speed layer for heading 45"));
+    CHECK_THROWS_WITH(fastest_route(speed, headings, {-1, 1}, {2, 2}),
+                      Catch::Contains("--from (-1, 1) is off the map"));
 }

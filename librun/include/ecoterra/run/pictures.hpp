@@ -2,6 +2,7 @@
 // Pictures of an ecosystem run, drawn with Cairo.
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/mobility/map.hpp"
+#include "ecoterra/mobility/route.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/terrain/picture.hpp"
@@ -33,6 +34,10 @@ void draw_mobility_pictures(const mobility::StandMobility& m, const mobility::Ve
 void draw_mobility_map_pictures(const mobility::MobilityMap& m, const RasterD& dem,
                                 const std::filesystem::path& speed_png,
                                 const std::filesystem::path& limit_png);
+/// `ecoterra mobility route`: the route's cells in white over the map's mean speed, with the
+/// start and goal, its time and length in the notes.
+void draw_route_picture(const RasterD& speed_mean_m_per_s, double top_speed_m_per_s,
+                        const mobility::Route& route, const std::filesystem::path& png);
 /// `ecoterra terrain traverse`: missions.png in `dir`, the missions over the slope map coloured by
 /// outcome.
 void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,

@@ -96,6 +96,20 @@ const std::vector<Column<eco::StandMetrics>>& stand_metrics() {
     return c;
 }
 
+const std::vector<Column<mobility::MobilityMap>>& mobility_map_metrics() {
+    using M = mobility::MobilityMap;
+    static const std::vector<Column<M>> c{
+        metric<M>("mean_speed_m_per_s", "m/s",
+                  "mean over the cells of the mean speed over the headings (NO-GO as 0)",
+                  [](const M& m) { return m.mean_speed_m_per_s; }),
+        metric<M>("go_share", "1", "share of the cell-headings that are GO",
+                  [](const M& m) { return m.go_share; }),
+        metric<M>("go_share_any_heading", "1", "share of the cells GO in at least one heading",
+                  [](const M& m) { return m.any_go_share; }),
+    };
+    return c;
+}
+
 const std::vector<Column<mobility::StandMobility>>& mobility_metrics() {
     using M = mobility::StandMobility;
     static const std::vector<Column<M>> c{
@@ -222,6 +236,7 @@ std::vector<ColumnInfo> describe_metrics() {
     add_info(out, "stand", stand_metrics());
     add_info(out, "mobility", mobility_metrics());
     add_info(out, "traverse", traverse_metrics());
+    add_info(out, "mobility_map", mobility_map_metrics());
     add_info(out, "terrain", terrain_metrics());
     return out;
 }
@@ -307,6 +322,28 @@ const ParamCatalog<MobilityAnalysis>& mobility_catalog() {
     return c;
 }
 
+mobility::MapOptions MobilityMapAnalysis::map_options() const {
+    mobility::MapOptions o;
+    o.cell_m = cell_m;
+    o.headings = headings;
+    return o;
+}
+
+const ParamCatalog<MobilityMapAnalysis>& mobility_map_catalog() {
+    using M = MobilityMapAnalysis;
+    static const ParamCatalog<M> c(
+        "analyses.mobility_map",
+        {text<M>("vehicle", &M::vehicle, "a vehicle file, e.g. ../vehicles/mrzr4.json").mandatory(),
+         number<M>("cell_m", &M::cell_m, "m", 0, 1e5,
+                   "map cell, a whole multiple of the terrain's (0: the terrain's)"),
+         integer<M>("headings", &M::headings, "1", 1, 360, "headings, evenly spaced from north"),
+         flag<M>("deadwood", &M::deadwood,
+                 "the snapshot's snags and logs (false: the living only)"),
+         flag<M>("soil", &M::soil,
+                 "the snapshot's soil strength and standing water (false: firm, dry ground)")});
+    return c;
+}
+
 terrain::MissionOptions TraverseAnalysis::mission_options() const {
     terrain::MissionOptions o;
     o.count = missions;
@@ -381,6 +418,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& analysis_ke
         return std::vector<std::pair<std::string, std::vector<std::string>>>{
             {"stand", {}},
             {"mobility", keys(mobility_catalog())},
+            {"mobility_map", keys(mobility_map_catalog())},
             {"terrain", keys(terrain_catalog())},
             {"traverse", keys(traverse_catalog())},
             {"export", keys(export_catalog())},

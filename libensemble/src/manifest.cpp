@@ -69,7 +69,7 @@ void dotted_paths(const json& j, const std::string& prefix, std::set<std::string
 std::vector<std::string> analyses_for(BaseKind k) {
     switch (k) {
     case BaseKind::run:
-        return {"stand", "mobility", "terrain", "traverse", "export", "pictures"};
+        return {"stand", "mobility", "mobility_map", "terrain", "traverse", "export", "pictures"};
     case BaseKind::terrain:
         return {"terrain", "traverse"};
     case BaseKind::mobility:
@@ -89,12 +89,14 @@ void check_analyses(const json& a, BaseKind kind, const std::string& where) {
             continue;
         }
         require_known_keys(v, keys, where + "." + name);
-        if ((name == "mobility" || name == "traverse") && !v.contains("vehicle"))
+        if ((name == "mobility" || name == "mobility_map" || name == "traverse") &&
+            !v.contains("vehicle"))
             throw InputError(where + "." + name +
                              ": missing key 'vehicle' (a vehicle file, e.g. "
                              "../vehicles/mrzr4.json)");
         // Values too, from the catalogues, before any member runs.
         if (name == "mobility") analyses::mobility_catalog().read(v, {});
+        if (name == "mobility_map") analyses::mobility_map_catalog().read(v, {});
         if (name == "traverse") analyses::traverse_catalog().read(v, {});
         if (name == "terrain") analyses::terrain_catalog().read(v, {});
         if (name == "export") analyses::export_catalog().read(v, {});
@@ -104,7 +106,7 @@ void check_analyses(const json& a, BaseKind kind, const std::string& where) {
 /// Every vehicle file a member may use (the analyses', a fixed override's, an axis's values)
 /// loads: a missing or bad vehicle is refused before any member runs, not by every member.
 void check_vehicle_files(const Manifest& m) {
-    for (const char* analysis : {"mobility", "traverse"}) {
+    for (const char* analysis : {"mobility", "mobility_map", "traverse"}) {
         const std::string key = std::string("analyses.") + analysis + ".vehicle";
         // The values members use: an axis's override the fixed `set`, which overrides the
         // analyses' own (a placeholder there that every member overrides is not checked).

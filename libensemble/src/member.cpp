@@ -104,6 +104,29 @@ void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::St
     analyses::add_values(out, "mobility", analyses::mobility_metrics(), r);
 }
 
+/// The member's mobility map (its snapshot's stand and ground): mobility_map.json and the layers
+/// the ensemble's stochastic map adds up (mobility_map/speed_mean_m_per_s.tif, go_fraction.tif).
+void analyse_mobility_map(const Manifest& m, const json& a, const fs::path& run_file,
+                          const RasterD& dem, const fs::path& stage, Metrics& out) {
+    const auto opt = analyses::mobility_map_catalog().read(a, {});
+    const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
+    auto stems = run::stand_stems(run::read_snapshot_plants(run_file, -1).plants);
+    mobility::StandDeadWood dead;
+    if (opt.deadwood) dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, -1).pieces);
+    stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+    std::optional<run::SnapshotGround> ground;
+    if (opt.soil) ground = run::read_snapshot_ground(run_file, -1, dem.grid());
+    const auto map =
+        mobility::mobility_map(v, dem, stems, dead.logs,
+                               ground ? ground->maps() : mobility::GroundMaps{}, opt.map_options());
+    io::create_folder(stage / "mobility_map", "the member's map folder");
+    terrain::io::write_geotiff(map.speed_mean_m_per_s,
+                               stage / "mobility_map/speed_mean_m_per_s.tif", "m/s");
+    terrain::io::write_geotiff(map.go_fraction, stage / "mobility_map/go_fraction.tif", "1");
+    io::write_text_atomic(stage / "mobility_map.json", mobility::to_json(map).dump(1) + "\n");
+    analyses::add_values(out, "mobility_map", analyses::mobility_map_metrics(), map);
+}
+
 void analyse_terrain(const json& a, const RasterD& z, const fs::path& stage, Metrics& out) {
     const auto opt = analyses::terrain_catalog().read(a, {}).options();
     const auto r = terrain::analyze_terrain(z, opt);
@@ -168,7 +191,8 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
             io::write_text_atomic(stage / "stand.json",
                                   analyses::stand_json(sum.stand).dump(1) + "\n");
         RasterD dem;
-        if (an.contains("mobility") || an.contains("terrain") || an.contains("traverse"))
+        if (an.contains("mobility") || an.contains("mobility_map") || an.contains("terrain") ||
+            an.contains("traverse"))
             dem = terrain::io::read_hdf5(opt.output, terrain::io::kRunTerrainDataset);
         if (an.contains("mobility"))
             analyse_mobility(
@@ -178,6 +202,8 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
                     return run::stand_deadwood(run::read_snapshot_deadwood(opt.output, -1).pieces);
                 },
                 dem, run::read_snapshot_ground(opt.output, -1, dem.grid()), stage, metrics);
+        if (an.contains("mobility_map"))
+            analyse_mobility_map(m, an["mobility_map"], opt.output, dem, stage, metrics);
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
         if (an.contains("export"))

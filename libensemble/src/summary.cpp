@@ -7,6 +7,8 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/run/pictures.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
+#include "ecoterra/terrain/picture.hpp"
 
 #include <algorithm>
 #include <array>
@@ -492,6 +494,68 @@ void write_tables(const fs::path& dir, const Manifest& m, const Columns& mt, con
     rep.files.push_back(dir / "summary.h5");
 }
 
+/// The stochastic mobility map of one combination: over its members' maps, per cell the
+/// probability of GO (in at least one heading), the mean share of headings GO and the 10th, 50th
+/// and 90th percentiles of the mean speed; nothing when the members' grids differ.
+void write_stochastic_map(const fs::path& out, const Manifest& m, std::size_t c,
+                          const std::vector<const Row*>& rows, const fs::path& dir,
+                          SummaryReport& rep) {
+    std::vector<RasterD> speed, go;
+    for (const Row* r : rows) {
+        if (!r->ok) continue;
+        const fs::path md = member_dir(out, m, r->index) / "mobility_map";
+        speed.push_back(terrain::io::read_raster(md / "speed_mean_m_per_s.tif"));
+        go.push_back(terrain::io::read_raster(md / "go_fraction.tif"));
+        const GridSpec &a = speed.front().grid(), &b = speed.back().grid();
+        if (a.nx != b.nx || a.ny != b.ny || a.cell_size_m != b.cell_size_m) {
+            rep.failures.push_back("combination " + std::to_string(c) +
+                                   ": no stochastic map (the members' map grids differ)");
+            return;
+        }
+    }
+    if (speed.empty()) return;
+    const GridSpec g = speed.front().grid();
+    RasterD p_go(g, 0.0), share(g, 0.0), p10(g, 0.0), p50(g, 0.0), p90(g, 0.0);
+    std::vector<double> v(speed.size());
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            for (std::size_t k = 0; k < speed.size(); ++k) {
+                v[k] = speed[k](i, j);
+                p_go(i, j) += go[k](i, j) > 0 ? 1.0 : 0.0;
+                share(i, j) += go[k](i, j);
+            }
+            p_go(i, j) /= static_cast<double>(speed.size());
+            share(i, j) /= static_cast<double>(speed.size());
+            std::sort(v.begin(), v.end());
+            p10(i, j) = quantile(v, 0.1);
+            p50(i, j) = quantile(v, 0.5);
+            p90(i, j) = quantile(v, 0.9);
+        }
+    char prefix[48];
+    std::snprintf(prefix, sizeof prefix, "combination_%03zu_", c);
+    const fs::path maps = dir / "maps";
+    io::create_folder(maps, "the summary's map folder");
+    auto layer = [&](RasterD& r, const std::string& name, const std::string& units) {
+        r.set_crs_wkt(speed.front().crs_wkt());
+        const fs::path f = maps / (prefix + name);
+        terrain::io::write_geotiff(r, f, units);
+        rep.files.push_back(f);
+    };
+    layer(p_go, "go_probability.tif", "1");
+    layer(share, "go_share_of_headings_mean.tif", "1");
+    layer(p10, "speed_p10_m_per_s.tif", "m/s");
+    layer(p50, "speed_p50_m_per_s.tif", "m/s");
+    layer(p90, "speed_p90_m_per_s.tif", "m/s");
+    terrain::MapFigure f;
+    f.title = "Probability of GO, combination " + std::to_string(c) + " (" +
+              std::to_string(speed.size()) + " members)";
+    f.bar_label = "probability of GO";
+    f.smooth = false;
+    const fs::path png = maps / (std::string(prefix) + "go_probability.png");
+    terrain::write_map_figure(terrain::colormap_image(p_go, 0.0, 1.0), g, f, png);
+    rep.files.push_back(png);
+}
+
 } // namespace
 
 SummaryReport write_summary(const fs::path& out, const Manifest& m) {
@@ -508,6 +572,9 @@ SummaryReport write_summary(const fs::path& out, const Manifest& m) {
     const fs::path dir = out / "summary";
     write_tables(dir, m, mt, a, histograms, rep);
     draw_pictures(m, rows, dir, rep);
+    if (m.analyses.contains("mobility_map"))
+        for (std::size_t c = 0; c < m.combinations(); ++c)
+            write_stochastic_map(out, m, c, by_comb[c], dir, rep);
     return rep;
 }
 

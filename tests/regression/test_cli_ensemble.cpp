@@ -2,6 +2,7 @@
 // under mpirun), resuming after kill -9, failing members reported, bad input refused.
 #include "ecoterra/analyses/analyses.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 #include "support/run_cli.hpp"
 
 #include <catch2/catch.hpp>
@@ -492,4 +493,71 @@ TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli]") {
                                          std::to_string(seed) + " --json direct.json");
     REQUIRE(direct.code == 0);
     CHECK(json::parse(io::read_text(d / "direct.json"))["smg_mean_m_per_s"].get<double>() == mrzr);
+}
+
+TEST_CASE("ensemble: the stochastic mobility map of each combination is its members' maps, "
+          "gathered",
+          "[ensemble][cli][map]") {
+    test::TempDir d;
+    const std::string data = test::data_dir().string();
+    json m = small_manifest("maps");
+    m["replicates"] = 4;
+    m["axes"] =
+        json::array({{{"key", "vegetation.competition"}, {"values", {"coupled", "light_only"}}}});
+    // The members share one terrain (its seed fixed), so that the cells line up; vegetation,
+    // soil water and dead wood vary with each member's seed.
+    m["set"]["terrain.generate.seed"] = 3;
+    m["analyses"] = {{"mobility_map", {{"vehicle", data + "/vehicles/mrzr4.json"}}}};
+    m["pictures"] = json::array();
+    write(d / "m.json", m);
+    const auto r = test::run(d, "ensemble m.json -o out");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const auto members = read_csv(d / "out/summary/members.csv");
+    REQUIRE(members.size() == 8);
+    for (int c = 0; c < 2; ++c) {
+        CAPTURE(c);
+        char prefix[64];
+        std::snprintf(prefix, sizeof prefix, "out/summary/maps/combination_%03d_", c);
+        const RasterD p =
+            terrain::io::read_raster(d / (std::string(prefix) + "go_probability.tif"));
+        const RasterD p10 =
+            terrain::io::read_raster(d / (std::string(prefix) + "speed_p10_m_per_s.tif"));
+        const RasterD p50 =
+            terrain::io::read_raster(d / (std::string(prefix) + "speed_p50_m_per_s.tif"));
+        const RasterD p90 =
+            terrain::io::read_raster(d / (std::string(prefix) + "speed_p90_m_per_s.tif"));
+        CHECK(fs::file_size(d / (std::string(prefix) + "go_probability.png")) > 1000);
+        // Recomputed from the members' own layers.
+        std::vector<RasterD> go, speed;
+        for (const auto& row : members)
+            if (std::stoi(row.at("combination")) == c) {
+                char name[16];
+                std::snprintf(name, sizeof name, "%06d", std::stoi(row.at("member")));
+                const fs::path md = d.path() / "out/members" / name / "mobility_map";
+                go.push_back(terrain::io::read_raster(md / "go_fraction.tif"));
+                speed.push_back(terrain::io::read_raster(md / "speed_mean_m_per_s.tif"));
+            }
+        REQUIRE(go.size() == 4);
+        for (int j = 0; j < p.ny(); ++j)
+            for (int i = 0; i < p.nx(); ++i) {
+                double n = 0, lo = 1e9, hi = -1e9;
+                for (std::size_t k = 0; k < go.size(); ++k) {
+                    n += go[k](i, j) > 0 ? 1 : 0;
+                    lo = std::min(lo, speed[k](i, j));
+                    hi = std::max(hi, speed[k](i, j));
+                }
+                CHECK(p(i, j) == Approx(n / 4));
+                CHECK(p10(i, j) >= lo - 1e-6);
+                CHECK(p10(i, j) <= p50(i, j) + 1e-6);
+                CHECK(p50(i, j) <= p90(i, j) + 1e-6);
+                CHECK(p90(i, j) <= hi + 1e-6);
+            }
+    }
+    // A manifest's mobility_map without a vehicle is refused before any member runs.
+    m["analyses"]["mobility_map"].erase("vehicle");
+    write(d / "bad.json", m);
+    const auto b = test::run(d, "ensemble bad.json -o bad");
+    CHECK(b.code == 2);
+    CHECK_THAT(b.out, Catch::Contains("mobility_map") && Catch::Contains("vehicle"));
 }

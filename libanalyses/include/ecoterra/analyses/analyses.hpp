@@ -13,6 +13,7 @@
 //   terrain    terrain_metrics()   of terrain::TerrainAnalysis, options terrain_catalog()
 #include "ecoterra/catalog.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/run/run.hpp"
@@ -31,6 +32,7 @@ const std::vector<Column<run::RunSummary>>& run_metrics();
 const std::vector<Column<eco::StandMetrics>>& stand_metrics();
 const std::vector<Column<mobility::StandMobility>>& mobility_metrics();
 const std::vector<Column<mobility::TraverseReport>>& traverse_metrics();
+const std::vector<Column<mobility::MobilityMap>>& mobility_map_metrics();
 const std::vector<Column<terrain::TerrainAnalysis>>& terrain_metrics();
 
 /// Metric values in catalogue order, named "ANALYSIS.METRIC".
@@ -82,6 +84,19 @@ struct MobilityAnalysis {
     mobility::StandLinesOptions lines_options() const;
 };
 const ParamCatalog<MobilityAnalysis>& mobility_catalog();
+
+/// Options of the mobility-map analysis (`ecoterra mobility map`, an ensemble's
+/// analyses.mobility_map: each member's map, and per combination the stochastic map of its
+/// members).
+struct MobilityMapAnalysis {
+    std::string vehicle; ///< vehicle file (required)
+    double cell_m = 0;   ///< 0: the terrain's cell
+    int headings = 8;
+    bool deadwood = true;
+    bool soil = true;
+    mobility::MapOptions map_options() const;
+};
+const ParamCatalog<MobilityMapAnalysis>& mobility_map_catalog();
 
 /// Options of the traversal analysis (`ecoterra terrain traverse`, analyses.traverse).
 struct TraverseAnalysis {

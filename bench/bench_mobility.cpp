@@ -66,6 +66,22 @@ void bench_map(const Vehicle& v, double side_m, std::size_t stems) {
                 "cells/s  %9.3g cell-headings/s  (mean %.2f m/s, GO %.1f %%)\n",
                 side_m, side_m, stems, logs.size(), m.headings_deg.size(), sec, cells / sec,
                 cells * m.headings_deg.size() / sec, m.mean_speed_m_per_s, 100 * m.go_share);
+    // A season's day: the plan (slopes and lanes) once, then the map of each day's ground.
+    const auto tp = std::chrono::steady_clock::now();
+    const MapPlan plan(v, dem, s, logs, MapOptions{});
+    const double plan_s = seconds_since(tp);
+    const int days = 5;
+    const auto td = std::chrono::steady_clock::now();
+    double mean = 0;
+    for (int d = 0; d < days; ++d) {
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) rci(i, j) = rng.uniform(60, 2000);
+        mean += plan.map(g, false).mean_speed_m_per_s / days;
+    }
+    const double day_s = seconds_since(td) / days;
+    std::printf("season: plan %7.3f s, then %7.3f s a day (%9.3g cells/s): 365 days in %.0f s "
+                "(mean %.2f m/s)\n",
+                plan_s, day_s, cells / day_s, plan_s + 365 * day_s, mean);
     const auto t1 = std::chrono::steady_clock::now();
     const Route r = fastest_route(m.speed_m_per_s, m.headings_deg, {0.1 * side_m, 0.1 * side_m},
                                   {0.9 * side_m, 0.9 * side_m});

@@ -444,6 +444,18 @@ json write_season(const mobility::MapSeason& season, const RasterD& dem, const j
     return layers;
 }
 
+/// One day of a season's summary: its rain, the map's figures and the ground's extremes.
+json season_day(const run::SeasonDay& d, const mobility::MobilityMap& m) {
+    const RasterD& w = *d.water_depth_m;
+    return {{"day_of_year", d.day_of_year},
+            {"rain_mm", d.weather->rain_mm},
+            {"mean_speed_m_per_s", m.mean_speed_m_per_s},
+            {"go_share_of_cell_headings", m.go_share},
+            {"go_share_of_cells_any_heading", m.any_go_share},
+            {"rating_cone_index_median_kpa", raster_median(*d.rci_kpa)},
+            {"standing_water_max_m", *std::max_element(w.data(), w.data() + w.size())}};
+}
+
 void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
     mobility::MapOptions opt;
     opt.cell_m = a.cell_m;
@@ -451,6 +463,7 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
     io::OutputFolder folder(a.output, a.in.force);
     mobility::MapSeason season;
     run::SeasonStand stand;
+    std::optional<mobility::MapPlan> plan;
     json days = json::array();
     Stopwatch sw;
     double map_seconds = 0;
@@ -462,6 +475,10 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
                 stand.stems.insert(stand.stems.end(), s.dead.snags.begin(), s.dead.snags.end());
             else
                 stand.dead = {};
+            // The stand is the year's start's all year: its lanes are laid out once.
+            Stopwatch t;
+            plan.emplace(v, stand.dem, stand.stems, stand.dead.logs, opt);
+            map_seconds += t.seconds();
         },
         [&](const run::SeasonDay& d) {
             mobility::GroundMaps g;
@@ -475,16 +492,7 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
                 mobility::mobility_map(v, stand.dem, stand.stems, stand.dead.logs, g, opt);
             map_seconds += t.seconds();
             season.add(m);
-            days.push_back(
-                {{"day_of_year", d.day_of_year},
-                 {"rain_mm", d.weather->rain_mm},
-                 {"mean_speed_m_per_s", m.mean_speed_m_per_s},
-                 {"go_share_of_cell_headings", m.go_share},
-                 {"go_share_of_cells_any_heading", m.any_go_share},
-                 {"rating_cone_index_median_kpa", raster_median(*d.rci_kpa)},
-                 {"standing_water_max_m",
-                  *std::max_element(d.water_depth_m->data(),
-                                    d.water_depth_m->data() + d.water_depth_m->size())}});
+            days.push_back(season_day(d, m));
         });
     const double seconds = sw.seconds();
     double go_days = 0, worst = 1;

@@ -71,10 +71,11 @@ GroundEffect VehicleGround::effect(const GroundCell& c) const {
         return e;
     }
     if (std::isnan(c.rci_kpa)) return e; // firm ground: the vehicle's own figures
-    const std::string rci = "rating cone index " + format_number(std::round(c.rci_kpa)) + " kPa";
+    // The reasons are written only for a NO-GO (formatting numbers costs more than the rest).
+    auto rci = [&] { return "rating cone index " + format_number(std::round(c.rci_kpa)) + " kPa"; };
     if (c.rci_kpa < m_vci1_kpa) {
         e.nogo = Limit::soil;
-        e.why = "soil too soft: " + rci + " below the vehicle's VCI1 of " +
+        e.why = "soil too soft: " + rci() + " below the vehicle's VCI1 of " +
                 format_number(std::round(m_vci1_kpa)) + " kPa";
         return e;
     }
@@ -82,7 +83,7 @@ GroundEffect VehicleGround::effect(const GroundCell& c) const {
     const double nt_max = bn > 0 ? brixius_max_net_traction(bn).first : -1.0;
     if (!(nt_max > 0)) {
         e.nogo = Limit::soil;
-        e.why = "soil too soft: " + rci + " gives no net traction (Brixius mobility number " +
+        e.why = "soil too soft: " + rci() + " gives no net traction (Brixius mobility number " +
                 format_number(bn) + ")";
         return e;
     }

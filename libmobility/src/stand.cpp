@@ -338,15 +338,25 @@ json to_json(const StandMobility& m, const Vehicle& v) {
     return {{"vehicle", to_json(v)}, {"lines", std::move(lines)}};
 }
 
+namespace {
+/// The stand's stems at the vehicle's push height, indexed (the counts are not needed).
+StemIndex push_height_index(const Vehicle& v, const std::vector<StandStem>& stems,
+                            const RasterD& dem) {
+    StandMobility counts;
+    counts.area_ha = dem.grid().width_m() * dem.grid().height_m() / kM2PerHa;
+    return StemIndex(stems_at_push_height(v, stems, dem.grid(), counts), std::max(v.width_m, 1.0));
+}
+} // namespace
+
+MapPlan::MapPlan(const Vehicle& v, const RasterD& dem, const std::vector<StandStem>& stems,
+                 const std::vector<Log>& logs, const MapOptions& opt)
+    : MapPlan(v, dem, push_height_index(v, stems, dem), LogIndex(logs, std::max(v.width_m, 2.0)),
+              opt) {}
+
 MobilityMap mobility_map(const Vehicle& v, const RasterD& dem, const std::vector<StandStem>& stems,
                          const std::vector<Log>& logs, const GroundMaps& ground,
                          const MapOptions& opt) {
-    StandMobility counts;
-    counts.area_ha = dem.grid().width_m() * dem.grid().height_m() / kM2PerHa;
-    const StemIndex index(stems_at_push_height(v, stems, dem.grid(), counts),
-                          std::max(v.width_m, 1.0));
-    const LogIndex log_index(logs, std::max(v.width_m, 2.0));
-    return mobility_map(v, dem, index, log_index, ground, opt);
+    return MapPlan(v, dem, stems, logs, opt).map(ground);
 }
 
 } // namespace ecoterra::mobility

@@ -27,6 +27,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,30 @@ struct MobilityMap {
     double any_go_share = 0;                       ///< share of cells GO in at least one heading
     std::array<double, kLimitKinds> limit_share{}; ///< share of cell-headings by factor
     double top_speed_m_per_s = 0; ///< the vehicle's steady speed on flat, firm, open ground
+};
+
+/// A map's part that does not depend on the ground: per cell and heading the grade, the speed on
+/// it, and the lanes (closed, free, or what they push and climb), computed once from the stems
+/// and logs (which it does not keep). map() then maps a day's ground over it: a season maps every
+/// day over one plan.
+class MapPlan {
+public:
+    MapPlan(const Vehicle& v, const RasterD& dem, const StemIndex& stems, const LogIndex& logs,
+            const MapOptions& opt);
+    /// From a stand's stems (snags included) and logs, as analyse_stand takes them.
+    MapPlan(const Vehicle& v, const RasterD& dem, const std::vector<StandStem>& stems,
+            const std::vector<Log>& logs, const MapOptions& opt);
+    ~MapPlan();
+    MapPlan(MapPlan&&) noexcept;
+    MapPlan& operator=(MapPlan&&) = delete;
+    const GridSpec& grid() const;
+    /// The map on this ground (on the terrain's grid; empty: firm, dry ground). Without
+    /// `per_heading` the per-heading rasters are left empty (a season needs only the means).
+    MobilityMap map(const GroundMaps& ground, bool per_heading = true) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m;
 };
 
 /// The mobility map of `v` over `dem` with its stems (snags included), logs (and root plates) and

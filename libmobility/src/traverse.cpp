@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace ecoterra::mobility {
@@ -15,10 +16,24 @@ namespace {
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 /// Points sampled along the belly, between the axles.
 constexpr int kBellySamples = 5;
+/// Points across a tyre's width where its envelope is taken.
+constexpr int kTyreWidthSamples = 3;
+/// Rim samples on either side of a wheel's bottom, evenly in angle to kRimMaxRad.
+constexpr int kRimSamples = 17;
+constexpr double kRimMaxRad = 85.0 * std::numbers::pi / 180;
+/// The climb is checked at least this often, as a fraction of the terrain's cell (a wheel meets
+/// a step's edge at its steepest only for an instant).
+constexpr double kClimbStepOfCell = 0.2;
 
 struct Pose {
     double z_m = 0, pitch_rad = 0, roll_rad = 0;
     bool belly_touches = false;
+    /// The steepest face (rise over run, against the chassis) the chassis's lower front edge
+    /// meets; 0 where it meets none.
+    double bumper_face_slope = 0;
+    /// The mean over the wheels (each carrying a quarter of the weight) of tan(phi), phi the
+    /// angle from the vertical at which the ground pushes back on the wheel.
+    double push_slope = 0;
 };
 
 } // namespace
@@ -47,6 +62,9 @@ public:
           m_uy((m.goal_y_m - m.start_y_m) / length) {}
     /// The pose with the vehicle's centre `s` m along the mission.
     Pose at(double s) const;
+    /// The mean over the four wheels of tan(phi) with the vehicle's centre `s` m along (the
+    /// tyres' centre lines only: the climb is checked more often than the pose is taken).
+    double push_slope(double s) const;
 
 private:
     double height(double x, double y) const {
@@ -56,41 +74,143 @@ private:
                              format_number(x) + ", " + format_number(y) + ")");
         return z;
     }
+    /// The height of the bottom of a wheel centred over (x, y), heading (ux, uy), m, and in
+    /// `push` tan(phi) of its contact; `widths` points across the tyre.
+    double wheel(double x, double y, double ux, double uy, double& push,
+                 int widths = kTyreWidthSamples) const;
     const Vehicle& m_v;
     const RasterD& m_dem;
     const MissionLine& m_m;
     double m_ux, m_uy; ///< forward; left is (-uy, ux)
 };
 
+double PoseSampler::wheel(double x, double y, double ux, double uy, double& push,
+                          int widths) const {
+    // The rolling circle's envelope: the lowest the wheel's bottom can be with its rim above the
+    // ground everywhere along its chord and across its width (a wheel bridges pits narrower than
+    // its chord and rides up a step before its axle is over it).
+    const double r = m_v.wheel_radius_m, b = m_v.tyre_width_m, nx = -uy, ny = ux;
+    double top = -std::numeric_limits<double>::infinity(), contact = 0;
+    // The rim sampled evenly in angle (the contact's angle decides the force), to 85 deg either
+    // side of the bottom.
+    for (int a = -kRimSamples; a <= kRimSamples; ++a) {
+        const double phi = kRimMaxRad * a / kRimSamples;
+        const double t = r * std::sin(phi), rise = r - r * std::cos(phi);
+        for (int w = 0; w < widths; ++w) {
+            const double o = widths == 1 ? 0.0 : b * (w / (widths - 1.0) - 0.5);
+            const double z = height(x + t * ux + o * nx, y + t * uy + o * ny) - rise;
+            // The contact: the highest; among equals, the nearest below the axle.
+            if (z > top + 1e-12 || (z > top - 1e-12 && std::abs(t) < std::abs(contact)))
+                top = z, contact = t;
+        }
+    }
+    // The contact t ahead of the axle pushes back at the angle phi from the vertical, sin(phi) =
+    // t/r: rolling the wheel up takes tan(phi) times its load (a plane's grade; a step's edge).
+    const double c = std::clamp(contact, -0.999 * r, 0.999 * r);
+    push = c / std::sqrt(r * r - c * c);
+    return top;
+}
+
+double PoseSampler::push_slope(double s) const {
+    const double ux = m_ux, uy = m_uy, nx = -uy, ny = ux;
+    const double half_l = 0.5 * m_v.wheelbase_m, half_t = 0.5 * m_v.track_m;
+    const double cx = m_m.start_x_m + s * ux, cy = m_m.start_y_m + s * uy;
+    double sum = 0, push = 0;
+    for (const double a : {half_l, -half_l})
+        for (const double o : {half_t, -half_t}) {
+            wheel(cx + a * ux + o * nx, cy + a * uy + o * ny, ux, uy, push, 1);
+            sum += push;
+        }
+    return 0.25 * sum;
+}
+
 Pose PoseSampler::at(double s) const {
     const double ux = m_ux, uy = m_uy, nx = -uy, ny = ux;
     const double half_l = 0.5 * m_v.wheelbase_m, half_t = 0.5 * m_v.track_m;
     const double cx = m_m.start_x_m + s * ux, cy = m_m.start_y_m + s * uy;
-    const double fl = height(cx + half_l * ux + half_t * nx, cy + half_l * uy + half_t * ny);
-    const double fr = height(cx + half_l * ux - half_t * nx, cy + half_l * uy - half_t * ny);
-    const double rl = height(cx - half_l * ux + half_t * nx, cy - half_l * uy + half_t * ny);
-    const double rr = height(cx - half_l * ux - half_t * nx, cy - half_l * uy - half_t * ny);
+    double push[4];
+    const double fl =
+        wheel(cx + half_l * ux + half_t * nx, cy + half_l * uy + half_t * ny, ux, uy, push[0]);
+    const double fr =
+        wheel(cx + half_l * ux - half_t * nx, cy + half_l * uy - half_t * ny, ux, uy, push[1]);
+    const double rl =
+        wheel(cx - half_l * ux + half_t * nx, cy - half_l * uy + half_t * ny, ux, uy, push[2]);
+    const double rr =
+        wheel(cx - half_l * ux - half_t * nx, cy - half_l * uy - half_t * ny, ux, uy, push[3]);
     Pose p;
     p.z_m = 0.25 * (fl + fr + rl + rr);
+    p.push_slope = 0.25 * (push[0] + push[1] + push[2] + push[3]);
     p.pitch_rad = std::atan2(0.5 * (fl + fr - rl - rr), m_v.wheelbase_m);
     p.roll_rad = std::atan2(0.5 * (fl + rl - fr - rr), m_v.track_m);
+    const double slope = 0.5 * (fl + fr - rl - rr) / m_v.wheelbase_m;
     // The belly: the centre line between the axles against the contact plane there.
     for (int k = 0; k < kBellySamples && !p.belly_touches; ++k) {
         const double t = -half_l + (k + 0.5) * m_v.wheelbase_m / kBellySamples;
-        const double plane = p.z_m + t * 0.5 * (fl + fr - rl - rr) / m_v.wheelbase_m;
+        const double plane = p.z_m + t * slope;
         p.belly_touches = height(cx + t * ux, cy + t * uy) > plane + m_v.ground_clearance_m;
+    }
+    // The chassis's lower front edge: the overhang ahead of the front wheels' rims at the
+    // clearance's height; where the ground rises above it, the face it meets.
+    const double overhang = 0.5 * (m_v.length_m - m_v.wheelbase_m);
+    const double d = 0.5 * m_dem.grid().cell_size_m;
+    for (int k = 1; k <= 2 && overhang > m_v.wheel_radius_m; ++k) {
+        const double t = half_l + m_v.wheel_radius_m + (overhang - m_v.wheel_radius_m) * k / 2;
+        for (const double o : {-half_t, 0.0, half_t}) {
+            const double x = cx + t * ux + o * nx, y = cy + t * uy + o * ny;
+            if (height(x, y) <= p.z_m + t * slope + m_v.ground_clearance_m) continue;
+            const double face =
+                (height(x + d * ux, y + d * uy) - height(x - d * ux, y - d * uy)) / (2 * d) - slope;
+            p.bumper_face_slope = std::max(p.bumper_face_slope, face);
+        }
     }
     return p;
 }
 
 /// Why a pose ends the mission (nullptr: it does not).
-const char* failure_of(const Pose& p, const Vehicle& v, double tip_rad) {
+const char* failure_of(const Pose& p, const Vehicle& v, double tip_rad, double traction) {
     if (std::abs(p.pitch_rad) > tip_rad || std::abs(p.roll_rad) > tip_rad) return "tip-over";
     if (p.pitch_rad > v.max_climb_deg / kDegPerRad) return "climb limit";
     if (std::abs(p.roll_rad) > v.max_side_slope_deg / kDegPerRad) return "side-slope limit";
     if (p.belly_touches) return "high-centred";
+    // The chassis's lower front edge on a face it cannot slide up (steeper than 1/mu).
+    if (p.bumper_face_slope > 1 / traction) return "bumper";
     return nullptr;
 }
+
+/// The traction-limited climb (docs/mobility.md s6), quasi-static: the force that rolls the wheels
+/// up their contacts (a quarter of the weight times tan(phi) at each: a plane's grade, or a step's
+/// edge, steepest at first contact) plus the rolling and soil resistance, against the tractive
+/// force the ground lets the wheels give. More needed than given: the vehicle stalls, and from
+/// rest, as paper 000's "stuck" (less than 0.2 m in 30 s) finds it, momentum cannot help.
+class Climb {
+public:
+    Climb(const Vehicle& v, double speed, const GroundMaps& ground)
+        : m_v(v), m_ground(ground), m_vg(v), m_speed(speed) {}
+    /// The traction coefficient of the ground at `at`, or the reason it stops the vehicle.
+    const char* ground(Point at, GroundEffect& g) const {
+        g = GroundEffect{};
+        g.traction_coefficient = m_v.traction_coefficient;
+        if (m_ground.empty()) return nullptr;
+        g = m_vg.effect(m_ground.at(at.x_m, at.y_m));
+        if (g.nogo == Limit::water) return "water";
+        return g.go() ? nullptr : "stuck (soil)";
+    }
+    /// With the wheels' mean tan(phi) `push` and the pitch on ground `g`: "stuck" where it
+    /// stalls, or nullptr.
+    const char* step(double push, double pitch, const GroundEffect& g) const {
+        const double w = m_v.weight_n(), cos_p = std::cos(pitch);
+        const double need = w * cos_p * (push + m_v.rolling_resistance + g.soil_resistance);
+        const double give = std::min(m_v.tractive_force_at(m_speed, g.traction_coefficient),
+                                     g.traction_coefficient * w * cos_p);
+        return need > give ? "stuck" : nullptr;
+    }
+
+private:
+    const Vehicle& m_v;
+    const GroundMaps& m_ground;
+    VehicleGround m_vg;
+    double m_speed;
+};
 
 /// RMS vertical acceleration (second differences of z) and pitch and roll rates of the poses,
 /// `dt` s apart.
@@ -126,18 +246,34 @@ TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine&
     const double speed = opt.speed_m_per_s > 0 ? opt.speed_m_per_s : v.top_speed_m_per_s;
     if (!(opt.dt_s > 0)) throw InputError("the pose interval must be > 0 s");
     const PoseSampler pose(v, dem, m, length);
+    const double cell = dem.grid().cell_size_m;
     const double step = speed * opt.dt_s;
     const int n = static_cast<int>(std::floor(length / step + 1e-9));
     const double tip = std::min(v.tip_over_deg, opt.tip_over_limit_deg) / kDegPerRad;
     std::vector<Pose> poses;
+    Climb climb(v, speed, opt.ground);
     for (int k = 0; k <= n; ++k) {
         const double s = std::min(k * step, length);
         const Pose p = pose.at(s);
         r.max_abs_pitch_deg = std::max(r.max_abs_pitch_deg, std::abs(p.pitch_rad) * kDegPerRad);
         r.max_abs_roll_deg = std::max(r.max_abs_roll_deg, std::abs(p.roll_rad) * kDegPerRad);
-        if (const char* why = failure_of(p, v, tip)) {
+        GroundEffect g;
+        const char* why =
+            climb.ground({m.start_x_m + s * dx / length, m.start_y_m + s * dy / length}, g);
+        if (!why) why = failure_of(p, v, tip, g.traction_coefficient);
+        // The climb between this pose and the next, checked every fifth of a cell.
+        const double next = std::min((k + 1) * step, length);
+        const int sub =
+            k < n ? std::max(1, static_cast<int>(std::ceil((next - s) / (kClimbStepOfCell * cell))))
+                  : 1;
+        for (int q = 0; q < sub && !why; ++q) {
+            const double at = s + (next - s) * q / sub;
+            why = climb.step(q == 0 ? p.push_slope : pose.push_slope(at), p.pitch_rad, g);
+            if (why) r.failed_at_m = at;
+        }
+        if (why) {
             r.failure = why;
-            r.failed_at_m = s;
+            if (std::string(why) != "stuck") r.failed_at_m = s;
             return r;
         }
         poses.push_back(p);
@@ -192,8 +328,9 @@ nlohmann::json to_json(const TraverseReport& rep, const Vehicle& v) {
         records.push_back(std::move(j));
     }
     return {{"vehicle", to_json(v)},
-            {"model", "kinematic proxy: quasi-static four-wheel pose on the heightmap every "
-                      "0.05 s at constant speed, no dynamics"},
+            {"model", "quasi-static proxy: four wheels resting by their rims on the heightmap, "
+                      "pose every 0.05 s at constant speed, traction-limited climb, belly and "
+                      "front-edge contact; no dynamics (docs/mobility.md s6)"},
             {"records", std::move(records)}};
 }
 

@@ -303,15 +303,63 @@ TEST_CASE("traversal: planes, a corrugation and a bar against their closed forms
     const double expect = A * std::abs(std::cos(k * v.wheelbase_m / 2)) * k * k / std::sqrt(2.0);
     CHECK(wave.rms_vertical_acceleration_m_per_s2 == Approx(expect).epsilon(0.02));
     CHECK(wave.rms_roll_rate_deg_per_s == Approx(0).margin(1e-9));
-    // A bar 20 cm high and 15 cm wide across the path: it passes between the axles and lifts the
-    // belly (clearance 13 cm).
+    // A bar 20 cm high and 15 cm wide across the path: its vertical face meets the chassis's
+    // front edge (13 cm up, 0.495 m ahead of the centre) before the wheels reach it.
     const auto bar = traverse(
         v, surface([](double x, double) { return std::abs(x - 10) < 0.075 ? 0.2 : 0.0; }), east);
-    CHECK(bar.failure == "high-centred");
-    CHECK(bar.failed_at_m == Approx(8).margin(0.3));
+    CHECK(bar.failure == "bumper");
+    CHECK(bar.failed_at_m == Approx(10 - 0.075 - 0.495 - 2).margin(0.06));
+    // A smooth ridge 20 cm high and 0.6 m wide (faces up to 1.05, which the front edge slides up
+    // and the wheels climb): it passes between the axles and lifts the belly.
+    const auto ridge =
+        traverse(v, surface([](double x, double) {
+                     const double u = std::numbers::pi * (x - 10) / 0.6;
+                     return std::abs(x - 10) < 0.3 ? 0.2 * std::cos(u) * std::cos(u) : 0.0;
+                 }),
+                 east);
+    CHECK(ridge.failure == "high-centred");
+    CHECK(ridge.failed_at_m == Approx(8).margin(0.3));
     // Off the terrain.
     CHECK_THROWS_WITH(traverse(v, surface([](double, double) { return 0.0; }), {2, 2, 10, 30, 10}),
                       Catch::Contains("leaves the terrain"));
+}
+
+TEST_CASE("traversal: a step stalls the vehicle when pushing a wheel up its edge takes more "
+          "traction than the ground gives",
+          "[mobility][traverse]") {
+    Vehicle v = husky(); // wheel radius 0.165 m, traction 0.7, rolling 0.03
+    const MissionLine east{1, 2, 10, 18, 10};
+    auto step = [](double h) {
+        return surface([h](double x, double) { return x >= 10 ? h : 0.0; });
+    };
+    // A wheel pushed against a step of height h rises at tan(phi), cos(phi) = (r - h)/r: both
+    // front wheels at once lift the mean of the four at tan(phi)/2. An 8 cm step: tan(phi) =
+    // 1.66, 0.83 + 0.03 of the weight needed against 0.7 given: stuck where the front wheels
+    // meet it. A 4 cm step: 0.43 + 0.03: it climbs.
+    const auto high = traverse(v, step(0.08), east);
+    CHECK(high.failure == "stuck");
+    CHECK(high.failed_at_m == Approx(10 - 0.256 - 2).margin(0.2));
+    CHECK(traverse(v, step(0.04), east).success);
+    // With grip enough (1.2 > 0.86) the 8 cm step is climbed.
+    v.traction_coefficient = 1.2;
+    v.tractive_force_n = {{0, 1.2 * v.weight_n()}, {1, 1.2 * v.weight_n()}};
+    CHECK(traverse(v, step(0.08), east).success);
+    // The ground: a band softer than the Husky's net traction (Brixius: ~19 kPa) stalls it, and
+    // water deeper than its fording depth (its clearance, 0.13 m) stops it.
+    const RasterD flat = surface([](double, double) { return 0.0; });
+    RasterD rci(flat.grid(), 500.0), water(flat.grid(), 0.0);
+    for (int j = 0; j < rci.ny(); ++j)
+        for (int i = 240; i < 260; ++i) rci(i, j) = 10;
+    TraverseOptions opt;
+    opt.ground.rci_kpa = &rci;
+    const auto soft = traverse(husky(), flat, east, opt);
+    CHECK(soft.failure == "stuck (soil)");
+    CHECK(soft.failed_at_m == Approx(12 - 2).margin(0.06));
+    opt.ground.rci_kpa = nullptr;
+    for (int j = 0; j < rci.ny(); ++j)
+        for (int i = 100; i < 110; ++i) water(i, j) = 0.2;
+    opt.ground.water_depth_m = &water;
+    CHECK(traverse(husky(), flat, east, opt).failure == "water");
 }
 
 TEST_CASE("traversal: missions files are read by their header, bad values are named",

@@ -1,15 +1,17 @@
 #pragma once
-// Terrain traversal without a game engine (docs/mobility.md s6): a kinematic proxy, not a physics
-// engine. Along a straight mission the vehicle's quasi-static pose is taken every `dt` at its
-// speed: the four wheel contacts (+-L/2 along, +-T/2 across) on the heightmap (bilinear), pitch
-// = atan2((z_FL + z_FR - z_RL - z_RR) / 2, L), roll = atan2((z_FL + z_RL - z_FR - z_RR) / 2, T),
-// chassis height = the mean of the four. A mission fails at the first pose whose |pitch| or
-// |roll| passes the tip-over angle (and the paper's 75 degrees), whose pitch passes the climb
-// limit, whose |roll| passes the side-slope limit, or whose belly (the centre line between the
-// axles) touches the ground (terrain above the wheel-contact plane by more than the ground
-// clearance). For a successful mission: the RMS vertical acceleration (second differences of the
-// chassis height), the RMS pitch and roll rates (first differences), as Majhor & Bos (paper 000)
-// defines them at its 20 Hz, and the traversal time.
+// Terrain traversal without a game engine (docs/mobility.md s6): a quasi-static proxy, not a
+// physics engine. Along a straight mission the vehicle's pose is taken every `dt` at its speed:
+// each wheel rests where its rim clears the heightmap (bilinear) along its chord and across its
+// width, pitch and roll from the four, chassis height their mean. A mission fails at the first
+// pose whose |pitch| or |roll| passes the tip-over angle (and the paper's 75 degrees), whose pitch
+// passes the climb limit, whose |roll| passes the side-slope limit, whose belly touches the ground
+// ("high-centred"), whose chassis front edge meets a face it cannot slide up ("bumper"), or where
+// rolling the wheels up their contacts takes more than the traction gives ("stuck"; checked every
+// fifth of a cell). For a successful mission: the RMS vertical acceleration (second differences of
+// the chassis height), the RMS pitch and roll rates (first differences), as Majhor & Bos (paper
+// 000) defines them at its 20 Hz, and the traversal time.
+#include "ecoterra/mobility/ground.hpp"
+#include "ecoterra/mobility/smg.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/raster.hpp"
 
@@ -34,12 +36,14 @@ struct TraverseOptions {
     double dt_s = 0.05;             ///< pose interval (paper 000 logs at 20 Hz)
     double speed_m_per_s = 0;       ///< 0: the vehicle's top speed
     double tip_over_limit_deg = 75; ///< the paper's criterion, besides the vehicle's own
+    GroundMaps ground; ///< soil strength and standing water (ground.hpp); empty: firm and dry
 };
 
 struct TraverseResult {
     int id = 0;
     bool success = false;
-    std::string failure;    ///< tip-over, climb limit, side-slope limit, high-centred
+    std::string failure; ///< tip-over, climb limit, side-slope limit, high-centred, bumper, stuck,
+                         ///< stuck (soil), water
     double failed_at_m = 0; ///< distance along the mission of the failing pose
     double distance_m = 0, time_s = 0;
     double rms_vertical_acceleration_m_per_s2 = 0;

@@ -83,3 +83,93 @@ TEST_CASE("mobility map --season: a year replayed day by day is the run's own ye
     r = test::run(dir, "mobility map plain.h5 --vehicle " + veh + " --year 4 -o c --no-pictures");
     CHECK(r.code == 0);
 }
+
+namespace {
+
+/// Two calendar years of observed weather: mild and nearly dry, but for a week of 80 mm a day
+/// from day 150 of the second year.
+std::string wet_week_csv() {
+    std::string s = "date,tmin_c,tmax_c,rain_mm\n";
+    const int month_days[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    int doy = 0;
+    for (const int year : {2021, 2022})
+        for (int m = 0; m < 12; ++m)
+            for (int d = 1; d <= month_days[m]; ++d) {
+                ++doy;
+                const int day = doy - (year == 2022 ? 365 : 0);
+                const bool wet = year == 2022 && day >= 150 && day < 157;
+                char row[64];
+                std::snprintf(row, sizeof row, "%d-%02d-%02d,14,26,%s\n", year, m + 1, d,
+                              wet ? "80" : (d % 10 == 0 ? "3" : "0"));
+                s += row;
+            }
+    return s;
+}
+
+} // namespace
+
+TEST_CASE("mobility map --season: after a week of heavy rain a heavy truck bogs down on flat "
+          "loam and drives again as it dries, never on sand, and the light MRZR only slows",
+          "[mobility][map][season][cli][soil]") {
+    test::TempDir dir;
+    std::ofstream(dir / "weather.csv") << wet_week_csv();
+    // 30 t on three axles of 1 m tyres 0.3 m wide: VCI1 ~510 kPa (docs/mobility.md s9).
+    std::ofstream(dir / "truck.json") << R"({"name": "30 t truck", "mass_kg": 30000,
+        "width_m": 2.5, "length_m": 8, "wheelbase_m": 5, "track_m": 2.0, "wheel_radius_m": 0.5,
+        "ground_clearance_m": 0.4, "tyre_width_m": 0.3, "axles": 3, "tyres_per_axle": 2,
+        "tractive_force_n": [[0, 150000], [10, 150000], [25, 0]], "top_speed_m_per_s": 20})";
+    auto season = [&](const std::string& name, double sand, double silt, double clay,
+                      const std::string& vehicle) {
+        auto scene = test::small_scene(2);
+        scene["terrain"]["generate"]["params"]["rms_m"] = 0.005; // flat
+        scene["soil"]["uniform"] = {
+            {"sand_pct", sand}, {"silt_pct", silt}, {"clay_pct", clay}, {"ph", 6.2}};
+        scene["climate"] = {{"preset", "humid_subtropical"}, {"csv", "weather.csv"}};
+        scene["vegetation"]["initial"] = "bare";
+        std::ofstream(dir / (name + ".json")) << scene.dump(2);
+        if (!std::filesystem::exists(dir / (name + ".h5")))
+            REQUIRE(test::run(dir, "run " + name + ".json -o " + name + ".h5 --no-pictures").code ==
+                    0);
+        const auto r = test::run(dir, "mobility map " + name + ".h5 --vehicle " + vehicle +
+                                          " --season --year 2 --no-pictures -o " + name + "_" +
+                                          std::filesystem::path(vehicle).stem().string());
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        return json::parse(
+            io::read_text(dir / (name + "_" + std::filesystem::path(vehicle).stem().string()) /
+                          "summary.json"))["days"];
+    };
+    const json loam = season("loam", 40, 40, 20, "truck.json");
+    REQUIRE(loam.size() == 365);
+    auto go = [](const json& days, int doy) {
+        return days[static_cast<std::size_t>(doy - 1)]["go_share_of_cell_headings"].get<double>();
+    };
+    CHECK(go(loam, 140) == 1); // dry: GO everywhere
+    double worst = 1;
+    int first_nogo = 0, back = 0;
+    for (int d = 150; d <= 365; ++d) {
+        worst = std::min(worst, go(loam, d));
+        if (!first_nogo && go(loam, d) < 1) first_nogo = d;
+        if (first_nogo && !back && go(loam, d) == 1) back = d;
+    }
+    CHECK(worst == 0);        // the whole flat field bogs down
+    CHECK(first_nogo >= 150); // after the rain began, not before
+    CHECK(first_nogo <= 157);
+    CHECK(back > first_nogo); // and drives again as it dries
+    // The soil's median rating cone index falls with the rain and recovers.
+    auto rci = [&](const json& days, int doy) {
+        return days[static_cast<std::size_t>(doy - 1)]["rating_cone_index_median_kpa"]
+            .get<double>();
+    };
+    CHECK(rci(loam, 157) < rci(loam, 140));
+    CHECK(rci(loam, back) > rci(loam, 157));
+    // Sand firms as it wets (Sullivan & Anderson): the truck goes all year.
+    const json sand = season("sand", 92, 5, 3, "truck.json");
+    for (int d = 1; d <= 365; ++d) CHECK(go(sand, d) == 1);
+    // The MRZR (VCI1 98 kPa) never bogs down in loam, but the wet soil slows it.
+    const json light =
+        season("loam", 40, 40, 20, (test::data_dir() / "vehicles/mrzr4.json").string());
+    for (int d = 1; d <= 365; ++d) CHECK(go(light, d) == 1);
+    CHECK(light[156]["mean_speed_m_per_s"].get<double>() <
+          light[139]["mean_speed_m_per_s"].get<double>());
+}

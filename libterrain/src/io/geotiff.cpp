@@ -101,6 +101,37 @@ Dataset utm_view(GDALDatasetH ds, const std::string& where, std::string& note) {
 
 } // namespace
 
+namespace {
+
+/// Cells a dataset's files may declare per byte they hold: far beyond DEFLATE's ~1000:1 on
+/// float32 (258 cells a byte) and what LERC or ZSTD reach on real terrain.
+constexpr double kMaxCellsPerByte = 1e4;
+/// Rasters up to this many cells (1 GiB at 16 bytes a cell) are read whatever their size on disk.
+constexpr double kSmallRasterCells = 67108864.0;
+
+/// A header may declare far more cells than its files hold data for (fuzzing found a 294-byte
+/// GeoTIFF of 16,385 x 64,261 cells whose tiles are missing: GDAL reads it as empty, after
+/// ecoterra has allocated 8 GB for it; fuzz/crashes/geotiff/huge_raster_no_data_oom.tif).
+void check_declared_size(GDALDatasetH ds, const GridSpec& g, const std::string& where) {
+    const double cells = static_cast<double>(g.size());
+    if (cells <= kSmallRasterCells) return;
+    double bytes = 0;
+    char** files = GDALGetFileList(ds);
+    for (char** f = files; f && *f; ++f) {
+        std::error_code ec;
+        const auto n = std::filesystem::file_size(*f, ec);
+        if (!ec) bytes += static_cast<double>(n);
+    }
+    CSLDestroy(files);
+    if (bytes > 0 && cells > kMaxCellsPerByte * bytes)
+        throw InputError(where + ": the header declares " + std::to_string(g.nx) + " x " +
+                         std::to_string(g.ny) + " cells, but its files hold only " +
+                         std::to_string(static_cast<long long>(bytes)) +
+                         " bytes; the file is damaged or truncated");
+}
+
+} // namespace
+
 RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* warnings) {
     init_gdal();
     QuietGdal quiet;
@@ -135,6 +166,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
                dy < 0 ? gt[3] + ny * dy : gt[3]};
     g.validate(where);
     ensure_fits_in_memory(g.size(), 16.0, where);
+    check_declared_size(source.get(), g, where);
     if (warnings && !reprojected.empty()) warnings->push_back(reprojected);
     GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     // GDAL decodes whole blocks (strips or tiles) holding every band of a pixel-interleaved

@@ -294,6 +294,13 @@ void check_map_inputs(const MapArgs& a) {
     claim_output("-o", a.output, a.in.force);
 }
 
+/// Writes `r` as the GeoTIFF `name` of the folder and lists it (file, units, what) in `layers`.
+void write_layer(io::OutputFolder& folder, json& layers, const RasterD& r, const std::string& name,
+                 const std::string& units, const std::string& what) {
+    terrain::io::write_geotiff(r, folder.staged_path(name), units);
+    layers.push_back({{"file", name}, {"units", units}, {"what", what}});
+}
+
 /// A categorical raster as GeoTIFF values (its nodata code as NaN).
 RasterD codes(const RasterU8& r) {
     RasterD out(r.grid());
@@ -309,10 +316,9 @@ RasterD codes(const RasterU8& r) {
 json write_map(const mobility::MobilityMap& m, const RasterD& dem, bool pictures,
                io::OutputFolder& folder) {
     json layers = json::array();
-    auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
-                     const std::string& what) {
-        terrain::io::write_geotiff(r, folder.staged_path(name), units);
-        layers.push_back({{"file", name}, {"units", units}, {"what", what}});
+    const auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
+                           const std::string& what) {
+        write_layer(folder, layers, r, name, units, what);
     };
     layer(m.speed_mean_m_per_s, "speed_mean_m_per_s.tif", "m/s",
           "mean over the headings of the steady speed across the cell (NO-GO as 0)");
@@ -395,7 +401,7 @@ void run_mobility_map(const MapArgs& given) {
                 a.output.c_str(), a.in.no_pictures ? "" : " and speed.png, limiting_factor.png");
 }
 
-/// The share of a raster's finite cells' values, its median.
+/// The median of a raster's finite cells (NaN when none is).
 double raster_median(const RasterD& r) {
     std::vector<double> v;
     for (int j = 0; j < r.ny(); ++j)
@@ -407,13 +413,12 @@ double raster_median(const RasterD& r) {
 }
 
 /// Writes the season's layers and pictures; returns the layers' list.
-json write_season(const mobility::MapSeason& season, const RasterD& dem, const json& days,
-                  bool pictures, io::OutputFolder& folder) {
+json write_season(const mobility::MapSeason& season, const json& days, bool pictures,
+                  io::OutputFolder& folder) {
     json layers = json::array();
-    auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
-                     const std::string& what) {
-        terrain::io::write_geotiff(r, folder.staged_path(name), units);
-        layers.push_back({{"file", name}, {"units", units}, {"what", what}});
+    const auto layer = [&](const RasterD& r, const std::string& name, const std::string& units,
+                           const std::string& what) {
+        write_layer(folder, layers, r, name, units, what);
     };
     const RasterD go = season.go_share_of_days();
     layer(go, "go_share_of_days.tif", "1", "share of the year's days GO in at least one heading");
@@ -440,7 +445,6 @@ json write_season(const mobility::MapSeason& season, const RasterD& dem, const j
     run::draw_line_plot({speed, share, rain}, "The year day by day", "day of year",
                         "m/s; GO share x 10; rain (cm)", "the map's daily means",
                         folder.staged_path("season_daily.png"));
-    (void)dem;
     return layers;
 }
 
@@ -515,7 +519,7 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
     j["cell_size_m"] = season.go_share_of_days().grid().cell_size_m;
     j["headings"] = a.headings;
     j["days"] = days;
-    j["layers"] = write_season(season, stand.dem, days, !a.in.no_pictures, folder);
+    j["layers"] = write_season(season, days, !a.in.no_pictures, folder);
     j["vehicle"] = mobility::to_json(v);
     j["source"] = {{"run", a.in.run},
                    {"deadwood_included", !a.in.no_deadwood},

@@ -90,7 +90,13 @@ const ParamCatalog<MultifractalParams>& multifractal_fields() {
                    "Gaussian low-pass standard deviation (0 = no filter)"),
          number<P>("relief_m", &P::relief_m, "m", 0, kInf, "total relief (max - min), > 0"),
          number<P>("base_elevation_m", &P::base_elevation_m, "m", -kInf, kInf,
-                   "elevation of the lowest cell")});
+                   "elevation of the lowest cell"),
+         choice<P>("layer_scaling", &P::layer_scaling,
+                   std::vector<std::pair<std::string, LayerScaling>>{
+                       {"zero_mean", LayerScaling::zero_mean},
+                       {"unit_interval", LayerScaling::unit_interval}},
+                   "each layer before the product: zero mean and peak 1 (the paper's text), or "
+                   "[0, 1] (no flat bands where a layer crosses zero)")});
     return c;
 }
 

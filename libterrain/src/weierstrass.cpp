@@ -211,10 +211,18 @@ MultifractalResult multifractal_generate(const GridSpec& grid, const Multifracta
         WMResult w = wm_generate(grid, *layers[k], seed, static_cast<std::uint64_t>(k));
         for (auto& s : w.warnings) res.warnings.push_back("layer " + std::to_string(k) + ": " + s);
         RasterD f = gaussian_filter(w.z, p.filter_sigma_m);
-        const double mean = f.array().mean();
-        f.array() -= mean;
-        const double peak = f.array().abs().maxCoeff();
-        if (peak > 0.0) f.array() /= peak;
+        if (p.layer_scaling == LayerScaling::unit_interval) {
+            const double lo = f.array().minCoeff(), hi = f.array().maxCoeff();
+            if (hi > lo)
+                f.array() = (f.array() - lo) / (hi - lo);
+            else
+                f.array() = 1.0; // a flat layer leaves the product alone
+        } else {
+            const double mean = f.array().mean();
+            f.array() -= mean;
+            const double peak = f.array().abs().maxCoeff();
+            if (peak > 0.0) f.array() /= peak;
+        }
         product.array() *= f.array();
         if (keep_layers) res.layers[static_cast<std::size_t>(k)] = std::move(f);
     }

@@ -28,6 +28,40 @@ TEST_CASE("Multifractal layers are zero-mean in [-1, 1] and the result spans the
     CHECK(r.z(17, 23) == Approx(100.0 + 4.0 * (prod(23, 17) - lo) / (hi - lo)));
 }
 
+TEST_CASE("Multifractal layers scaled to [0, 1] keep the product positive, without the flat "
+          "bands where zero-mean layers cross zero",
+          "[multifractal]") {
+    const GridSpec g{200, 160, 0.05, 0, 0};
+    MultifractalParams p = majhor2023_params(2.6);
+    p.relief_m = 4.0;
+    const auto zero = multifractal_generate(g, p, 3, true);
+    p.layer_scaling = LayerScaling::unit_interval;
+    const auto unit = multifractal_generate(g, p, 3, true);
+    for (std::size_t k = 0; k < 3; ++k) {
+        CHECK(unit.layers[k].array().minCoeff() == Approx(0.0).margin(1e-12));
+        CHECK(unit.layers[k].array().maxCoeff() == Approx(1.0));
+        // The same layer, affinely mapped: the zero-mean one's shape.
+        const auto& a = zero.layers[k].array();
+        const double lo = a.minCoeff(), hi = a.maxCoeff();
+        CHECK(unit.layers[k](17, 23) == Approx((zero.layers[k](17, 23) - lo) / (hi - lo)));
+    }
+    const RasterD::Array prod =
+        unit.layers[0].array() * unit.layers[1].array() * unit.layers[2].array();
+    CHECK(prod.minCoeff() >= 0.0);
+    const double lo = prod.minCoeff(), hi = prod.maxCoeff();
+    CHECK(unit.z(40, 90) == Approx(4.0 * (prod(90, 40) - lo) / (hi - lo)));
+    // Flat bands: cells whose product is within 1e-4 of the relief's value at a layer's zero.
+    // Zero-mean layers pin the product to 0 along every layer's zero crossing; [0, 1] layers
+    // only at each layer's single minimum.
+    auto near_zero = [](const RasterD::Array& a) {
+        const double span = a.maxCoeff() - a.minCoeff();
+        return (a.abs() < 1e-4 * span).count();
+    };
+    const RasterD::Array zprod =
+        zero.layers[0].array() * zero.layers[1].array() * zero.layers[2].array();
+    CHECK(near_zero(zprod) > 10 * std::max<Eigen::Index>(near_zero(prod), 1));
+}
+
 TEST_CASE("Multifractal parameters are checked", "[multifractal][errors]") {
     MultifractalParams p;
     p.relief_m = 0;

@@ -72,9 +72,14 @@ WMResult wm_generate(const GridSpec& grid, const WMParams& p, const Eigen::Matri
 WMResult wm_generate(const GridSpec& grid, const WMParams& p, std::uint64_t seed,
                      std::uint64_t stream = 0);
 
+/// How each layer is rescaled before the product: to zero mean and a maximum absolute value of 1
+/// (the paper's text: "scaled near the same range and with zero mean"), or to [0, 1] (its min to
+/// 0, its max to 1: no layer crosses zero, so no flat bands where one does; docs/terrain.md).
+enum class LayerScaling { zero_mean, unit_interval };
+
 /// Majhor & Bos multifractal: three W-M DEMs (low, mid, high frequency), each low-pass filtered
-/// with a Gaussian, rescaled to zero mean and a maximum absolute value of 1, multiplied pixel by
-/// pixel, and the product scaled to [base_elevation_m, base_elevation_m + relief_m].
+/// with a Gaussian, rescaled (`layer_scaling`), multiplied pixel by pixel, and the product scaled
+/// to [base_elevation_m, base_elevation_m + relief_m].
 struct MultifractalParams {
     WMParams low{16, 0, 1.5, 2.2, 100.9, 1e-6};
     WMParams mid{32, 0, 1.5, 2.45, 100.9, 8e-8};
@@ -85,13 +90,14 @@ struct MultifractalParams {
     /// Total relief (max - min) of the result, m. 19.2 m = 5 x 3.84 m: see docs/terrain.md.
     double relief_m = 19.2;
     double base_elevation_m = 0.0; ///< elevation of the lowest cell, m
+    LayerScaling layer_scaling = LayerScaling::zero_mean;
 };
 
 void validate(const MultifractalParams& p);
 
 struct MultifractalResult {
     RasterD z;                     ///< elevation, m
-    std::array<RasterD, 3> layers; ///< the three rescaled layers (dimensionless, in [-1, 1])
+    std::array<RasterD, 3> layers; ///< the three rescaled layers (dimensionless: [-1, 1] or [0, 1])
     std::vector<std::string> warnings;
 };
 

@@ -290,6 +290,7 @@ TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
                                  const TraverseOptions& opt) {
     if (missions.empty()) throw InputError("no missions to drive");
     TraverseReport rep;
+    rep.missions = missions;
     std::vector<double> az, pr, rr, tt;
     for (const auto& m : missions) {
         rep.results.push_back(traverse(v, dem, m, opt));
@@ -311,7 +312,8 @@ TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
 
 nlohmann::json to_json(const TraverseReport& rep, const Vehicle& v) {
     nlohmann::json records = nlohmann::json::array();
-    for (const auto& r : rep.results) {
+    for (std::size_t k = 0; k < rep.results.size(); ++k) {
+        const TraverseResult& r = rep.results[k];
         nlohmann::json j = {{"id", r.id},
                             {"success", r.success},
                             {"max_abs_pitch_deg", r.max_abs_pitch_deg},
@@ -324,6 +326,11 @@ nlohmann::json to_json(const TraverseReport& rep, const Vehicle& v) {
         } else {
             j["failure"] = r.failure;
             j["failed_at_m"] = r.failed_at_m;
+        }
+        if (k < rep.missions.size()) {
+            const MissionLine& m = rep.missions[k];
+            j["start_m"] = {m.start_x_m, m.start_y_m};
+            j["goal_m"] = {m.goal_x_m, m.goal_y_m};
         }
         records.push_back(std::move(j));
     }

@@ -9,6 +9,7 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/random.hpp"
 #include "ecoterra/run/run_reader.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
@@ -273,6 +274,12 @@ TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobilit
         CHECK((rec["success"].get<bool>() ? rec.contains("time_s") : rec.contains("failure")));
     }
     CHECK(t["success_rate"].get<double>() == Approx(ok / 6.0));
+    // Each record names its mission's start and goal, so that it can be replayed elsewhere.
+    const auto missions = mobility::read_missions_csv(dir / "missions.csv");
+    for (std::size_t k = 0; k < missions.size(); ++k) {
+        CHECK(t["records"][k]["start_m"][0].get<double>() == missions[k].start_x_m);
+        CHECK(t["records"][k]["goal_m"][1].get<double>() == missions[k].goal_y_m);
+    }
     // Planned missions without a file, and bad input.
     r = test::run(dir, "terrain traverse mf.h5 --vehicle " + veh + " --count 4");
     CHECK(r.code == 0);

@@ -58,6 +58,7 @@ TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine&
 /// Many missions and their summary; the medians are over the successful missions (as Majhor & Bos
 /// (paper 000) reports them), 0 when none succeeds.
 struct TraverseReport {
+    std::vector<MissionLine> missions; ///< as driven (a record's start and goal, for replays)
     std::vector<TraverseResult> results;
     int successes = 0;
     double success_rate = 0;

@@ -157,3 +157,35 @@ TEST_CASE("soil strength: a line is NO-GO where the soil's rating cone index fal
     CHECK(stuck.nogo);
     CHECK_THAT(stuck.nogo_reason, Catch::Contains("no net traction"));
 }
+
+TEST_CASE("soil strength: every texture class follows Sullivan & Anderson's table as the reference "
+          "transcribes it",
+          "[hydro][soil]") {
+    using hydro::Texture;
+    // The reference's table (trafficability.md s2b): RCI = exp(a + b ln(mc)), mc = 100 theta /
+    // rho_b, by STATSGO code 1 sand ... 12 clay, with Morris & Lowery's bulk densities; typed
+    // here from the reference, apart from the code's own table.
+    struct Row {
+        Texture t;
+        double a, b, rho;
+    };
+    const Row rows[] = {{Texture::sand, 3.987, 0.815, 1.75},
+                        {Texture::loamy_sand, 12.542, -2.955, 1.75},
+                        {Texture::sandy_loam, 12.542, -2.955, 1.70},
+                        {Texture::silt_loam, 11.936, -2.407, 1.45},
+                        {Texture::silt, 11.936, -2.407, 1.42},
+                        {Texture::loam, 15.506, -3.530, 1.55},
+                        {Texture::sandy_clay_loam, 12.542, -2.955, 1.65},
+                        {Texture::silty_clay_loam, 15.506, -3.530, 1.42},
+                        {Texture::clay_loam, 15.506, -3.530, 1.50},
+                        {Texture::sandy_clay, 12.542, -2.955, 1.60},
+                        {Texture::silty_clay, 13.686, -2.705, 1.40},
+                        {Texture::clay, 13.686, -2.705, 1.40}};
+    for (const Row& r : rows)
+        for (const double theta : {0.08, 0.2, 0.33, 0.45}) {
+            CAPTURE(hydro::texture_name(r.t), theta);
+            const double mc = 100 * theta / r.rho;
+            CHECK(hydro::rating_cone_index_psi(r.t, theta) ==
+                  Approx(std::exp(r.a + r.b * std::log(mc))).epsilon(1e-9));
+        }
+}

@@ -744,7 +744,7 @@ void add_mobility_command(CLI::App& app) {
     auto t = std::make_shared<TraverseArgs>();
     CLI::App* tr = app.get_subcommand("terrain")->add_subcommand(
         "traverse", "drive missions over a terrain: success, RMS vertical acceleration, pitch and "
-                    "roll rates (a kinematic proxy of Majhor & Bos (paper 000)'s simulator)");
+                    "roll rates (a quasi-static proxy of Majhor & Bos (paper 000)'s simulator)");
     tr->add_option("dem", t->dem, "terrain raster")->required();
     tr->add_option("--vehicle", t->vehicle, "vehicle file (data/vehicles/*.json)")->required();
     tr->add_option("--missions", t->missions,

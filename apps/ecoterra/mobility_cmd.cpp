@@ -294,6 +294,14 @@ void check_map_inputs(const MapArgs& a) {
     claim_output("-o", a.output, a.in.force);
 }
 
+/// A heading in a layer's name: whole degrees, three digits ("045"), as the map writes them and
+/// the route reads them.
+std::string heading_tag(double deg) {
+    char text[16];
+    std::snprintf(text, sizeof text, "%03.0f", deg);
+    return text;
+}
+
 /// Writes `r` as the GeoTIFF `name` of the folder and lists it (file, units, what) in `layers`.
 void write_layer(io::OutputFolder& folder, json& layers, const RasterD& r, const std::string& name,
                  const std::string& units, const std::string& what) {
@@ -327,8 +335,7 @@ json write_map(const mobility::MobilityMap& m, const RasterD& dem, bool pictures
           "the factor that limits most headings: 0 none, 1 slope, 2 soil, 3 vegetation, 4 "
           "water, 5 obstacle");
     for (std::size_t h = 0; h < m.headings_deg.size(); ++h) {
-        char deg[16];
-        std::snprintf(deg, sizeof deg, "%03.0f", m.headings_deg[h]);
+        const std::string deg = heading_tag(m.headings_deg[h]);
         layer(m.speed_m_per_s[h], std::string("speed_") + deg + "deg_m_per_s.tif", "m/s",
               std::string("steady speed heading ") + deg + " deg (clockwise from north)");
         layer(codes(m.limit[h]), std::string("limit_") + deg + "deg.tif", "code",
@@ -573,9 +580,8 @@ void run_route(const RouteArgs& a) {
     const auto headings = s["headings_deg"].get<std::vector<double>>();
     std::vector<RasterD> speed;
     for (const double h : headings) {
-        char name[48];
-        std::snprintf(name, sizeof name, "speed_%03.0fdeg_m_per_s.tif", h);
-        speed.push_back(terrain::io::read_raster(dir / name));
+        speed.push_back(
+            terrain::io::read_raster(dir / ("speed_" + heading_tag(h) + "deg_m_per_s.tif")));
     }
     const mobility::Point from = parse_point("--from", a.from), to = parse_point("--to", a.to);
     if (!a.json_out.empty()) {

@@ -2,6 +2,7 @@
 
 #include "ecoterra/error.hpp"
 #include "ecoterra/mobility/override.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,15 +23,6 @@ constexpr double kLimitShare = 0.1;
 constexpr double kLaneStepOfWidth = 0.125;
 /// Relative tolerance of "a whole multiple of the terrain's cell".
 constexpr double kCellTolerance = 1e-6;
-
-/// The median of `v` (which it reorders); NaN for none.
-double median(std::vector<double>& v) {
-    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    if (v.size() % 2 == 1) return *mid;
-    return 0.5 * (*mid + *std::max_element(v.begin(), mid));
-}
 
 /// One heading's result in one cell.
 struct Crossing {
@@ -186,8 +178,9 @@ GroundCell MapPlan::Impl::ground_of(const GroundMaps& gm, int i, int j) const {
             fine += cell.fine_grained ? 1 : 0;
         }
     GroundCell out;
-    out.rci_kpa = median(rci);
-    out.water_depth_m = median(water);
+    out.rci_kpa =
+        rci.empty() ? std::numeric_limits<double>::quiet_NaN() : detail::quantile(rci, 0.5);
+    out.water_depth_m = detail::quantile(water, 0.5);
     out.fine_grained = 2 * fine >= k * k;
     return out;
 }
@@ -429,11 +422,7 @@ MobilityMap MapPlan::map(const GroundMaps& ground, bool per_heading) const {
             const GroundCell gc = p.ground_of(ground, i, j);
             out.rci_kpa(i, j) = gc.rci_kpa;
             out.water_depth_m(i, j) = gc.water_depth_m;
-            GroundEffect g;
-            if (ground.empty())
-                g.traction_coefficient = p.v.traction_coefficient;
-            else
-                g = p.vg.effect(gc);
+            const GroundEffect g = p.vg.effect(gc); // without maps: firm, dry ground
             std::array<int, kLimitKinds> count{};
             double sum = 0;
             int go = 0;
@@ -507,18 +496,13 @@ RasterD MapSeason::speed_quantile_m_per_s(double q) const {
     r.set_crs_wkt(m_crs);
     const std::size_t n = static_cast<std::size_t>(m_grid.size());
     std::vector<double> v(static_cast<std::size_t>(m_days));
-    for (std::size_t c = 0; c < n && m_days > 0; ++c) {
-        for (int d = 0; d < m_days; ++d)
-            v[static_cast<std::size_t>(d)] = m_speed[static_cast<std::size_t>(d) * n + c];
-        std::sort(v.begin(), v.end());
-        // Linear between order statistics (the "type 7" quantile of R and numpy).
-        const double h = q * (m_days - 1);
-        const auto lo = static_cast<std::size_t>(std::floor(h));
-        const std::size_t hi = std::min(lo + 1, v.size() - 1);
-        r(static_cast<int>(c % static_cast<std::size_t>(m_grid.nx)),
-          static_cast<int>(c / static_cast<std::size_t>(m_grid.nx))) =
-            v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
-    }
+    for (int j = 0; j < m_grid.ny && m_days > 0; ++j)
+        for (int i = 0; i < m_grid.nx; ++i) {
+            const std::size_t c = static_cast<std::size_t>(j) * m_grid.nx + i;
+            for (int d = 0; d < m_days; ++d)
+                v[static_cast<std::size_t>(d)] = m_speed[static_cast<std::size_t>(d) * n + c];
+            r(i, j) = detail::quantile(v, q);
+        }
     return r;
 }
 

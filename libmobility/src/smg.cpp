@@ -18,28 +18,12 @@ double point_segment_distance(Point p, Point a, Point b) {
     return std::hypot(a.x_m + t * dx - p.x_m, a.y_m + t * dy - p.y_m);
 }
 
-double segment_distance(Point p0, Point p1, Point q0, Point q1) {
-    auto cross = [](Point o, Point a, Point b) {
-        return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
-    };
-    const double d1 = cross(q0, q1, p0), d2 = cross(q0, q1, p1);
-    const double d3 = cross(p0, p1, q0), d4 = cross(p0, p1, q1);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-        return 0.0;
-    return std::min({point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1),
-                     point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)});
-}
-
 std::pair<double, double> log_high_part(const Log& l, double limit) {
     const bool ha = l.height_a_m > limit, hb = l.height_b_m > limit;
     if (ha && hb) return {0.0, 1.0};
     if (!ha && !hb) return {1.0, 0.0};
     const double u = (limit - l.height_a_m) / (l.height_b_m - l.height_a_m);
     return ha ? std::pair{0.0, u} : std::pair{u, 1.0};
-}
-
-Point point_along(const Log& l, double u) {
-    return {l.a.x_m + u * (l.b.x_m - l.a.x_m), l.a.y_m + u * (l.b.y_m - l.a.y_m)};
 }
 
 bool log_in_footprint(const Log& l, Point c0, double len, double ux, double uy, double half,
@@ -65,6 +49,24 @@ bool log_in_footprint(const Log& l, Point c0, double len, double ux, double uy, 
 }
 
 namespace {
+
+/// Distance between the segments p0-p1 and q0-q1 (0 when they cross), m.
+double segment_distance(Point p0, Point p1, Point q0, Point q1) {
+    auto cross = [](Point o, Point a, Point b) {
+        return (a.x_m - o.x_m) * (b.y_m - o.y_m) - (a.y_m - o.y_m) * (b.x_m - o.x_m);
+    };
+    const double d1 = cross(q0, q1, p0), d2 = cross(q0, q1, p1);
+    const double d3 = cross(p0, p1, q0), d4 = cross(p0, p1, q1);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+        return 0.0;
+    return std::min({point_segment_distance(p0, q0, q1), point_segment_distance(p1, q0, q1),
+                     point_segment_distance(q0, p0, p1), point_segment_distance(q1, p0, p1)});
+}
+
+/// The point at u (0 end a, 1 end b) along a log.
+Point point_along(const Log& l, double u) {
+    return {l.a.x_m + u * (l.b.x_m - l.a.x_m), l.a.y_m + u * (l.b.y_m - l.a.y_m)};
+}
 
 /// The planning grid refuses areas larger than this many cells.
 constexpr double kMaxPlanningCells = 4e7;
@@ -673,11 +675,7 @@ void use_soil(SmgOptions& opt, const RasterD& rci_kpa) {
 }
 
 GroundEffect LineDrive::ground_at(Point mid, LineResult& out) const {
-    if (m_opt.ground.empty()) {
-        GroundEffect firm;
-        firm.traction_coefficient = m_v.traction_coefficient;
-        return firm;
-    }
+    // Without ground maps the cell is firm and dry: the vehicle's own figures.
     GroundEffect e = m_ground.effect(m_opt.ground.at(mid.x_m, mid.y_m));
     if (!e.go()) {
         out.nogo = true;

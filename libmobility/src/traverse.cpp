@@ -188,10 +188,7 @@ public:
         : m_v(v), m_ground(ground), m_vg(v), m_speed(speed) {}
     /// The traction coefficient of the ground at `at`, or the reason it stops the vehicle.
     const char* ground(Point at, GroundEffect& g) const {
-        g = GroundEffect{};
-        g.traction_coefficient = m_v.traction_coefficient;
-        if (m_ground.empty()) return nullptr;
-        g = m_vg.effect(m_ground.at(at.x_m, at.y_m));
+        g = m_vg.effect(m_ground.at(at.x_m, at.y_m)); // without maps: firm, dry ground
         if (g.nogo == Limit::water) return "water";
         return g.go() ? nullptr : "stuck (soil)";
     }

@@ -256,21 +256,22 @@ H5::H5File open_run(const fs::path& run) {
     }
 }
 
-RunCheckpoint read_run_checkpoint(const fs::path& run, const EcoScene& sc) {
+RunCheckpoint read_run_checkpoint(const fs::path& run, const EcoScene& sc, bool state) {
     H5::H5File f = open_run(run);
     RunCheckpoint c;
     std::vector<std::uint8_t>& bytes = c.bytes;
     std::string hash, checksum;
     try {
-        bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
-                                          H5::PredType::NATIVE_UINT8);
+        if (state)
+            bytes = read_vector<std::uint8_t>(f.openGroup("/checkpoint"), "state",
+                                              H5::PredType::NATIVE_UINT8);
         hash = read_string_attr(f.openGroup("/checkpoint"), "terrain_hash");
         checksum = read_string_attr(f.openGroup("/checkpoint"), "checksum_fnv1a64");
         f.openGroup("/checkpoint").openAttribute("year").read(H5::PredType::NATIVE_INT, &c.year);
     } catch (const H5::Exception& e) {
         throw InputError(run.string() + ": cannot read /checkpoint (" + e.getDetailMsg() + ")");
     }
-    if (checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
+    if (state && checksum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
         throw InputError(run.string() + ": /checkpoint/state is damaged (its checksum_fnv1a64 " +
                          checksum + " does not match its " + std::to_string(bytes.size()) +
                          " bytes)");

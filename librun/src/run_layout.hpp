@@ -59,12 +59,12 @@ double read_double_attr(const H5::H5Object& o, const std::string& name);
 /// Opens a run file for reading; InputError naming it if it is missing or not a run.
 H5::H5File open_run(const fs::path& run);
 /// The run's checkpoint (its bytes, checked against their checksum and the scene's terrain) and
-/// the year it ends.
+/// the year it ends; without `state`, only the year and the terrain's check (no bytes read).
 struct RunCheckpoint {
     std::vector<std::uint8_t> bytes;
     int year = 0;
 };
-RunCheckpoint read_run_checkpoint(const fs::path& run, const eco::EcoScene& sc);
+RunCheckpoint read_run_checkpoint(const fs::path& run, const eco::EcoScene& sc, bool state = true);
 /// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
 void require_writable_folder(const fs::path& dir, const std::string& what);
 

@@ -42,33 +42,34 @@ void replay_season(const fs::path& run, int year,
     const RunInfo info = read_run_info(run);
     const nlohmann::json& scene = info.provenance.at("scene");
     const eco::EcoScene sc = eco::load_eco_scene(scene, "/");
-    const RunCheckpoint cp = read_run_checkpoint(run, sc);
+    // The run's checkpoint for its last year (and the check that the rebuilt terrain is the
+    // run's), without its state, which the replay does not need.
+    const RunCheckpoint cp = read_run_checkpoint(run, sc, false);
     if (year == 0) year = cp.year;
     if (year < 1 || year > cp.year)
         throw InputError(run.string() + ": year " + std::to_string(year) +
                          " is outside the run (it holds years 1-" + std::to_string(cp.year) + ")");
     eco::Ecosystem eco(sc);
-    int from = 0;
     // The latest snapshot checkpoint (simulation.snapshot_checkpoints) at or before the year
-    // before.
-    std::vector<std::uint8_t> bytes;
-    std::string where;
+    // before, read once.
+    int from = 0, latest = -1;
     for (int k = 0; k < info.snapshots; ++k)
         open_snapshot(run, k, [&](const H5::Group& g) {
             const int y = static_cast<int>(read_double_attr(g, "year"));
-            if (y > year - 1 || y <= from || !g.nameExists("checkpoint")) return;
-            bytes = read_vector<std::uint8_t>(g.openGroup("checkpoint"), "state",
-                                              H5::PredType::NATIVE_UINT8);
+            if (y <= year - 1 && y > from && g.nameExists("checkpoint")) from = y, latest = k;
+        });
+    if (latest >= 0)
+        open_snapshot(run, latest, [&](const H5::Group& g) {
+            const std::string where =
+                run.string() + ": snapshot " + std::to_string(latest) + " checkpoint";
+            const auto bytes = read_vector<std::uint8_t>(g.openGroup("checkpoint"), "state",
+                                                         H5::PredType::NATIVE_UINT8);
             const std::string sum = read_string_attr(g.openGroup("checkpoint"), "checksum_fnv1a64");
-            where = run.string() + ": snapshot " + std::to_string(k) + " checkpoint";
             if (sum != std::to_string(fnv1a64(bytes.data(), bytes.size())))
                 throw InputError(where + " is damaged (its checksum does not match its bytes)");
-            from = y;
+            ArchiveReader r(bytes.data(), bytes.size(), where);
+            with_context(where, [&] { eco.load_state(r); });
         });
-    if (from > 0) {
-        ArchiveReader r(bytes.data(), bytes.size(), where);
-        with_context(where, [&] { eco.load_state(r); });
-    }
     while (eco.years_done() < year - 1) eco.run_year();
     SeasonStand s = stand_of(eco);
     s.year = year;

@@ -47,13 +47,9 @@ struct Log {
 
 /// Distance from p to the segment a-b, m.
 double point_segment_distance(Point p, Point a, Point b);
-/// Distance between the segments p0-p1 and q0-q1 (0 when they cross), m.
-double segment_distance(Point p0, Point p1, Point q0, Point q1);
 /// The part [u0, u1] of a log (0 at end a, 1 at end b) whose top is above `limit`; u0 > u1 when
 /// none is.
 std::pair<double, double> log_high_part(const Log& l, double limit);
-/// The point at u (0 end a, 1 end b) along a log.
-Point point_along(const Log& l, double u);
 /// Whether the log's axis meets the footprint from c0 along (ux, uy), 0 <= t <= len, |s| <=
 /// half across; [lo, hi] is then the part of the log (0 end a, 1 end b) inside it.
 bool log_in_footprint(const Log& l, Point c0, double len, double ux, double uy, double half,

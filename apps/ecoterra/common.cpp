@@ -78,6 +78,23 @@ void print_notes(const std::vector<std::string>& notes) {
     for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 }
 
+void print_terrain_source(const nlohmann::json& r) {
+    if (!r.contains("size")) return;
+    const auto& src = r["source"];
+    const std::string crs = r.value("crs", std::string());
+    const int epsg = r.value("epsg", 0);
+    std::printf("terrain: %s, window %s, %d x %d cells of %.6g m by GDAL's warper (%s) from its "
+                "%d x %d cells of %.6g %s%s; %s%s\n",
+                r["file"].get<std::string>().c_str(), r["window"].dump().c_str(),
+                r["size"][0].get<int>(), r["size"][1].get<int>(), r["cell_m"].get<double>(),
+                r["resampling"].get<std::string>().c_str(), src["size"][0].get<int>(),
+                src["size"][1].get<int>(), src["cell"].get<double>(),
+                src.value("units", std::string("m")).c_str(),
+                r.value("reprojected", false) ? " (reprojected)" : "",
+                crs.empty() ? "no coordinate system" : crs.c_str(),
+                epsg ? (" (EPSG:" + std::to_string(epsg) + ")").c_str() : "");
+}
+
 namespace {
 int g_exit_code = 0;
 } // namespace

@@ -41,6 +41,9 @@ std::string raster_file_part(const std::string& reference);
 void print_warnings(const std::vector<std::string>& warnings);
 /// Prints each note to stderr as "note: ...".
 void print_notes(const std::vector<std::string>& notes);
+/// One line on a DEM read through a window or resampled (hydro::HydroScene::terrain_source);
+/// nothing for a generated terrain or a file read as it is.
+void print_terrain_source(const nlohmann::json& record);
 /// Shows progress on stderr: `fraction` done (0..1) after `elapsed_s` seconds, with the text
 /// (printf-style) and an estimate of the time left. On a terminal one line is rewritten in place;
 /// into a log (stderr not a terminal) a whole line is written each time another 10 % is done,

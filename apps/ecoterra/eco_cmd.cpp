@@ -68,6 +68,8 @@ std::optional<eco::EcoScene> run_scene(const RunArgs& a, std::vector<std::string
     apply_overrides(j, sets);
     const fs::path base = fs::absolute(fs::path(a.scene)).parent_path();
     auto scene = with_context(a.scene, [&] { return eco::load_eco_scene(j, base); });
+    print_notes(scene.hydro.notes);
+    print_terrain_source(scene.hydro.terrain_source);
     for (const auto& n : scene.ecosystem.notes)
         std::fprintf(stderr, "note: %s: %s\n", scene.ecosystem.source.c_str(), n.c_str());
     if (scene.hydro.observed) print_notes(hydro::fill_report(*scene.hydro.observed));

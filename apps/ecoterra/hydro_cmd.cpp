@@ -160,6 +160,8 @@ void run_hydro_run(const RunArgs& a) {
     const hydro::HydroScene sc = with_context(a.scene, [&] {
         return hydro::load_hydro_scene(scene, base.empty() ? std::filesystem::path(".") : base);
     });
+    print_notes(sc.notes);
+    print_terrain_source(sc.terrain_source);
     claim_output("-o", a.output, a.force);
     claim_output("--png", a.png_dir, a.force);
     json prov = provenance({{"scene_file", a.scene},

@@ -3,6 +3,7 @@
 #include "ecoterra/json_util.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace ecoterra::eco {
 
@@ -41,9 +42,11 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
                    std::vector<std::pair<std::string, LightOnlyRadius>>{
                        {"crown", LightOnlyRadius::crown}, {"mavs", LightOnlyRadius::mavs}},
                    "light-only overlap circle: the crown radius or MAVS's 0.5 ratio H"),
-         number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 100,
-                   "crown and root grid cell; divides the terrain cell a whole number "
-                   "of times")
+         number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 10,
+                   "crown and root grid cell; divides the terrain cell a whole number of times "
+                   "(to 1e-6). Crowns, roots, seeds and light live on these cells, so a cell "
+                   "wider than a mature crown (10 m) cannot hold a stand: give a coarse DEM "
+                   "terrain.cell_m instead (docs/formats.md, DEM windows)")
              .with_note("min(1, terrain cell)"),
          integer<E>("canopy_interval_days", &E::canopy_interval_days, "day", 1, 365,
                     "days between refreshes of structure, crowns and shading"),
@@ -182,11 +185,20 @@ EcoScene load_eco_scene(const json& s, const fs::path& base) {
     fs::path eco = get_string(veg, "ecosystem", "", "vegetation");
     if (eco.is_relative()) eco = base / eco;
     e.ecosystem = load_ecosystem(eco);
+    // Cell sides compare to a relative 1e-6, so that a side printed to 7 digits (89.99407 for a
+    // DEM's 89.994067349...) is taken; the plant cell is then the terrain cell's exact part.
     const double ratio = terrain_cell / e.plant_cell_m;
-    if (std::abs(ratio - std::round(ratio)) > 1e-9 || std::round(ratio) < 1)
+    const double parts = std::round(ratio);
+    if (parts < 1 || std::abs(ratio - parts) > 1e-6 * parts) {
+        char cell[32];
+        std::snprintf(cell, sizeof cell, "%.10g", terrain_cell);
         throw InputError("vegetation.plant_cell_m = " + format_number(e.plant_cell_m) +
-                         " must divide the terrain cell (" + format_number(terrain_cell) +
-                         " m) a whole number of times");
+                         " must divide the terrain cell (" + cell +
+                         " m) a whole number of times; to grow plants on a DEM of coarse cells, "
+                         "resample it with terrain.cell_m (e.g. 1) and keep the area small with "
+                         "terrain.window (docs/formats.md \"DEM windows\")");
+    }
+    e.plant_cell_m = terrain_cell / parts;
     const json init_resolved = read_initial(veg, base, e);
     e.resolved["vegetation"] = vegetation_catalog().to_json(e);
     e.resolved["vegetation"]["ecosystem"] = eco.string();

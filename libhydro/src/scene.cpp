@@ -5,6 +5,7 @@
 #include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/terrain/generate.hpp"
+#include "ecoterra/terrain/io/dem_window.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/picture.hpp"
 
@@ -23,16 +24,89 @@ fs::path resolve(const fs::path& base, const std::string& p) {
     return q.is_absolute() ? q : base / q;
 }
 
-RasterD load_terrain(const json& t, const fs::path& base, json& resolved) {
-    require_known_keys(t, {"generate", "file"}, "terrain");
+/// How a raster's grid differs from the terrain's, and the gdalwarp command that puts it there.
+std::string grid_mismatch(const GridSpec& x, const GridSpec& g) {
+    char b[640];
+    std::snprintf(b, sizeof b,
+                  "is %d x %d cells of %.10g m from (%.10g, %.10g); the terrain is %d x %d cells "
+                  "of %.10g m from (%.10g, %.10g). Put it on the terrain's grid, e.g. gdalwarp "
+                  "-te %.10g %.10g %.10g %.10g -ts %d %d -r bilinear IN.tif OUT.tif",
+                  x.nx, x.ny, x.cell_size_m, x.origin_x_m, x.origin_y_m, g.nx, g.ny,
+                  g.cell_size_m, g.origin_x_m, g.origin_y_m, g.origin_x_m, g.origin_y_m,
+                  g.origin_x_m + g.width_m(), g.origin_y_m + g.height_m(), g.nx, g.ny);
+    return b;
+}
+
+/// `n` finite numbers from `v`, or an InputError naming `key` and what was given.
+template <std::size_t N>
+std::array<double, N> numbers(const json& v, const std::string& key, const char* form) {
+    std::array<double, N> a{};
+    if (!v.is_array() || v.size() != N) throw InputError(key + " = " + v.dump() + ": give " + form);
+    for (std::size_t k = 0; k < N; ++k) {
+        if (!v[k].is_number()) throw InputError(key + " = " + v.dump() + ": give " + form);
+        a[k] = v[k].get<double>();
+    }
+    return a;
+}
+
+terrain::io::DemWindow read_window(const json& w) {
+    terrain::io::DemWindow win;
+    if (!w.is_object()) throw InputError("terrain.window = " + w.dump() + ": give an object");
+    require_known_keys(w, {"bounds", "pixels", "centre", "size_m"}, "terrain.window");
+    if (w.contains("bounds"))
+        win.bounds = numbers<4>(w["bounds"], "terrain.window.bounds",
+                                "[x_min, y_min, x_max, y_max] in the DEM's coordinate system");
+    if (w.contains("pixels"))
+        win.pixels = numbers<4>(w["pixels"], "terrain.window.pixels",
+                                "[column, row, columns, rows] of the DEM's pixels");
+    if (w.contains("centre")) {
+        win.centre = numbers<2>(w["centre"], "terrain.window.centre",
+                                "[x, y] in the DEM's coordinate system");
+        if (!w.contains("size_m"))
+            throw InputError("terrain.window: a centre needs size_m (metres, one number or "
+                             "[width, height])");
+        const json& z = w["size_m"];
+        win.size_m = z.is_number() ? std::array<double, 2>{z.get<double>(), z.get<double>()}
+                                   : numbers<2>(z, "terrain.window.size_m",
+                                                "one number or [width, height] in metres");
+    } else if (w.contains("size_m")) {
+        throw InputError("terrain.window.size_m: only with a centre");
+    }
+    if (w.size() == 0)
+        throw InputError("terrain.window: give 'bounds', 'pixels' or 'centre' with 'size_m'");
+    return win;
+}
+
+RasterD load_terrain(const json& t, const fs::path& base, json& resolved, json& record,
+                     std::vector<std::string>& notes) {
+    require_known_keys(t, {"generate", "file", "window", "cell_m", "resampling", "crs"}, "terrain");
     if (t.contains("generate") == t.contains("file"))
         throw InputError("terrain: give exactly one of 'generate' (a terrain specification) or "
                          "'file' (a raster)");
     if (t.contains("file")) {
-        const auto path = resolve(base, get_string(t, "file", "", "terrain"));
-        resolved["terrain"] = {{"file", path.string()}};
-        return terrain::io::read_raster(path);
+        terrain::io::DemRequest req;
+        req.path = resolve(base, get_string(t, "file", "", "terrain"));
+        if (t.contains("window")) req.window = read_window(t["window"]);
+        req.cell_m = get_number(t, "cell_m", 0.0, "terrain");
+        req.resampling = get_string(t, "resampling", "auto", "terrain");
+        req.crs = get_string(t, "crs", "", "terrain");
+        resolved["terrain"] = {{"file", req.path.string()}};
+        if (!terrain::io::dem_request_resamples(req) && !t.contains("resampling")) {
+            record = {{"file", req.path.string()}, {"method", "read as it is"}};
+            return terrain::io::read_raster(req.path, &notes);
+        }
+        terrain::io::DemRead d = terrain::io::read_dem(req, &notes);
+        json& r = resolved["terrain"];
+        if (t.contains("window")) r["window"] = t["window"];
+        r["cell_m"] = d.z.cell_size();
+        r["resampling"] = d.resampling;
+        if (!d.crs.empty()) r["crs"] = d.crs;
+        record = std::move(d.record);
+        return std::move(d.z);
     }
+    for (const char* k : {"window", "cell_m", "resampling", "crs"})
+        if (t.contains(k))
+            throw InputError(std::string("terrain.") + k + ": only with 'file' (a DEM to read)");
     auto g = terrain::generate_terrain(t.at("generate"));
     resolved["terrain"] = {{"generate", g.resolved}};
     return std::move(g.z);
@@ -61,11 +135,9 @@ SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::u
         const fs::path path = resolve(base, file);
         file = path.string(); // resolved: a resume finds the same file
         RasterD x = terrain::io::read_raster(path);
-        if (!(x.grid() == g))
-            throw InputError("soil.rasters." + std::string(key) + ": " + path.string() + " is " +
-                             std::to_string(x.nx()) + "x" + std::to_string(x.ny()) +
-                             ", the terrain is " + std::to_string(g.nx) + "x" +
-                             std::to_string(g.ny));
+        if (!x.grid().matches(g))
+            throw InputError("soil.rasters." + std::string(key) + ": " + path.string() + " " +
+                             grid_mismatch(x.grid(), g));
         return x;
     };
     const auto sand = read(files.sand_pct, "sand_pct"), silt = read(files.silt_pct, "silt_pct"),
@@ -89,9 +161,9 @@ RasterD load_vegetation_cover(const json& v, const fs::path& base, const GridSpe
     const auto path = resolve(base, cover.density_file);
     cover.density_file = path.string();
     RasterD d = terrain::io::read_raster(path);
-    if (!(d.grid() == g))
-        throw InputError("vegetation.density_file: " + path.string() +
-                         " does not match the terrain's grid");
+    if (!d.grid().matches(g))
+        throw InputError("vegetation.density_file: " + path.string() + " " +
+                         grid_mismatch(d.grid(), g));
     resolved["vegetation"]["density_file"] = cover.density_file;
     return d;
 }
@@ -173,7 +245,7 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     scene = hydro_simulation_catalog().read(s.value("simulation", json::object()), scene);
     r["simulation"] = hydro_simulation_catalog().to_json(scene);
     if (!s.contains("terrain")) throw InputError("scene: missing key 'terrain'");
-    scene.dem = load_terrain(s["terrain"], base, r);
+    scene.dem = load_terrain(s["terrain"], base, r, scene.terrain_source, scene.notes);
     require_valid_cells(scene.dem, "terrain");
     const auto& g = scene.dem.grid();
     scene.soil = load_soil(s.value("soil", json{{"uniform", json::object()}}), base, g, scene.seed,
@@ -303,6 +375,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
                             std::max(model.cumulative_throughput_m3(), 1e-300);
     // Maps and series.
     h5.raster(terrain::io::kRunTerrainDataset, sc.dem, "m", "terrain elevation");
+    h5.attribute(terrain::io::kRunTerrainDataset, "source_json", sc.terrain_source.dump());
     write_soil_maps(h5, sc.soil);
     h5.raster("/vegetation/density", sc.vegetation_density, "1", "vegetation density (fraction)");
     write_table(h5, "/series/daily", series);

@@ -5,7 +5,10 @@
 
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/json_util.hpp"
 #include "ecoterra/run/run_reader.hpp"
+
+#include <H5Cpp.h>
 
 #include <catch2/catch.hpp>
 
@@ -512,4 +515,62 @@ TEST_CASE("a run names the published methods its options chose, in its provenanc
     REQUIRE(stored.is_array());
     CHECK(stored.size() == eco::scene_methods(load(small_scene(1))).size());
     CHECK(stored.dump().find("Goodin, Hudson et al. (2024)") != std::string::npos);
+}
+
+TEST_CASE("A forest grows on a window of each shipped DEM, resampled to 1 m", "[eco][dem]") {
+    struct Dem {
+        const char* file;
+        json window;
+        double lo, hi; ///< the DEM's elevation range, m
+    };
+    const std::vector<Dem> dems{
+        {"dem/olinda_dem_utm25s.tif", {{"centre", {293770, 9115766}}, {"size_m", 60}}, -1.5, 89},
+        {"dem/luxembourg_elev.tif", {{"centre", {6.13, 49.61}}, {"size_m", 60}}, 141, 547}};
+    for (const auto& d : dems) {
+        test::TempDir dir;
+        json s = parse_json(io::read_text(test::data_dir() / "scenes/quickstart.json"), "q");
+        s["terrain"] = {
+            {"file", (test::data_dir() / d.file).string()}, {"window", d.window}, {"cell_m", 1}};
+        s["vegetation"]["ecosystem"] =
+            (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string();
+        s["simulation"]["years"] = 30;
+        write(dir / "scene.json", s.dump());
+        const auto r = test::run(dir, "run scene.json -o run.h5 --no-pictures");
+        INFO(r.out);
+        REQUIRE(r.code == 0);
+        CHECK_THAT(r.out, Catch::Contains("60 x 60 cells of 1 m by GDAL's warper (cubic)"));
+        const RasterD z = run::read_run_terrain(dir / "run.h5");
+        CHECK(z.nx() == 60);
+        CHECK(z.cell_size() == 1.0);
+        for (std::int64_t k = 0; k < z.size(); ++k) {
+            REQUIRE(z.data()[k] >= d.lo);
+            REQUIRE(z.data()[k] <= d.hi);
+        }
+        // The run records where its terrain came from.
+        H5::H5File f((dir / "run.h5").string(), H5F_ACC_RDONLY);
+        std::string src;
+        H5::Attribute a = f.openDataSet("/terrain/elevation").openAttribute("source_json");
+        a.read(a.getStrType(), src);
+        const json rec = json::parse(src);
+        CHECK(rec["window"] == json{{"centre", d.window["centre"]}, {"size_m", {60.0, 60.0}}});
+        CHECK(rec["resampling"] == "cubic");
+        CHECK(rec["size"] == json{60, 60});
+        // A forest: a stand of several hundred stems a hectare with trees over 5 cm after 30
+        // years (the quickstart's own terrain grows 4-6 m2/ha by then).
+        const auto p = run::read_snapshot_plants(dir / "run.h5", -1);
+        const auto dbh = p.values("dbh_m");
+        double ba = 0;
+        int over5 = 0;
+        for (double x : dbh) {
+            ba += M_PI / 4 * x * x;
+            over5 += x >= 0.05 ? 1 : 0;
+        }
+        CHECK(dbh.size() > 100); // in 0.36 ha
+        CHECK(over5 > 20);
+        CHECK(ba / 0.36 > 2.0);
+        // A resume reads the same window again, from the scene stored in the run.
+        const auto r2 = test::run(dir, "run --resume run.h5 --years 1 --no-pictures");
+        INFO(r2.out);
+        CHECK(r2.code == 0);
+    }
 }

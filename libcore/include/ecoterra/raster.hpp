@@ -56,6 +56,14 @@ struct GridSpec {
                 clamp((y - origin_y_m) / cell_size_m, ny)};
     }
     bool operator==(const GridSpec& o) const = default;
+    /// The same cells to a relative `tol` of the cell side (files store sides and origins with
+    /// fewer digits than they were computed with).
+    bool matches(const GridSpec& o, double tol = 1e-6) const {
+        const double t = tol * cell_size_m;
+        return nx == o.nx && ny == o.ny && std::abs(cell_size_m - o.cell_size_m) <= t &&
+               std::abs(origin_x_m - o.origin_x_m) <= t * std::max(nx, 1) &&
+               std::abs(origin_y_m - o.origin_y_m) <= t * std::max(ny, 1);
+    }
 
     /// Throws InputError naming `what` if the grid is empty or its cell size is not positive.
     void validate(const std::string& what) const;

@@ -2,6 +2,8 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 
+#include "gdal_util.hpp"
+
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
@@ -18,9 +20,9 @@
 
 namespace ecoterra::terrain::io {
 
-namespace {
+namespace gdal {
 
-void init_gdal() {
+void init() {
     static std::once_flag once;
     std::call_once(once, [] {
         GDALAllRegister();
@@ -30,25 +32,27 @@ void init_gdal() {
     });
 }
 
-/// Silences GDAL's own printing for the lifetime of the object; the last message is kept.
-struct QuietGdal {
-    QuietGdal() {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
-    }
-    ~QuietGdal() { CPLPopErrorHandler(); }
-    static std::string last() {
-        const char* m = CPLGetLastErrorMsg();
-        return (m && *m) ? std::string(m) : std::string("unknown GDAL error");
-    }
-};
+Quiet::Quiet() {
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+}
+Quiet::~Quiet() {
+    CPLPopErrorHandler();
+}
+std::string Quiet::last() {
+    const char* m = CPLGetLastErrorMsg();
+    return (m && *m) ? std::string(m) : std::string("unknown GDAL error");
+}
 
-struct DatasetCloser {
-    void operator()(void* d) const {
-        if (d) GDALClose(d);
-    }
-};
-using Dataset = std::unique_ptr<void, DatasetCloser>;
+} // namespace gdal
+
+using gdal::Dataset;
+using QuietGdal = gdal::Quiet;
+inline void init_gdal() {
+    gdal::init();
+}
+
+namespace {
 
 /// A warped view of a dataset in geographic coordinates (degrees) in the WGS 84 UTM zone of its
 /// centre (metres, square cells, bilinear), since slopes, roughness and every model in ecoterra
@@ -143,7 +147,14 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     Dataset view; // a UTM view of a geographic raster, read through `source`
     if (OGRSpatialReferenceH srs = GDALGetSpatialRef(source.get()); srs && OSRIsGeographic(srs))
         view = utm_view(source.get(), where, reprojected);
-    GDALDatasetH ds = view ? view.get() : source.get();
+    RasterD z = gdal::raster_from_dataset(view ? view.get() : source.get(), source.get(), where);
+    if (warnings && !reprojected.empty()) warnings->push_back(reprojected);
+    return z;
+}
+
+namespace gdal {
+
+RasterD raster_from_dataset(GDALDatasetH ds, GDALDatasetH source, const std::string& where) {
     const int nx = GDALGetRasterXSize(ds), ny = GDALGetRasterYSize(ds);
     if (GDALGetRasterCount(ds) < 1) throw InputError(where + ": has no raster band");
     double gt[6];
@@ -166,8 +177,7 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
                dy < 0 ? gt[3] + ny * dy : gt[3]};
     g.validate(where);
     ensure_fits_in_memory(g.size(), 16.0, where);
-    check_declared_size(source.get(), g, where);
-    if (warnings && !reprojected.empty()) warnings->push_back(reprojected);
+    check_declared_size(source, g, where);
     GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     // GDAL decodes whole blocks (strips or tiles) holding every band of a pixel-interleaved
     // file: a small raster whose header declares thousands of bands would make it allocate
@@ -207,6 +217,31 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     }
     return z;
 }
+
+Dataset dataset_from_raster(const RasterD& z, const std::string& where) {
+    init();
+    GDALDriverH drv = GDALGetDriverByName("MEM");
+    if (!drv) throw IoError("GDAL has no MEM driver");
+    Dataset ds(GDALCreate(drv, "", z.nx(), z.ny(), 1, GDT_Float64, nullptr));
+    if (!ds) throw IoError(where + ": GDAL cannot hold it in memory: " + Quiet::last());
+    const double h = z.cell_size();
+    double gt[6] = {z.grid().origin_x_m, h, 0.0, z.grid().origin_y_m + z.ny() * h, 0.0, -h};
+    GDALSetGeoTransform(ds.get(), gt);
+    if (!z.crs_wkt().empty() && GDALSetProjection(ds.get(), z.crs_wkt().c_str()) != CE_None)
+        throw InputError(where + ": GDAL refuses its coordinate system: " + Quiet::last());
+    GDALRasterBandH band = GDALGetRasterBand(ds.get(), 1);
+    GDALSetRasterNoDataValue(band, std::nan(""));
+    std::vector<double> buf(static_cast<std::size_t>(z.size()));
+    for (int r = 0; r < z.ny(); ++r)
+        for (int i = 0; i < z.nx(); ++i)
+            buf[static_cast<std::size_t>(r) * z.nx() + i] = z(i, z.ny() - 1 - r);
+    if (GDALRasterIO(band, GF_Write, 0, 0, z.nx(), z.ny(), buf.data(), z.nx(), z.ny(), GDT_Float64,
+                     0, 0) != CE_None)
+        throw IoError(where + ": GDAL cannot hold it in memory: " + Quiet::last());
+    return ds;
+}
+
+} // namespace gdal
 
 void write_geotiff(const RasterD& z, const std::filesystem::path& path, const std::string& units) {
     init_gdal();

@@ -53,6 +53,10 @@ struct HydroScene {
     std::uint64_t seed = 1;
     int snapshot_interval_days = 365;
     nlohmann::json resolved; ///< the scene with defaults filled in
+    /// Where the terrain came from: a DEM's file, window, resampling and coordinate systems
+    /// (terrain::io::DemRead::record); empty for a generated terrain.
+    nlohmann::json terrain_source = nlohmann::json::object();
+    std::vector<std::string> notes; ///< what the loader did that the user should know
 };
 
 /// The scene keys of section "simulation" of a hydrology scene.

@@ -1,0 +1,40 @@
+#pragma once
+// GDAL helpers shared by the raster readers and writers of libterrain (private to the library).
+#include "ecoterra/raster.hpp"
+
+#include <gdal.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ecoterra::terrain::io::gdal {
+
+/// Registers GDAL's drivers once (thread-safe) and silences HDF5's error printing.
+void init();
+
+/// Silences GDAL's own printing for the lifetime of the object; the last message is kept.
+struct Quiet {
+    Quiet();
+    ~Quiet();
+    Quiet(const Quiet&) = delete;
+    Quiet& operator=(const Quiet&) = delete;
+    static std::string last();
+};
+
+struct DatasetCloser {
+    void operator()(void* d) const {
+        if (d) GDALClose(d);
+    }
+};
+using Dataset = std::unique_ptr<void, DatasetCloser>;
+
+/// Band 1 of `ds` as a raster (south row first, NODATA as NaN, the dataset's CRS). `source` is
+/// the file behind `ds` (itself or what a warped view reads), whose size on disk bounds the
+/// cells a damaged header may declare; `where` names it in errors.
+RasterD raster_from_dataset(GDALDatasetH ds, GDALDatasetH source, const std::string& where);
+
+/// An in-memory GDAL dataset (Float64, NODATA NaN) holding `z` north-up with its CRS.
+Dataset dataset_from_raster(const RasterD& z, const std::string& where);
+
+} // namespace ecoterra::terrain::io::gdal

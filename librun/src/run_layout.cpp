@@ -120,8 +120,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     const EcoScene& sc = eco.scene();
     h5.raster(terrain::io::kRunTerrainDataset, sc.hydro.dem, "m",
               "terrain elevation (hydrology grid)");
-    h5.attribute(terrain::io::kRunTerrainDataset, "source_json",
-                 sc.hydro.terrain_source.dump());
+    h5.attribute(terrain::io::kRunTerrainDataset, "source_json", sc.hydro.terrain_source.dump());
     hydro::write_soil_maps(h5, sc.hydro.soil);
     json sp = json::array();
     std::string names;

@@ -31,8 +31,8 @@ std::string grid_mismatch(const GridSpec& x, const GridSpec& g) {
                   "is %d x %d cells of %.10g m from (%.10g, %.10g); the terrain is %d x %d cells "
                   "of %.10g m from (%.10g, %.10g). Put it on the terrain's grid, e.g. gdalwarp "
                   "-te %.10g %.10g %.10g %.10g -ts %d %d -r bilinear IN.tif OUT.tif",
-                  x.nx, x.ny, x.cell_size_m, x.origin_x_m, x.origin_y_m, g.nx, g.ny,
-                  g.cell_size_m, g.origin_x_m, g.origin_y_m, g.origin_x_m, g.origin_y_m,
+                  x.nx, x.ny, x.cell_size_m, x.origin_x_m, x.origin_y_m, g.nx, g.ny, g.cell_size_m,
+                  g.origin_x_m, g.origin_y_m, g.origin_x_m, g.origin_y_m,
                   g.origin_x_m + g.width_m(), g.origin_y_m + g.height_m(), g.nx, g.ny);
     return b;
 }

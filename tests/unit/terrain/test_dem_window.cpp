@@ -285,7 +285,8 @@ TEST_CASE("DEM window errors name the file, key and value", "[io][dem][errors]")
     fails([](tio::DemRequest& r) { r.crs = "EPSG:4326"; }, "is geographic (degrees)");
     fails([](tio::DemRequest& r) { r.crs = "not a crs"; },
           "terrain.crs = 'not a crs': not a coordinate system");
-    fails([](tio::DemRequest& r) { r.cell_m = 1e-4; }, "the window would hold 2000000 x 2000000 cells");
+    fails([](tio::DemRequest& r) { r.cell_m = 1e-4; },
+          "the window would hold 2000000 x 2000000 cells");
     fails([&](tio::DemRequest& r) { r.path = dir.path() / "missing.tif"; },
           "missing.tif: no such file");
     fails([](tio::DemRequest& r) { r.crs = "EPSG:2227"; }, "counts in units of 0.3048");

@@ -51,6 +51,7 @@ struct RunArgs {
     std::optional<std::uint64_t> seed;
     std::vector<std::string> sets;
     bool no_pictures = false, force = false;
+    bool strict = false;       ///< exit 3 when the diagnosis finds the stand empty, sparse or short
     bool output_given = false; ///< -o was on the command line (even with its default value)
 };
 
@@ -104,6 +105,14 @@ run::RunOptions run_options(const RunArgs& a, const std::optional<eco::EcoScene>
     return opt;
 }
 
+/// The diagnosis when the stand is empty, sparse or short of its target.
+void print_diagnosis(const eco::Diagnosis& d) {
+    if (d.verdict == eco::StandVerdict::ok) return;
+    std::printf("diagnosis: %s\n", d.headline.c_str());
+    for (const auto& l : d.lines) std::printf("  %s\n", l.c_str());
+    std::printf("  (every count is in the run's /diagnosis; --strict makes this exit 3)\n");
+}
+
 void print_run_summary(const run::RunSummary& sum, const fs::path& output) {
     const auto& st = sum.stand;
     std::printf("%d years run (%d in total)%s in %.2f s: %.3g plant-years/s, %.3g simulated "
@@ -117,6 +126,7 @@ void print_run_summary(const run::RunSummary& sum, const fs::path& output) {
                 st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa, st.quadratic_mean_dbh_m * kCmPerM,
                 st.sdi_per_ha);
     print_undergrowth(sum.undergrowth, sum.species);
+    print_diagnosis(sum.diagnosis);
     std::printf("budgets: water residual %.2e, carbon residual %.2e of throughput\n",
                 sum.water_residual_relative, sum.carbon_residual_relative);
     std::printf("methods (cite them with the run; also in its /provenance):\n%s",
@@ -160,6 +170,7 @@ void run_run(const RunArgs& a) {
         });
     end_progress_line();
     print_run_summary(sum, opt.output);
+    if (a.strict && sum.diagnosis.verdict != eco::StandVerdict::ok) set_exit_code(3);
 }
 
 struct StandArgs {
@@ -268,6 +279,9 @@ void add_eco_commands(CLI::App& app) {
     run->add_option("--seed", r->seed, "random seed (overrides simulation.seed)");
     run->add_option("--set", r->sets, "KEY=VALUE: override any scene key by its dotted path");
     run->add_flag("--no-pictures", r->no_pictures, "skip the pictures");
+    run->add_flag("--strict", r->strict,
+                  "exit with status 3 when the stand ends empty, sparse or short of "
+                  "simulation.target_basal_area_m2_per_ha (the diagnosis says why)");
     run->add_option("--pictures", r->pictures_dir, "picture folder (default NAME.pictures/)");
     add_force_flag(run, r->force);
     run->callback([r, output] {

@@ -76,10 +76,32 @@ bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const 
     // Light through the crowns and then through the grass and herbs (none without a ground layer).
     double light = 1.0 - canopy.ground_shade(i, j);
     if (!ground.empty()) light *= ground.transmission(species, cell, extinction);
-    if (light < s.germination_min_light) return false;
-    if (water.relative(hi, hj) < s.germination_min_soil_water) return false;
-    if (lakes.owner(cell) != 0) return false;
-    return draw < s.germination_probability * soil_suitability(s, water.soil, hi, hj);
+    SpeciesLedger* l = ledger ? &(*ledger)[static_cast<std::size_t>(&s - species.data())] : nullptr;
+    if (l) l->attempts += 1;
+    if (light < s.germination_min_light) {
+        if (l) l->failed_light += 1;
+        return false;
+    }
+    if (water.relative(hi, hj) < s.germination_min_soil_water) {
+        if (l) l->failed_water += 1;
+        return false;
+    }
+    if (lakes.owner(cell) != 0) {
+        if (l) l->failed_pond += 1;
+        return false;
+    }
+    const double tex =
+        texture_factor(s.texture, s.texture_tolerance_pct, water.soil.sand_pct(hi, hj),
+                       water.soil.silt_pct(hi, hj), water.soil.clay_pct(hi, hj));
+    const double ph = ph_factor(s.ph, water.soil.ph(hi, hj));
+    const bool ok = draw < s.germination_probability * (tex * ph); // soil_suitability's product
+    if (l) {
+        l->draws += 1;
+        l->texture_factor_sum += tex;
+        l->ph_factor_sum += ph;
+        (ok ? l->established : l->failed_draw) += 1;
+    }
+    return ok;
 }
 
 std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Species>& species,
@@ -132,6 +154,10 @@ std::vector<Plant> seed_dispersal(const Population& pop, const std::vector<char>
             const double d = sample_dispersal_distance(s.dispersal, rng);
             const double a = 2.0 * std::numbers::pi * rng.uniform();
             const double x = pop.x_m[k] + d * std::cos(a), y = pop.y_m[k] + d * std::sin(a);
+            if (bed.ledger) {
+                SpeciesLedger& l = (*bed.ledger)[pop.species[k]];
+                (on_grid(grid, x, y) ? l.seeds_landed : l.seeds_lost) += 1;
+            }
             if (!on_grid(grid, x, y)) {
                 sums.seeds_lost += 1;
                 rng.uniform(); // keep the stream aligned with the landed case
@@ -155,6 +181,7 @@ void background_arrivals(const std::vector<Species>& species, const GridSpec& gr
         for (std::int64_t q = 0; q < n; ++q) {
             const double x = grid.origin_x_m + rng.uniform() * grid.width_m();
             const double y = grid.origin_y_m + rng.uniform() * grid.height_m();
+            if (bed.ledger) (*bed.ledger)[sp].arrivals += 1;
             if (s.life_form == LifeForm::object || bed.establishes(s, x, y, rng))
                 recruits.push_back(
                     nursery.make(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));

@@ -31,6 +31,7 @@ constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
 constexpr std::uint32_t kSectionSeries = 1;    // the daily and yearly series, by column name
 constexpr std::uint32_t kSectionBudget = 1;    // the year's sums and the carbon ledger
 constexpr std::uint32_t kSectionWindthrow = 1; // the storm stream and the last thinning
+constexpr std::uint32_t kSectionDiagnosis = 1; // the species ledgers (optional: none before it)
 constexpr std::uint32_t kSectionDeadWood = 2;  // snags and logs (optional: none before it);
                                                // 2: stumps and slash
 
@@ -131,6 +132,7 @@ Ecosystem::Ecosystem(const EcoScene& scene)
     });
     m_daily = Table::of(hydro::daily_budget_columns());
     m_yearly = Table::of(yearly_columns());
+    m_diag.assign(species.size(), SpeciesLedger{});
     for (const Plant& p : initial_stems(m_scene, pg, nursery())) m_pop.push(p);
     refresh_canopy();
     m_hydro->set_vegetation_density(m_canopy.vegetation_density(m_ground, hg));
@@ -140,12 +142,47 @@ Ecosystem::Ecosystem(const EcoScene& scene)
 
 Ecosystem::~Ecosystem() = default;
 
-Seedbed Ecosystem::seedbed() const {
-    return {m_canopy,           m_ground,     m_scene.ecosystem.species,
-            m_scene.extinction, soil_water(), m_hydro->catchments()};
+Seedbed Ecosystem::seedbed() {
+    return {m_canopy,
+            m_ground,
+            m_scene.ecosystem.species,
+            m_scene.extinction,
+            soil_water(),
+            m_hydro->catchments(),
+            &m_diag};
+}
+
+void Ecosystem::count_starved() {
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (!m_pop.alive[k])
+            m_diag[m_pop.species[k]].deaths[static_cast<int>(DeathCause::starvation)] += 1;
+}
+
+void Ecosystem::count_deaths(const std::vector<char>& dead) {
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (dead[k] > 0 && dead[k] < 9)
+            m_diag[m_pop.species[k]].deaths[static_cast<int>(dead[k])] += 1;
+}
+
+void Ecosystem::sample_growth_factors(const DayClimate& day) {
+    const auto& species = m_scene.ecosystem.species;
+    for (std::size_t k = 0; k < m_pop.size(); ++k) {
+        const auto sp = m_pop.species[k];
+        const Species& s = species[sp];
+        if (!m_pop.alive[k] || s.life_form == LifeForm::object || day.phen[sp] <= 0) continue;
+        SpeciesLedger& l = m_diag[sp];
+        l.samples += 1;
+        l.light_sum += light_or_shade_factor(s, m_scene.growth, m_pop.shade_fraction[k]);
+        l.water_sum += water_factor(s.water, m_fraction[k]);
+        l.soil_sum += m_pop.soil_factor[k];
+        l.temperature_sum += day.ftemp[sp];
+    }
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (m_pop.alive[k]) m_diag[m_pop.species[k]].plants_sum += 1;
 }
 
 void Ecosystem::refresh_canopy() {
+    if (m_scene.competition == Competition::coupled) count_starved();
     take_dead(nullptr);
     remove_dead(m_pop, m_sum);
     if (m_scene.competition == Competition::coupled)
@@ -247,7 +284,10 @@ hydro::DailyFluxes Ecosystem::coupled_day(const hydro::DayWeather& w) {
     // its checkpoint see no pending days); the canopy refreshes once an interval.
     const bool refresh = m_days_done % m_scene.canopy_interval_days == 0;
     if (refresh || w.doy >= year_length(w)) m_ground.apply(species);
-    if (refresh) refresh_canopy();
+    if (refresh) {
+        sample_growth_factors(day);
+        refresh_canopy();
+    }
     return f;
 }
 
@@ -270,6 +310,7 @@ void Ecosystem::ground_layer_day(const hydro::DayWeather& w, const DayClimate& d
 
 void Ecosystem::year_end_coupled() {
     const auto& species = m_scene.ecosystem.species;
+    count_starved(); // since the last refresh; removed below
     std::vector<char> dead = ageing_and_mortality(m_pop, species, m_rng_mort, m_sum);
     const Seedbed bed = seedbed();
     const Nursery make = nursery();
@@ -278,6 +319,7 @@ void Ecosystem::year_end_coupled() {
     background_arrivals(species, plant_grid(), bed, make, m_rng_arrival, recruits);
     storm(dead);
     harvest(dead, false);
+    count_deaths(dead);
     take_dead(&dead);
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
         m_pop.growth_sum[k] = m_pop.growth_days[k] = 0;
@@ -306,6 +348,7 @@ void Ecosystem::year_end_light_only() {
     overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
     storm(dead);
     harvest(dead, true);
+    count_deaths(dead);
     take_dead(&dead);
     for (char& d : dead) d = !d;
     m_pop.keep_if(dead);
@@ -425,6 +468,40 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }
 
+Diagnosis Ecosystem::diagnosis() const {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& hg = m_scene.hydro.dem.grid();
+    DiagnosisInput in{
+        species, m_diag, std::vector<double>(species.size(), 0.0), {}, 0, {}, 0, false, 1, "", 0};
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (m_pop.alive[k]) in.living[m_pop.species[k]] += 1;
+    in.stand = stand();
+    in.years = m_years_done;
+    in.target_basal_area_m2_per_ha = m_scene.target_basal_area_m2_per_ha;
+    const auto& ba = m_yearly.column("basal_area_m2_per_ha");
+    if (ba.size() >= 2) {
+        const std::size_t back = std::min<std::size_t>(5, ba.size() - 1);
+        in.basal_area_growth_m2_per_ha_per_yr =
+            (ba.back() - ba[ba.size() - 1 - back]) / static_cast<double>(back);
+    }
+    in.light_only = m_scene.competition == Competition::light_only;
+    in.area_ha = plant_grid().width_m() * plant_grid().height_m() / 1e4;
+    const auto& soil = m_scene.hydro.soil;
+    std::vector<double> classes(12, 0.0);
+    double ph = 0, n = 0;
+    for (std::int64_t c = 0; c < hg.size(); ++c) {
+        const int i = static_cast<int>(c % hg.nx), j = static_cast<int>(c / hg.nx);
+        if (std::isnan(m_scene.hydro.dem(i, j))) continue;
+        classes[std::min<std::size_t>(11, static_cast<std::size_t>(soil.texture(i, j)))] += 1;
+        ph += soil.ph(i, j);
+        n += 1;
+    }
+    in.soil_texture = hydro::texture_name(static_cast<hydro::Texture>(
+        std::max_element(classes.begin(), classes.end()) - classes.begin()));
+    in.soil_ph = n > 0 ? ph / n : 0;
+    return diagnose(in);
+}
+
 StandMetrics Ecosystem::stand() const {
     const auto& sp = m_scene.ecosystem.species;
     std::vector<double> d;
@@ -526,6 +603,7 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
     });
     w.section("deadwood", kSectionDeadWood, [&](ArchiveWriter& s) { m_dead.save(s); });
     w.section("windthrow", kSectionWindthrow, [&](ArchiveWriter& s) { m_wind.save(s); });
+    w.section("diagnosis", kSectionDiagnosis, [&](ArchiveWriter& s) { s.put_vector(m_diag); });
 }
 
 namespace {
@@ -625,6 +703,16 @@ void Ecosystem::load_sections(ArchiveReader& a) {
     if (r.version("windthrow") != 0)
         r.read("windthrow", 1, kSectionWindthrow,
                [&](ArchiveReader& s, std::uint32_t) { m_wind.load(s); });
+    // Checkpoints from before the diagnosis: its counts start at the resume.
+    if (r.version("diagnosis") != 0)
+        r.read("diagnosis", 1, kSectionDiagnosis, [&](ArchiveReader& s, std::uint32_t) {
+            auto d = s.get_vector<SpeciesLedger>();
+            if (d.size() != m_diag.size())
+                throw CheckpointError(
+                    "checkpoint section 'diagnosis': " + std::to_string(d.size()) +
+                    " species, the scene has " + std::to_string(m_diag.size()));
+            m_diag = std::move(d);
+        });
     r.finish();
 }
 

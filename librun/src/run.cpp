@@ -301,6 +301,7 @@ RunSummary RunJob::summary() {
     sum.snapshots = m_snapshots;
     sum.stand = m_eco->stand();
     sum.undergrowth = m_eco->undergrowth();
+    sum.diagnosis = m_eco->diagnosis();
     for (const auto& s : m_eco->scene().ecosystem.species) sum.species.push_back(s.name);
     sum.plant_years = m_plant_years;
     sum.water_residual_relative = std::abs(m_eco->hydrology().cumulative_residual_m3()) /

@@ -139,6 +139,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
                "tree, shrub, grass (the ground layer: snapshot ground_cover) or object");
     h5.attribute("/species", "ecosystem", sc.ecosystem.name);
     h5.attribute("/provenance", "json", provenance.dump());
+    h5.attribute("/diagnosis", "json", eco.diagnosis().json.dump());
     if (sc.seed <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
         h5.integer_attribute("/provenance", "seed", static_cast<std::int64_t>(sc.seed));
     else

@@ -13,6 +13,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -37,6 +39,16 @@ std::int64_t first_difference(const std::vector<std::uint8_t>& a,
     for (std::size_t k = 0; k < n; ++k)
         if (a[k] != b[k]) return static_cast<std::int64_t>(k);
     return a.size() == b.size() ? -1 : static_cast<std::int64_t>(n);
+}
+
+/// The checkpoint up to its diagnosis section (the last; a format-6 checkpoint has none, so a run
+/// resumed from one counts its diagnosis from the resume on).
+std::vector<std::uint8_t> before_diagnosis(std::vector<std::uint8_t> b) {
+    const std::string name = "diagnosis";
+    const auto at = std::search(b.begin(), b.end(), name.begin(), name.end());
+    REQUIRE(at != b.end());
+    b.erase(at, b.end());
+    return b;
 }
 
 /// Names the first part of the state that differs between two engines (for the failure message).
@@ -314,9 +326,13 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     constexpr bool kFixtureCompiler = false;
 #endif
     // The year-1 state read from format 6 is the year-1 state of today's engine.
-    if (kFixtureCompiler) CHECK(first_difference(saved, checkpoint(straight)) == -1);
+    if (kFixtureCompiler)
+        CHECK(first_difference(before_diagnosis(saved), before_diagnosis(checkpoint(straight))) ==
+              -1);
     for (int y = 0; y < 2; ++y) straight.run_year(), resumed.run_year();
-    if (kFixtureCompiler) CHECK(first_difference(checkpoint(resumed), checkpoint(straight)) == -1);
+    if (kFixtureCompiler)
+        CHECK(first_difference(before_diagnosis(checkpoint(resumed)),
+                               before_diagnosis(checkpoint(straight))) == -1);
     CHECK(resumed.stand().basal_area_m2_per_ha ==
           Approx(straight.stand().basal_area_m2_per_ha).epsilon(1e-9));
     CHECK(resumed.plants().size() == straight.plants().size());

@@ -16,6 +16,7 @@
 // The year ends on day 365, or on 31 December with observed weather.
 #include "ecoterra/archive.hpp"
 #include "ecoterra/eco/deadwood.hpp"
+#include "ecoterra/eco/diagnosis.hpp"
 #include "ecoterra/eco/ground_layer.hpp"
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/outputs.hpp"
@@ -72,6 +73,10 @@ public:
     /// Reads a checkpoint save_state() wrote, or one of format version 6 (before sections).
     void load_state(ArchiveReader& a);
 
+    /// Why the stand is what it is, from the run's ledger (diagnosis.hpp).
+    Diagnosis diagnosis() const;
+    const std::vector<SpeciesLedger>& species_ledger() const { return m_diag; }
+
 private:
     const hydro::DayWeather& next_weather();
     /// Days in the year of `w`: 365, or the calendar year's with observed weather.
@@ -105,7 +110,13 @@ private:
         return {m_scene.ecosystem.species, m_scene.hydro.dem, m_scene.hydro.soil,
                 m_scene.competition, m_next_id};
     }
-    Seedbed seedbed() const;
+    Seedbed seedbed();
+    /// Counts the plants starved since the last count (dead, not yet removed) in the ledger.
+    void count_starved();
+    /// Counts the year's deaths by cause in the ledger.
+    void count_deaths(const std::vector<char>& dead);
+    /// Adds the growth factors of the living plants in leaf to the ledger.
+    void sample_growth_factors(const DayClimate& day);
     /// A hash of the observed weather series (0 with the generator), checked on resume.
     std::uint64_t observed_weather_hash() const;
     void load_sections(ArchiveReader& a);
@@ -143,6 +154,7 @@ private:
     Table m_yearly, m_daily;
     PlantSums m_sum;
     CarbonLedger m_ledger;
+    std::vector<SpeciesLedger> m_diag; ///< per species, over the run (in the checkpoint)
 };
 
 } // namespace ecoterra::eco

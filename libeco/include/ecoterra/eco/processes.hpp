@@ -24,6 +24,7 @@
 // Both modes: vegetation_density for the hydrology; close_carbon_budget.
 #include "ecoterra/eco/canopy.hpp"
 #include "ecoterra/eco/deadwood.hpp"
+#include "ecoterra/eco/diagnosis.hpp"
 #include "ecoterra/eco/ground_layer.hpp"
 #include "ecoterra/eco/population.hpp"
 #include "ecoterra/eco/roots.hpp"
@@ -156,6 +157,8 @@ struct Seedbed {
     double extinction;
     SoilWater water;
     const hydro::Catchments& lakes;
+    /// Where each species' seeds and attempts are counted (diagnosis.hpp); none if null.
+    std::vector<SpeciesLedger>* ledger = nullptr;
     /// One draw of `rng` always (the stream does not depend on the tests).
     bool establishes(const Species& s, double x, double y, Rng& rng) const;
 };

@@ -46,7 +46,8 @@ struct RunSummary {
                drainage_out = 0, groundwater_out = 0, recharge = 0;
     } water_mm_per_yr;
     std::filesystem::path picture_dir;
-    Methods methods; ///< the published methods the run used (also in its provenance)
+    Methods methods;          ///< the published methods the run used (also in its provenance)
+    eco::Diagnosis diagnosis; ///< why the stand is what it is (also in /diagnosis of the run)
 };
 
 /// Runs a scene from its start (opt.resume false) or continues the run in opt.output.

@@ -70,11 +70,13 @@ void refuse_over_run_file(const std::string& option, const std::string& path) {
 
 void print_warnings(const std::vector<std::string>& warnings) {
     end_progress_line();
+    std::fflush(stdout); // after what was printed before them
     for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
 void print_notes(const std::vector<std::string>& notes) {
     end_progress_line();
+    std::fflush(stdout);
     for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 }
 

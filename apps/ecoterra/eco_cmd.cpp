@@ -240,22 +240,38 @@ struct ExportArgs {
     bool force = false;
 };
 
+/// True for a .json output, false for .csv; an InputError for any other suffix.
+bool json_table(const std::string& output) {
+    const std::string ext = fs::path(output).extension().string();
+    if (ext == ".json") return true;
+    if (ext == ".csv") return false;
+    throw InputError("-o " + output +
+                     ": give a .csv file (a table) or a .json file (an array of "
+                     "records); the suffix picks the format");
+}
+
 void run_export_vegetation(const ExportArgs& a) {
+    const bool as_json = json_table(a.output);
     refuse_output_over_input("-o", a.output, {a.run});
     claim_output("-o", a.output, a.force);
     const auto info = run::read_run_info(a.run);
     const auto s = run::read_snapshot_plants(a.run, a.snapshot);
-    io::write_text_atomic(a.output, run::stem_csv(s.plants, info.species));
+    io::write_text_atomic(a.output,
+                          as_json ? run::stem_records_json(s.plants, info.species).dump(1) + "\n"
+                                  : run::stem_csv(s.plants, info.species));
     std::printf("wrote %zu stems of snapshot %d (year %d) to %s\n", s.plants.size(), s.index,
                 s.year, a.output.c_str());
 }
 
 void run_export_deadwood(const ExportArgs& a) {
+    const bool as_json = json_table(a.output);
     refuse_output_over_input("-o", a.output, {a.run});
     claim_output("-o", a.output, a.force);
     const auto info = run::read_run_info(a.run);
     const auto s = run::read_snapshot_deadwood(a.run, a.snapshot);
-    io::write_text_atomic(a.output, run::deadwood_csv(s.pieces, info.species));
+    io::write_text_atomic(
+        a.output, as_json ? run::deadwood_records_json(s.pieces, info.species).dump(1) + "\n"
+                          : run::deadwood_csv(s.pieces, info.species));
     std::array<std::ptrdiff_t, 4> n{}; // snags, logs, stumps, slash
     for (const auto& r : s.pieces) ++n[r.piece == 1 ? 2 : r.piece == 2 ? 3 : r.standing ? 0 : 1];
     std::printf("wrote %td snags, %td logs, %td stumps and %td pieces of slash of snapshot %d "
@@ -315,7 +331,8 @@ void add_eco_commands(CLI::App& app) {
     veg->add_option("run", e->run, "HDF5 run file")->required();
     veg->add_option("--snapshot", e->snapshot, "snapshot index (negative: from the last)")
         ->capture_default_str();
-    veg->add_option("-o,--output", e->output, "CSV file")->required();
+    veg->add_option("-o,--output", e->output, "a .csv file, or .json (an array of records)")
+        ->required();
     add_force_flag(veg, e->force);
     veg->callback([e] { run_export_vegetation(*e); });
     CLI::App* dead = exp->add_subcommand(
@@ -323,7 +340,8 @@ void add_eco_commands(CLI::App& app) {
     dead->add_option("run", e->run, "HDF5 run file")->required();
     dead->add_option("--snapshot", e->snapshot, "snapshot index (negative: from the last)")
         ->capture_default_str();
-    dead->add_option("-o,--output", e->output, "CSV file")->required();
+    dead->add_option("-o,--output", e->output, "a .csv file, or .json (an array of records)")
+        ->required();
     add_force_flag(dead, e->force);
     dead->callback([e] { run_export_deadwood(*e); });
     add_export_scene_commands(*exp);

@@ -110,7 +110,8 @@ void run_scene(const SceneArgs& a) {
     if (!a.no_pictures) ex::draw_export_picture(s, folder.staged_path("picture.png"), opt.user);
     folder.commit();
     report(s, ex::scene_format_name(format), a.output, bytes, seconds(), folder.notes());
-    if (!a.no_pictures) std::printf("picture: %s/picture.png\n", a.output.c_str());
+    if (!a.no_pictures)
+        std::printf("picture: %s\n", (fs::path(a.output) / "picture.png").string().c_str());
 }
 
 void run_layers(const SceneArgs& a) {

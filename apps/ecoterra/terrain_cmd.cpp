@@ -8,6 +8,7 @@
 #include "ecoterra/progress.hpp"
 #include "ecoterra/terrain/analysis.hpp"
 #include "ecoterra/terrain/generate.hpp"
+#include "ecoterra/terrain/io/dem_window.hpp"
 #include "ecoterra/terrain/io/raster_io.hpp"
 #include "ecoterra/terrain/missions.hpp"
 
@@ -195,6 +196,7 @@ void run_analyze(AnalyzeArgs& a) {
     const TerrainAnalysis r = analyze_terrain(z, a.opt);
     std::printf("%s: %d x %d cells of %.4g m\n%s", a.input.c_str(), z.nx(), z.ny(), z.cell_size(),
                 r.summary(a.opt).c_str());
+    print_notes(r.notes);
     if (!a.json_out.empty()) {
         json j = analyses::terrain_json(r, a.opt);
         j["input"] = a.input;
@@ -267,7 +269,43 @@ void run_missions(MissionArgs& a) {
 struct ConvertArgs {
     std::string input, output, format;
     bool force = false;
+    // A window on a new grid (the scene's terrain.window, cell_m, resampling and crs).
+    std::vector<double> bounds, pixels, centre, size;
+    double cell = 0;
+    std::string resampling = "auto", crs;
 };
+
+/// The window options of `terrain convert` as a request for read_dem.
+terrain::io::DemRequest dem_request(const ConvertArgs& a) {
+    terrain::io::DemRequest r;
+    r.path = a.input;
+    r.key = "terrain convert";
+    auto arr = [](const std::vector<double>& v, std::size_t n, const char* opt) {
+        if (v.size() != n)
+            throw InputError(std::string(opt) + ": give " + std::to_string(n) +
+                             " numbers separated by commas");
+    };
+    if (!a.bounds.empty()) {
+        arr(a.bounds, 4, "--bounds");
+        r.window.bounds = std::array<double, 4>{a.bounds[0], a.bounds[1], a.bounds[2], a.bounds[3]};
+    }
+    if (!a.pixels.empty()) {
+        arr(a.pixels, 4, "--pixels");
+        r.window.pixels = std::array<double, 4>{a.pixels[0], a.pixels[1], a.pixels[2], a.pixels[3]};
+    }
+    if (!a.centre.empty()) {
+        arr(a.centre, 2, "--centre");
+        if (a.size.empty()) throw InputError("--centre needs --size (metres: W or W,H)");
+        r.window.centre = std::array<double, 2>{a.centre[0], a.centre[1]};
+        r.window.size_m = {a.size[0], a.size.size() > 1 ? a.size[1] : a.size[0]};
+    } else if (!a.size.empty()) {
+        throw InputError("--size: only with --centre");
+    }
+    r.cell_m = a.cell;
+    r.resampling = a.resampling;
+    r.crs = a.crs;
+    return r;
+}
 
 void run_convert(const ConvertArgs& a) {
     // "run.h5:/terrain/elevation" names the file run.h5: converting it onto itself would leave
@@ -278,12 +316,23 @@ void run_convert(const ConvertArgs& a) {
     refuse_over_run_file("output", a.output);
     claim_output("output", a.output, a.force);
     std::vector<std::string> warnings;
-    const RasterD z = terrain::io::read_raster(a.input, &warnings);
+    const terrain::io::DemRequest req = dem_request(a);
+    RasterD z;
+    json source;
+    if (terrain::io::dem_request_resamples(req) || a.resampling != "auto") {
+        terrain::io::DemRead d = terrain::io::read_dem(req, &warnings);
+        z = std::move(d.z);
+        source = std::move(d.record);
+    } else {
+        z = terrain::io::read_raster(a.input, &warnings);
+    }
     terrain::io::WriteOptions wo;
     wo.provenance = provenance({{"converted_from", a.input}});
+    if (!source.is_null()) wo.provenance["window"] = source;
     wo.warnings = &warnings;
     terrain::io::write_raster(z, a.output, format, wo);
     print_warnings(warnings);
+    if (!source.is_null()) print_terrain_source(source);
     std::printf("converted %s (%d x %d cells of %.4g m) to %s (%s)\n", a.input.c_str(), z.nx(),
                 z.ny(), z.cell_size(), a.output.c_str(), terrain::io::format_name(format).c_str());
 }
@@ -379,6 +428,21 @@ void add_convert(CLI::App* terrain) {
     cv->add_option("output", c->output, "output raster; the extension picks the format")
         ->required();
     cv->add_option("--format", c->format, "force a format: hdf5 asc geotiff png gazebo-png obj");
+    cv->add_option("--bounds", c->bounds,
+                   "a window: x_min,y_min,x_max,y_max in the input's coordinate system")
+        ->delimiter(',');
+    cv->add_option("--pixels", c->pixels, "a window: column,row,columns,rows (row 0 north)")
+        ->delimiter(',');
+    cv->add_option("--centre", c->centre, "a window around x,y (the input's system), with --size")
+        ->delimiter(',');
+    cv->add_option("--size", c->size, "the window's width[,height], m")->delimiter(',');
+    cv->add_option("--cell", c->cell, "resample to cells of this side, m (GDAL's warper)");
+    cv->add_option("--resampling", c->resampling,
+                   "auto (cubic refining, average coarsening), nearest, bilinear, cubic, "
+                   "cubicspline, lanczos, average");
+    cv->add_option("--crs", c->crs, "reproject to this system (EPSG:n, WKT, PROJ; metres)");
+    cv->footer("The window options do what a scene's terrain.window, cell_m, resampling and crs "
+               "do (docs/formats.md, DEM windows); the output's provenance records the window.");
     add_force_flag(cv, c->force);
     cv->callback([c] { run_convert(*c); });
 }

@@ -210,8 +210,13 @@ const std::vector<Column<terrain::TerrainAnalysis>>& terrain_metrics() {
                   [](const A& a) { return a.closed_classes.high_pct; }),
         metric<A>("rms_m", "m", "RMS height about the mean plane",
                   [](const A& a) { return a.rms.rms_m; }),
-        metric<A>("rms_detrended_m", "m", "RMS height about the moving-window trend",
-                  [](const A& a) { return a.rms.rms_detrended_m; }),
+        metric<A>("rms_detrended_m", "m",
+                  "RMS height about the moving-window trend (NaN where the window is under two "
+                  "cells)",
+                  [](const A& a) {
+                      return a.detrended_valid ? a.rms.rms_detrended_m
+                                               : std::numeric_limits<double>::quiet_NaN();
+                  }),
         metric<A>("mean_slope", "1", "mean slope, rise over run",
                   [](const A& a) { return a.mean_slope; }),
         metric<A>("fractal_dimension", "1", "fractal dimension from the structure function",

@@ -333,6 +333,8 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     }
     const json entries = group ? group_life_stages(j.at("Species"), def.notes) : j.at("Species");
     std::set<std::string> seen, names;
+    std::set<std::string> defaulted_keys; // physiology keys some species leave to their default
+    int species_with_defaults = 0;
     int index = 0;
     for (const auto& e : entries) {
         std::string label;
@@ -366,10 +368,10 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
                                     "default for " +
                                     (s.life_form == LifeForm::object ? "an " : "a ") +
                                     life_form_name(s.life_form) + " (docs/ecosystem.md s1)");
-            } else if (!s.defaulted.empty()) {
-                std::string list;
-                for (const auto& d : s.defaulted) list += (list.empty() ? "" : ", ") + d;
-                def.notes.push_back("species " + label + ": defaults for " + list);
+            } else {
+                for (const auto& d : s.defaulted)
+                    if (d != "physiology.life_form") defaulted_keys.insert(d);
+                if (!s.defaulted.empty()) ++species_with_defaults;
             }
             if (std::find(s.defaulted.begin(), s.defaulted.end(), "physiology.life_form") !=
                 s.defaulted.end()) {
@@ -383,6 +385,14 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
         ++index;
     }
     if (def.species.size() > 65535) throw InputError(source + ": more than 65535 species");
+    // One line for the defaults, not one per species: they are documented values, nothing to act
+    // on; the run's /species json records every value used.
+    if (!defaulted_keys.empty())
+        def.notes.push_back(std::to_string(species_with_defaults) + " of " +
+                            std::to_string(def.species.size()) + " species leave " +
+                            std::to_string(defaulted_keys.size()) +
+                            " physiology keys at their defaults (`ecoterra describe species` "
+                            "lists them; the run's /species records every value used)");
     return def;
 }
 

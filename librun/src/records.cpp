@@ -222,4 +222,44 @@ std::string stem_csv(const std::vector<PlantRecord>& plants,
     return out;
 }
 
+nlohmann::ordered_json stem_records_json(const std::vector<PlantRecord>& plants,
+                                         const std::vector<std::string>& species) {
+    const auto& cols = stem_csv_columns();
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const auto& p : plants) {
+        nlohmann::ordered_json r = nlohmann::ordered_json::object();
+        for (const auto& c : cols) {
+            const std::string t = c.text(p, species);
+            if (c.type == ColumnType::text)
+                r[c.name] = t;
+            else if (c.type == ColumnType::float64)
+                r[c.name] = std::stod(t);
+            else
+                r[c.name] = std::stoll(t);
+        }
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+nlohmann::ordered_json deadwood_records_json(const std::vector<DeadWoodRecord>& pieces,
+                                             const std::vector<std::string>& species) {
+    const auto& cols = deadwood_columns();
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const auto& p : pieces) {
+        nlohmann::ordered_json r = nlohmann::ordered_json::object();
+        for (const auto& c : cols) {
+            const double v = c.get(p);
+            if (c.type == ColumnType::float64)
+                r[c.name] = v;
+            else
+                r[c.name] = static_cast<long long>(v);
+        }
+        const auto sp = static_cast<std::size_t>(p.species);
+        r["species_name"] = sp < species.size() ? species[sp] : std::to_string(sp);
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
 } // namespace ecoterra::run

@@ -36,7 +36,49 @@ TerrainAnalysis analyze_terrain(const RasterD& z, const AnalysisOptions& opt) {
     const auto ss = stats(sa.slope);
     a.mean_slope = ss.mean;
     a.max_slope = ss.max;
+    a.notes = scale_notes(opt, z.cell_size());
+    a.detrended_valid = opt.rms.detrend_window_m >= 2 * z.cell_size();
+    a.band_limited_valid = opt.rms.band_long_cutoff_m >= 2 * z.cell_size();
     return a;
+}
+
+std::vector<std::string> scale_notes(const AnalysisOptions& opt, double cell_m) {
+    std::vector<std::string> parts;
+    char b[240];
+    auto add = [&](bool when, const char* f, double v) {
+        if (!when) return;
+        std::snprintf(b, sizeof b, f, v);
+        parts.emplace_back(b);
+    };
+    const double two = 2 * cell_m;
+    add(opt.rms.detrend_window_m < two, "the detrended RMS (its %.3g m window is under two cells)",
+        opt.rms.detrend_window_m);
+    add(opt.rms.band_long_cutoff_m < two,
+        "the band-limited RMS (wavelengths under %.3g m are shorter than two cells)",
+        opt.rms.band_long_cutoff_m);
+    add(opt.closing_radius_m < cell_m, "the class map's closing (its %.3g m disk is under a cell)",
+        opt.closing_radius_m);
+    add(opt.border_m > 0 && opt.border_m < cell_m, "the border (%.3g m, under a cell)",
+        opt.border_m);
+    add(cell_m > 5,
+        "the slope classes (slopes over %.4g m cells are far gentler than a vehicle "
+        "meets; paper 000's classes are for cells of a few metres)",
+        cell_m);
+    // The closing and the border alone (cells of 0.25-5 m) are not worth a note: the figures that
+    // matter are the RMS windows and the classes.
+    if (!(opt.rms.detrend_window_m < two || opt.rms.band_long_cutoff_m < two || cell_m > 5))
+        return {};
+    std::string t;
+    for (std::size_t k = 0; k < parts.size(); ++k)
+        t += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+    std::snprintf(b, sizeof b,
+                  "cells of %.4g m are too coarse for the vehicle-scale figures: ", cell_m);
+    std::string head = b;
+    std::snprintf(b, sizeof b,
+                  ". Analyse a window of the DEM resampled to about 1 m (a scene's terrain.window "
+                  "and terrain.cell_m), or give windows of %.4g m or more",
+                  two);
+    return {head + t + b};
 }
 
 nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
@@ -63,8 +105,9 @@ nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
               {"std", elevation.stddev},
               {"valid_cells", elevation.valid}}},
             {"rms_m", rms.rms_m},
-            {"rms_detrended_m", rms.rms_detrended_m},
-            {"rms_band_limited_m", rms.rms_band_limited_m},
+            {"rms_detrended_m", detrended_valid ? json(rms.rms_detrended_m) : json()},
+            {"rms_band_limited_m", band_limited_valid ? json(rms.rms_band_limited_m) : json()},
+            {"notes", notes},
             {"rms_options",
              {{"detrend_window_m", opt.rms.detrend_window_m},
               {"band_long_cutoff_m", opt.rms.band_long_cutoff_m},
@@ -96,12 +139,20 @@ nlohmann::json TerrainAnalysis::to_json(const AnalysisOptions& opt) const {
               {"curve", curve}}}};
 }
 
+namespace {
+std::string metres(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g m", v);
+    return b;
+}
+} // namespace
+
 std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
     char buf[2048];
     std::snprintf(
         buf, sizeof buf,
         "elevation        %.4g .. %.4g m (mean %.4g, std %.4g), %lld valid cells\n"
-        "RMS roughness    %.4g m plain, %.4g m detrended (%.3g m window), %.4g m band-limited "
+        "RMS roughness    %.4g m plain, %s detrended (%.3g m window), %s band-limited "
         "(< %.3g m)\n"
         "slope            mean %.3f, max %.3f (rise over run)\n"
         "classes          low %.2f %%, semi %.2f %%, high %.2f %% (slope <= %.3f / <= %.3f, "
@@ -110,12 +161,14 @@ std::string TerrainAnalysis::summary(const AnalysisOptions& opt) const {
         "PSD slope        %.3f over %.3g..%.3g cycles/m (r2 %.4f, implies D = %.3f)\n"
         "fractal dim.     D = %.3f (H = %.3f) over %.3g..%.3g m, r2 %.4f\n",
         elevation.min, elevation.max, elevation.mean, elevation.stddev,
-        static_cast<long long>(elevation.valid), rms.rms_m, rms.rms_detrended_m,
-        opt.rms.detrend_window_m, rms.rms_band_limited_m, opt.rms.band_long_cutoff_m, mean_slope,
-        max_slope, classes.low_pct, classes.semi_pct, classes.high_pct, opt.thresholds.low,
-        opt.thresholds.high, opt.border_m, closed_classes.low_pct, closed_classes.semi_pct,
-        closed_classes.high_pct, opt.closing_radius_m, psd.slope, psd.fit_min_cpm, psd.fit_max_cpm,
-        psd.r2, psd.dimension, fd.dimension, fd.hurst, fd.range_min_m, fd.range_max_m, fd.r2);
+        static_cast<long long>(elevation.valid), rms.rms_m,
+        detrended_valid ? metres(rms.rms_detrended_m).c_str() : "n/a", opt.rms.detrend_window_m,
+        band_limited_valid ? metres(rms.rms_band_limited_m).c_str() : "n/a",
+        opt.rms.band_long_cutoff_m, mean_slope, max_slope, classes.low_pct, classes.semi_pct,
+        classes.high_pct, opt.thresholds.low, opt.thresholds.high, opt.border_m,
+        closed_classes.low_pct, closed_classes.semi_pct, closed_classes.high_pct,
+        opt.closing_radius_m, psd.slope, psd.fit_min_cpm, psd.fit_max_cpm, psd.r2, psd.dimension,
+        fd.dimension, fd.hurst, fd.range_min_m, fd.range_max_m, fd.r2);
     return buf;
 }
 

@@ -684,3 +684,38 @@ TEST_CASE("Every shipped ecosystem grows a stand on the scene the docs name for 
         }
     }
 }
+
+TEST_CASE("Shipped scenes print no noise, and exports take the format their suffix names",
+          "[eco][notes]") {
+    test::TempDir dir;
+    auto r =
+        test::run(dir, "run " + (test::data_dir() / "scenes/quickstart_undergrowth.json").string() +
+                           " --years 2 -o u.h5 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    std::istringstream lines(r.out);
+    int notes = 0;
+    for (std::string line; std::getline(lines, line);)
+        if (line.rfind("note:", 0) == 0 || line.rfind("warning:", 0) == 0) {
+            ++notes;
+            CHECK(line.size() < 400);
+        }
+    CHECK(notes <= 1); // the one line on the physiology defaults
+    r = test::run(dir, "export vegetation u.h5 -o stems.txt");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("-o stems.txt: give a .csv file"));
+    CHECK(!fs::exists(dir / "stems.txt"));
+    r = test::run(dir, "export vegetation u.h5 -o stems.json");
+    REQUIRE(r.code == 0);
+    const auto j = nlohmann::ordered_json::parse(io::read_text(dir / "stems.json"));
+    REQUIRE(j.is_array());
+    REQUIRE(!j.empty());
+    CHECK(j[0].begin().key() == "id"); // the CSV's column order
+    CHECK(j[0]["species"].is_string());
+    CHECK(j[0]["dbh_cm"].is_number());
+    r = test::run(dir, "export scene u.h5 --format gazebo -o forest_gazebo/");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, !Catch::Contains("landscape size"));
+    CHECK_THAT(r.out, Catch::Contains("picture: forest_gazebo/picture.png"));
+}

@@ -18,6 +18,7 @@ using namespace ecoterra;
 using ecoterra::test::Run;
 using ecoterra::test::run;
 using ecoterra::test::TempDir;
+using nlohmann::json;
 
 namespace {
 
@@ -177,4 +178,45 @@ TEST_CASE("terrain analyze of a DEM with no-data outside its footprint counts on
     CHECK(j["closed_classes_pct"]["cells_counted"].get<std::int64_t>() == valid);
     CHECK(j["closed_classes_pct"]["low"].get<double>() == Approx(100));
     CHECK_THAT(r.out, Catch::Contains("closed classes   low 100.00 %"));
+}
+
+TEST_CASE("analyze says which vehicle-scale figures a coarse DEM cannot give", "[terrain][dem]") {
+    test::TempDir dir;
+    const std::string lux = (test::data_dir() / "dem/luxembourg_elev.tif").string();
+    auto r = test::run(dir, "terrain analyze " + lux + " --json a.json");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("n/a detrended (3 m window), n/a band-limited (< 3 m)"));
+    CHECK_THAT(r.out, Catch::Contains("note: cells of 772 m are too coarse for the vehicle-scale "
+                                      "figures"));
+    const json j = json::parse(io::read_text(dir / "a.json"));
+    CHECK(j["rms_detrended_m"].is_null());
+    CHECK(j["rms_band_limited_m"].is_null());
+    CHECK(j["notes"].size() == 1);
+    // Windows of two cells or more give the figures again, and no note about them.
+    r = test::run(dir, "terrain analyze " + lux +
+                           " --detrend-window 2000 --band-cutoff 2000 --json b.json --force");
+    CHECK(r.code == 0);
+    const json b = json::parse(io::read_text(dir / "b.json"));
+    CHECK(b["rms_detrended_m"].get<double>() > 0);
+    CHECK(b["rms_band_limited_m"].get<double>() > 0);
+    // A window of the DEM resampled to 1 m: the figures are measured, and no note.
+    r = test::run(dir, "terrain convert " +
+                           (test::data_dir() / "dem/olinda_dem_utm25s.tif").string() +
+                           " olinda_1m.tif --centre 293770,9115766 --size 200,150 --cell 1");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("200 x 150 cells of 1 m by GDAL's warper (cubic)"));
+    r = test::run(dir, "terrain analyze olinda_1m.tif --json c.json");
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, !Catch::Contains("note:"));
+    const json c = json::parse(io::read_text(dir / "c.json"));
+    CHECK(c["rms_detrended_m"].is_number());
+    CHECK(c["notes"].empty());
+    r = test::run(dir, "terrain convert olinda_1m.tif x.tif --size 10");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--size: only with --centre"));
+    r = test::run(dir, "terrain convert olinda_1m.tif x.tif --bounds 1,2,3");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--bounds: give 4 numbers"));
 }

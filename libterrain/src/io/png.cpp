@@ -159,10 +159,9 @@ void encode_png16(const RasterD& z, const std::filesystem::path& path, const Wri
                    "spans the terrain's relief"}}},
         {"provenance", opt.provenance}};
     for (auto& [k, v] : extra.items()) side[k] = v;
-    if (opt.warnings && !(z.nx() == z.ny() && unreal_side_ok(z.nx())))
-        opt.warnings->push_back(path.string() + ": " + std::to_string(z.nx()) + "x" +
-                                std::to_string(z.ny()) +
-                                " is not an Unreal Engine landscape size (e.g. 1009, 2017, 4033)");
+    // No warning for a side Unreal would not take: a PNG heightmap serves Gazebo, GIS and
+    // pictures too, and `export scene --format unreal` resamples to an Unreal side itself; the
+    // sidecar's unreal.landscape_size_valid says it.
     ecoterra::io::AtomicOutput png_out(path);
     ecoterra::io::AtomicOutput json_out(png_sidecar_path(path));
     const std::string e =

@@ -13,6 +13,8 @@
 #include "ecoterra/eco/species.hpp"
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -59,5 +61,12 @@ const std::vector<Column<DeadWoodRecord>>& deadwood_columns();
 /// The dead-wood CSV: deadwood_columns() with the species by name (header line, then a row each).
 std::string deadwood_csv(const std::vector<DeadWoodRecord>& pieces,
                          const std::vector<std::string>& species);
+
+/// The same tables as JSON: an array of records, one object per row keyed by the CSV's column
+/// names, numbers as numbers (pandas: `pd.read_json(path)`).
+nlohmann::ordered_json stem_records_json(const std::vector<PlantRecord>& plants,
+                                         const std::vector<std::string>& species);
+nlohmann::ordered_json deadwood_records_json(const std::vector<DeadWoodRecord>& pieces,
+                                             const std::vector<std::string>& species);
 
 } // namespace ecoterra::run

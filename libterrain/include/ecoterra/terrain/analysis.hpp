@@ -34,9 +34,17 @@ struct TerrainAnalysis {
     FractalDimensionResult fd;
     double mean_slope = 0, max_slope = 0; ///< rise over run
     RasterU8 class_map, closed_class_map;
+    /// Figures the cell size makes meaningless, each with why and what to do (scale_notes()).
+    std::vector<std::string> notes;
+    bool detrended_valid = true, band_limited_valid = true;
     nlohmann::json to_json(const AnalysisOptions& opt) const;
     std::string summary(const AnalysisOptions& opt) const;
 };
+
+/// The vehicle-scale windows and radii of `opt` (paper 000 and the US Army's roughness: metres)
+/// that a raster of `cell_m` cells cannot resolve: a window or cutoff under two cells, a border or
+/// closing disk under one cell, slope classes on cells over 5 m. One note per figure.
+std::vector<std::string> scale_notes(const AnalysisOptions& opt, double cell_m);
 
 TerrainAnalysis analyze_terrain(const RasterD& z, const AnalysisOptions& opt = {});
 

@@ -53,11 +53,9 @@ void add(std::vector<Tri>& out, const Mesh& m, const std::array<double, 3>& rgb)
     }
 }
 
-void label(cairo_t* cr, double x, double y, const std::string& s) {
+void label(cairo_t* cr, double x, double y, const std::string& s, const char* role = "title") {
     cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_font_size(cr, 13);
-    cairo_move_to(cr, x, y);
-    cairo_show_text(cr, s.c_str());
+    terrain::draw_text(cr, x, y, s, 13, 0, role);
 }
 
 } // namespace
@@ -75,6 +73,14 @@ struct PanelFrame {
     double py(double y) const { return kTitlePx + (g.height_m() - (y - g.origin_y_m)) * scale; }
 };
 
+std::string records_title(const Scene& s) {
+    return "Snapshot " + std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
+           "): stems, crown circles";
+}
+std::string geometry_title(std::size_t triangles) {
+    return "Exported geometry, top view: " + std::to_string(triangles) + " triangles";
+}
+
 /// Left: the run's records, crowns as circles over the hillshade.
 void draw_records_panel(cairo_t* cr, const Scene& s, const PanelFrame& f) {
     terrain::paint_image(cr, terrain::hillshade_image(s.terrain), 0, kTitlePx, f.w, f.h, true);
@@ -84,6 +90,9 @@ void draw_records_panel(cairo_t* cr, const Scene& s, const PanelFrame& f) {
         return s.trees[a].crown_radius_m > s.trees[b].crown_radius_m;
     });
     cairo_set_line_width(cr, 0.8);
+    cairo_save(cr); // crowns near the edges stay on the panel
+    cairo_rectangle(cr, 0, kTitlePx, f.w, f.h);
+    cairo_clip(cr);
     for (const auto k : order) {
         const Tree& t = s.trees[k];
         const auto c = run::species_colour(static_cast<std::size_t>(t.species));
@@ -94,9 +103,8 @@ void draw_records_panel(cairo_t* cr, const Scene& s, const PanelFrame& f) {
         cairo_set_source_rgba(cr, 0.1, 0.1, 0.1, 0.8);
         cairo_stroke(cr);
     }
-    label(cr, 8, 20,
-          "Snapshot " + std::to_string(s.snapshot) + " (year " + std::to_string(s.year) +
-              "): stems, crown circles");
+    cairo_restore(cr);
+    label(cr, 8, 20, records_title(s));
 }
 
 /// The exported geometry's triangles (terrain, trunks, crowns or the user's meshes), far to
@@ -146,8 +154,7 @@ void draw_geometry_panel(cairo_t* cr, const std::vector<Tri>& tris, const PanelF
         cairo_stroke(cr); // closes hairline gaps between neighbours
     }
     cairo_restore(cr);
-    label(cr, off + 8, 20,
-          "Exported geometry, top view: " + std::to_string(tris.size()) + " triangles");
+    label(cr, off + 8, 20, geometry_title(tris.size()));
 }
 
 } // namespace
@@ -155,19 +162,28 @@ void draw_geometry_panel(cairo_t* cr, const std::vector<Tri>& tris, const PanelF
 void draw_export_picture(const Scene& s, const std::filesystem::path& png, const UserMeshes* user) {
     const GridSpec& g = s.terrain.grid();
     const PanelFrame f(g);
-    const int W = static_cast<int>(std::ceil(2 * f.w + kGapPx)),
+    const std::vector<Tri> tris = exported_triangles(s, user);
+    // Each panel's column is at least as wide as its title (a tall, narrow terrain cut them).
+    const double left_w = std::max(f.w, 16 + terrain::text_width(records_title(s), 13));
+    const double off = left_w + kGapPx;
+    const double right_w = std::max(f.w, 16 + terrain::text_width(geometry_title(tris.size()), 13));
+    const int W = static_cast<int>(std::ceil(off + right_w)),
               H = static_cast<int>(std::ceil(f.h + kTitlePx + 54));
     cairo_surface_t* surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
     cairo_t* cr = cairo_create(surf);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     draw_records_panel(cr, s, f);
-    draw_geometry_panel(cr, exported_triangles(s, user), f, f.w + kGapPx);
+    draw_geometry_panel(cr, tris, f, off);
     label(cr, 8, kTitlePx + f.h + 18,
           std::to_string(s.trees.size()) + " trees, " +
               std::to_string(static_cast<int>(g.width_m())) + " m x " +
-              std::to_string(static_cast<int>(g.height_m())) + " m; colours by species; north up");
-    terrain::draw_scale_bar(cr, 10, kTitlePx + f.h + 40, f.scale, f.w / 4);
+              std::to_string(static_cast<int>(g.height_m())) + " m; colours by species; north up",
+          "note");
+    // A scale under each panel (they share it; the geometry panel had none).
+    const double bar_px = std::max(f.w / 4, 40.0);
+    terrain::draw_scale_bar(cr, 10, kTitlePx + f.h + 40, f.scale, bar_px);
+    terrain::draw_scale_bar(cr, off + 10, kTitlePx + f.h + 40, f.scale, bar_px);
     cairo_surface_flush(surf);
     const auto status = cairo_surface_write_to_png(surf, png.string().c_str());
     cairo_destroy(cr);

@@ -342,6 +342,7 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
     Table series = Table::of(daily_budget_columns());
     HydroRunSummary sum;
     int snapshot = 0;
+    int model_last_year = 0, model_last_doy = 0; // the last day's calendar, for the pictures
     auto write_snapshot = [&](const DayWeather& w, int day) {
         char name[32];
         std::snprintf(name, sizeof name, "/snapshots/%04d", snapshot++);
@@ -355,6 +356,8 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         const DayWeather w =
             sc.observed ? sc.observed->days[static_cast<std::size_t>(d - 1)] : gen.next();
         const DailyFluxes f = model.step(w);
+        model_last_year = w.year;
+        model_last_doy = w.doy;
         const BudgetRow row = daily_budget_row(d, w, f, domain_m2);
         series.push(row, daily_budget_columns());
         sum.rain_mm += row.rain_mm;
@@ -393,7 +396,10 @@ HydroRunSummary run_hydro_scene(const HydroScene& sc, const fs::path& output, co
         terrain::write_map_figure(terrain::hillshade_image(sc.dem), sc.dem.grid(), f,
                                   png_dir / "hillshade.png");
         write_water_pictures(sc.dem, sc.soil, model.soil_moisture(), model.surface_water_depth(),
-                             "end of day " + std::to_string(total), png_dir);
+                             "end of simulation day " + std::to_string(total) + " (year " +
+                                 std::to_string(model_last_year) + ", day of year " +
+                                 std::to_string(model_last_doy) + ")",
+                             png_dir);
     }
     sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return sum;

@@ -42,8 +42,9 @@ constexpr double kPalette[8][3] = {{0.90, 0.62, 0.00}, {0.34, 0.71, 0.91}, {0.00
                                    {0.94, 0.89, 0.26}, {0.00, 0.45, 0.70}, {0.84, 0.37, 0.00},
                                    {0.80, 0.47, 0.65}, {0.40, 0.40, 0.40}};
 
-void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0) {
-    terrain::draw_text(cr, x, y, s, size, align);
+void text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0,
+          const char* role = "") {
+    terrain::draw_text(cr, x, y, s, size, align, role);
 }
 
 std::string fmt(double v, int digits = 1) {
@@ -63,38 +64,38 @@ double nice_step(double range) {
 /// A plot frame with axes and ticks; returns the data->pixel mapping.
 struct Frame {
     double x0, y0, w, h, xmin, xmax, ymin, ymax;
+    double xunit = 0; ///< > 0: x ticks at whole multiples of it (a histogram's class edges)
     double px(double x) const { return x0 + (x - xmin) / (xmax - xmin) * w; }
     double py(double y) const { return y0 + h - (y - ymin) / (ymax - ymin) * h; }
     void draw(cairo_t* cr, const std::string& xlabel, const std::string& ylabel,
               const std::string& title) const {
+        terrain::begin_axes();
         cairo_set_source_rgb(cr, 0, 0, 0);
         cairo_set_line_width(cr, 1);
         cairo_rectangle(cr, x0, y0, w, h);
         cairo_stroke(cr);
-        const double sx = nice_step(xmax - xmin), sy = nice_step(ymax - ymin);
+        double sx = nice_step(xmax - xmin);
+        if (xunit > 0) sx = xunit * std::max(1.0, std::round(sx / xunit));
+        const double sy = nice_step(ymax - ymin);
         for (double v = std::ceil(xmin / sx) * sx; v <= xmax + 1e-9; v += sx) {
             cairo_move_to(cr, px(v), y0 + h);
             cairo_line_to(cr, px(v), y0 + h + 5);
             cairo_stroke(cr);
-            text(cr, px(v), y0 + h + 18, fmt(v, sx < 1 ? 1 : 0), 12, 0.5);
+            text(cr, px(v), y0 + h + 18, fmt(v, terrain::tick_digits(sx)), 12, 0.5, "xtick");
         }
         for (double v = std::ceil(ymin / sy) * sy; v <= ymax + 1e-9; v += sy) {
             cairo_move_to(cr, x0 - 5, py(v));
             cairo_line_to(cr, x0, py(v));
             cairo_stroke(cr);
-            text(cr, x0 - 8, py(v) + 4, fmt(v, sy < 1 ? 1 : 0), 12, 1.0);
+            text(cr, x0 - 8, py(v) + 4, fmt(v, terrain::tick_digits(sy)), 12, 1.0, "ytick");
         }
-        text(cr, x0 + w / 2, y0 + h + 38, xlabel, 13, 0.5);
-        cairo_save(cr);
-        cairo_move_to(cr, x0 - 52, y0 + h / 2);
-        cairo_rotate(cr, -M_PI / 2);
-        cairo_set_font_size(cr, 13);
-        cairo_text_extents_t e;
-        cairo_text_extents(cr, ylabel.c_str(), &e);
-        cairo_rel_move_to(cr, -e.width / 2, 0);
-        cairo_show_text(cr, ylabel.c_str());
-        cairo_restore(cr);
-        text(cr, x0 + w / 2, y0 - 10, title, 14, 0.5);
+        text(cr, x0 + w / 2, y0 + h + 38, xlabel, 13, 0.5, "xlabel");
+        // Left of the widest tick label.
+        double widest = 0;
+        for (double v = std::ceil(ymin / sy) * sy; v <= ymax + 1e-9; v += sy)
+            widest = std::max(widest, terrain::text_width(fmt(v, terrain::tick_digits(sy)), 12));
+        terrain::draw_text_vertical(cr, x0 - 16 - widest, y0 + h / 2, ylabel, 13);
+        text(cr, x0 + w / 2, y0 - 10, title, 14, 0.5, "title");
     }
 };
 
@@ -123,6 +124,37 @@ void speed_colour(cairo_t* cr, double fraction) {
     cairo_set_source_rgb(cr, f < 0.5 ? 0.85 : 0.85 * (1 - f) * 2, f < 0.5 ? 1.6 * f : 0.75, 0.1);
 }
 
+/// A vertical colour bar at (x, y), `h` px high, from vmin (bottom) to vmax (top), coloured by
+/// `colour(t)` for t in [0, 1], with its label above and round ticks to the right.
+template <class Colour>
+void colour_bar(cairo_t* cr, double x, double y, double h, double vmin, double vmax,
+                const std::string& label, Colour colour) {
+    constexpr double kW = 16;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    text(cr, x, y - 8, label, 12, 0, "bar_label");
+    constexpr int kSteps = 100;
+    for (int k = 0; k < kSteps; ++k) {
+        colour(cr, (k + 0.5) / kSteps);
+        cairo_rectangle(cr, x, y + h * (1 - static_cast<double>(k + 1) / kSteps), kW,
+                        h / kSteps + 0.6);
+        cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, x - 0.5, y - 0.5, kW + 1, h + 1);
+    cairo_stroke(cr);
+    const double step = nice_step(vmax - vmin);
+    for (double v = std::ceil(vmin / step - 1e-9) * step; v <= vmax + 1e-9 * (vmax - vmin);
+         v += step) {
+        const double py = y + h * (1 - (v - vmin) / (vmax - vmin));
+        cairo_move_to(cr, x + kW, py);
+        cairo_line_to(cr, x + kW + 4, py);
+        cairo_stroke(cr);
+        text(cr, x + kW + 7, py + 4, fmt(std::abs(v) < 1e-12 ? 0.0 : v, terrain::tick_digits(step)),
+             11, 0, "bar_tick");
+    }
+}
+
 void draw_stems(const Ecosystem& eco, const fs::path& path) {
     const auto& g = eco.plant_grid();
     const auto& dem = eco.scene().hydro.dem;
@@ -130,18 +162,36 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
     const double scale = kMapPx / std::max(g.width_m(), g.height_m());
     const int mw = static_cast<int>(std::ceil(g.width_m() * scale));
     const int mh = static_cast<int>(std::ceil(g.height_m() * scale));
-    SurfaceOwner s(mw + static_cast<int>(kLegendPx), mh + 40);
+    const auto& species = eco.scene().ecosystem.species;
+    const StandMetrics st = eco.stand();
+    const std::vector<Plant> plants = eco::rows(eco.plants());
+    const std::string title = "Year " + std::to_string(eco.years_done()) + ": " +
+                              std::to_string(plants.size()) + " plants, BA " +
+                              fmt(st.basal_area_m2_per_ha) + " m2/ha (" +
+                              fmt(st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa) + " ft2/acre)";
+    // The legend's width and height and the title's width decide the picture's size on narrow
+    // or flat maps.
+    double legend_w = kLegendPx;
+    for (const auto& sp : species)
+        legend_w = std::max(legend_w, 34 + terrain::text_width(sp.name, 12) + 12);
+    const double below = 50 + 24.0 * static_cast<double>(species.size());
+    const int width = static_cast<int>(
+        std::ceil(std::max(mw + legend_w, 10 + terrain::text_width(title, 14) + 10)));
+    SurfaceOwner s(width, static_cast<int>(std::ceil(std::max(mh + 40.0, below + 60))));
     cairo_t* cr = s.cr;
     white(cr);
     terrain::paint_image(cr, terrain::hillshade_image(dem), 0, 30, mw, mh, true);
     // Crowns, largest first so small plants stay visible.
     std::vector<std::size_t> order(eco.plants().size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    const std::vector<Plant> plants = eco::rows(eco.plants());
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
         return plants[a].crown_radius_m > plants[b].crown_radius_m;
     });
     cairo_set_line_width(cr, 0.8);
+    // Crowns of plants near the edges stay on the map.
+    cairo_save(cr);
+    cairo_rectangle(cr, 0, 30, mw, mh);
+    cairo_clip(cr);
     for (const std::size_t k : order) {
         const Plant& p = plants[k];
         const auto* c = kPalette[std::min<std::size_t>(p.species, 7)];
@@ -154,14 +204,9 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
         cairo_set_source_rgba(cr, 0.1, 0.1, 0.1, 0.8);
         cairo_stroke(cr);
     }
+    cairo_restore(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    const StandMetrics st = eco.stand();
-    text(cr, 10, 20,
-         "Year " + std::to_string(eco.years_done()) + ": " + std::to_string(plants.size()) +
-             " plants, BA " + fmt(st.basal_area_m2_per_ha) + " m2/ha (" +
-             fmt(st.basal_area_m2_per_ha * kFt2PerAcrePerM2PerHa) + " ft2/acre)",
-         14);
-    const auto& species = eco.scene().ecosystem.species;
+    text(cr, 10, 20, title, 14, 0, "title");
     for (std::size_t k = 0; k < species.size(); ++k) {
         const auto* c = kPalette[std::min<std::size_t>(k, 7)];
         const double y = 50 + 24.0 * static_cast<double>(k);
@@ -169,9 +214,8 @@ void draw_stems(const Ecosystem& eco, const fs::path& path) {
         cairo_arc(cr, mw + 20, y - 4, 7, 0, 2 * M_PI);
         cairo_fill(cr);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        text(cr, mw + 34, y, species[k].name, 12);
+        text(cr, mw + 34, y, species[k].name, 12, 0, "legend");
     }
-    const double below = 50 + 24.0 * static_cast<double>(species.size());
     text(cr, mw + 12, below + 10, "circle = crown; north up", 11);
     terrain::draw_scale_bar(cr, mw + 14, below + 36, scale, kLegendPx - 80);
     s.save(path);
@@ -189,7 +233,7 @@ void draw_histogram(const Ecosystem& eco, const fs::path& path) {
     // The frame holds the fitted curve too, from the first class middle on.
     if (st.fit_valid)
         ymax = std::max(ymax, std::exp(st.intercept - st.rate_per_cm * 0.5 * w) / st.area_ha);
-    Frame f{80, 40, 600, 340, 0, nclass * w, 0, ymax * 1.1};
+    Frame f{80, 40, 600, 340, 0, nclass * w, 0, ymax * 1.1, w};
     for (std::size_t i = 0; i < st.histogram.size(); ++i) {
         const double v = static_cast<double>(st.histogram[i]) / st.area_ha;
         cairo_rectangle(cr, f.px(static_cast<double>(i) * w) + 1, f.py(v), f.px(w) - f.px(0) - 2,
@@ -233,9 +277,10 @@ void draw_history(const Ecosystem& eco, const fs::path& path) {
     using Series = std::pair<std::string, std::vector<double>>;
     const auto panel = [&](const std::vector<Series>& series, double x0, double y0,
                            const std::string& label, const std::string& title) {
-        double ymax = 1e-9;
+        double ymax = 0;
         for (const auto& [name, y] : series)
             for (double v : y) ymax = std::max(ymax, v);
+        if (!(ymax > 0)) ymax = 1; // nothing yet: an axis from 0 to 1, not to 1e-9
         const Frame f{x0, y0,        520, 250, 0, std::max(1.0, year.empty() ? 1.0 : year.back()),
                       0,  ymax * 1.1};
         for (std::size_t k = 0; k < series.size(); ++k) {
@@ -296,7 +341,10 @@ void draw_run_pictures(const Ecosystem& eco, const fs::path& dir) {
     const auto& hy = eco.hydrology();
     hydro::write_water_pictures(eco.scene().hydro.dem, eco.scene().hydro.soil, hy.soil_moisture(),
                                 hy.surface_water_depth(),
-                                "year " + std::to_string(eco.years_done()), dir);
+                                "end of simulation day " + std::to_string(eco.days_done()) +
+                                    " (year " + std::to_string(eco.years_done()) +
+                                    ", day of year " + std::to_string(eco.last_weather().doy) + ")",
+                                dir);
 }
 
 namespace {
@@ -312,33 +360,44 @@ void draw_smg_stems(cairo_t* cr, const MapFrame& f, const mobility::StandMobilit
         const bool obstacle = st.diameter_m >= m.critical_diameter_m;
         cairo_arc(cr, f.x(st.x_m), f.y(st.y_m), std::max(1.0, 0.5 * st.diameter_m * f.scale), 0,
                   2 * M_PI);
+        // Colours apart from the paths' red-yellow-green: avoided black, pushed over blue.
         if (obstacle)
-            cairo_set_source_rgb(cr, 0.55, 0.05, 0.05);
+            cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
         else if (pushed[k])
-            cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+            cairo_set_source_rgb(cr, 0.0, 0.45, 0.70);
         else
-            cairo_set_source_rgba(cr, 0.3, 0.3, 0.3, 0.6);
+            cairo_set_source_rgba(cr, 0.45, 0.45, 0.45, 0.6);
         cairo_fill(cr);
     }
 }
+
+/// Up to this many lines every straight line is drawn dashed and the paths 2 px wide.
+constexpr std::size_t kFewLines = 40;
 
 /// Lines: the straight line thin and dashed, the path driven coloured by its SMG; NOGO lines
 /// black.
 void draw_smg_lines(cairo_t* cr, const MapFrame& f, const mobility::StandMobility& m,
                     const mobility::Vehicle& v) {
+    // Many lines (200 is common) would bury the map: thinner, translucent paths, and the straight
+    // lines only where NOGO.
+    const bool many = m.lines.size() > kFewLines;
     for (const auto& l : m.lines) {
         const auto& r = l.result;
-        cairo_set_line_width(cr, 0.8);
-        const double dash[] = {3.0, 3.0};
-        cairo_set_dash(cr, dash, 2, 0);
-        cairo_set_source_rgba(cr, 0, 0, 0, r.nogo ? 0.9 : 0.35);
-        cairo_move_to(cr, f.x(l.a.x_m), f.y(l.a.y_m));
-        cairo_line_to(cr, f.x(l.b.x_m), f.y(l.b.y_m));
-        cairo_stroke(cr);
-        cairo_set_dash(cr, nullptr, 0, 0);
+        if (!many || r.nogo) {
+            cairo_set_line_width(cr, 0.8);
+            const double dash[] = {3.0, 3.0};
+            cairo_set_dash(cr, dash, 2, 0);
+            cairo_set_source_rgba(cr, 0, 0, 0, r.nogo ? 0.9 : 0.35);
+            cairo_move_to(cr, f.x(l.a.x_m), f.y(l.a.y_m));
+            cairo_line_to(cr, f.x(l.b.x_m), f.y(l.b.y_m));
+            cairo_stroke(cr);
+            cairo_set_dash(cr, nullptr, 0, 0);
+        }
         if (r.nogo || r.path.empty()) continue;
-        cairo_set_line_width(cr, 2);
-        speed_colour(cr, r.smg_m_per_s / v.top_speed_m_per_s);
+        cairo_set_line_width(cr, many ? 1.0 : 2.0);
+        const double frac = std::clamp(r.smg_m_per_s / v.top_speed_m_per_s, 0.0, 1.0);
+        cairo_set_source_rgba(cr, frac < 0.5 ? 0.85 : 0.85 * (1 - frac) * 2,
+                              frac < 0.5 ? 1.6 * frac : 0.75, 0.1, many ? 0.6 : 1.0);
         cairo_move_to(cr, f.x(r.path.front().x_m), f.y(r.path.front().y_m));
         for (const auto& p : r.path) cairo_line_to(cr, f.x(p.x_m), f.y(p.y_m));
         cairo_stroke(cr);
@@ -354,12 +413,12 @@ void draw_smg_legend(cairo_t* cr, const MapFrame& f, const mobility::StandMobili
         cairo_arc(cr, lx + 6, ly - 4, 6, 0, 2 * M_PI);
         cairo_fill(cr);
         cairo_set_source_rgb(cr, 0, 0, 0);
-        text(cr, lx + 18, ly, label, 12);
+        text(cr, lx + 18, ly, label, 12, 0, "legend");
         ly += 22;
     };
-    legend(0.55, 0.05, 0.05, "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
-    legend(0.95, 0.55, 0.0, "stem pushed over");
-    legend(0.3, 0.3, 0.3, "other stem");
+    legend(0, 0, 0, "stem avoided (d >= " + fmt(kCmPerM * m.critical_diameter_m) + " cm)");
+    legend(0.0, 0.45, 0.70, "stem pushed over");
+    legend(0.45, 0.45, 0.45, "other stem");
     if (!m.log_list.empty()) {
         for (const bool high : {false, true}) {
             cairo_set_line_width(cr, 3);
@@ -374,29 +433,24 @@ void draw_smg_legend(cairo_t* cr, const MapFrame& f, const mobility::StandMobili
             ly += 22;
         }
     }
-    for (const double frac : {1.0, 0.5, 0.0}) {
-        cairo_set_line_width(cr, 3);
-        speed_colour(cr, frac);
-        cairo_move_to(cr, lx, ly - 4);
-        cairo_line_to(cr, lx + 14, ly - 4);
-        cairo_stroke(cr);
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        text(cr, lx + 18, ly, "path at SMG " + fmt(frac * v.top_speed_m_per_s) + " m/s", 12);
-        ly += 22;
-    }
-    text(cr, lx, ly, "dashed: the straight line", 12);
-    terrain::draw_scale_bar(cr, lx, ly + 30, f.scale, 150);
+    text(cr, lx, ly, m.lines.size() > kFewLines ? "dashed: a NOGO line" : "dashed: the line", 12, 0,
+         "legend");
+    ly += 40;
+    colour_bar(cr, lx, ly, 150, 0, v.top_speed_m_per_s, "path's SMG (m/s)", speed_colour);
+    terrain::draw_scale_bar(cr, lx, ly + 180, f.scale, 150);
 }
 
 void draw_smg_map(const mobility::StandMobility& m, const mobility::Vehicle& v, const RasterD& dem,
                   const fs::path& file) {
     const MapFrame f(dem.grid());
-    SurfaceOwner s(f.w + 230, f.h + 40);
+    // The legend (stems, logs, the colour bar and the scale bar) sets the height of flat maps.
+    const double legend_h = 56 + 22.0 * (3 + (m.log_list.empty() ? 0 : 2)) + 40 + 200 + 20;
+    SurfaceOwner s(f.w + 250, static_cast<int>(std::ceil(std::max(f.h + 40.0, legend_h))));
     cairo_t* cr = s.cr;
     white(cr);
     terrain::paint_image(cr, terrain::hillshade_image(dem), 0, f.top, f.w, f.h, true);
-    // Logs under the lines (clipped to the map): the parts low enough to climb in brown, the
-    // rest in purple.
+    // Logs under the lines, then stems and lines, all clipped to the map: the parts of logs low
+    // enough to climb in brown, the rest in purple.
     cairo_save(cr);
     cairo_rectangle(cr, 0, f.top, f.w, f.h);
     cairo_clip(cr);
@@ -417,15 +471,15 @@ void draw_smg_map(const mobility::StandMobility& m, const mobility::Vehicle& v, 
             cairo_stroke(cr);
         }
     }
-    cairo_restore(cr);
     draw_smg_stems(cr, f, m);
     draw_smg_lines(cr, f, m, v);
+    cairo_restore(cr);
     cairo_set_source_rgb(cr, 0, 0, 0);
     text(cr, 10, 20,
          v.name + ": " + std::to_string(m.lines.size()) + " lines, SMG mean " +
              fmt(m.smg_mean_m_per_s, 2) + " m/s, NOGO " + fmt(100 * m.nogo_fraction) + " %, BA " +
              fmt(m.basal_area_m2_per_ha) + " m2/ha",
-         14);
+         14, 0, "title");
     draw_smg_legend(cr, f, m, v);
     s.save(file);
 }
@@ -573,7 +627,7 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
                            const fs::path& dir) {
     io::create_folder(dir, "the picture folder");
     const MapFrame f(dem.grid());
-    SurfaceOwner s(f.w + 200, f.h + 40);
+    SurfaceOwner s(f.w + 200, static_cast<int>(std::max(f.h + 40.0, 340.0)));
     cairo_t* cr = s.cr;
     white(cr);
     // The slope map (maximum gradient to a neighbour, as the roughness classes use), 0 to 1.
@@ -609,11 +663,12 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
     text(cr, 10, 20,
          std::to_string(ok) + " of " + std::to_string(results.size()) +
              " missions succeed (green); failed (red, x where)",
-         14);
-    text(cr, f.w + 12, 56, "slope map:", 12);
-    text(cr, f.w + 12, 76, "max gradient 0 (dark)", 12);
-    text(cr, f.w + 12, 96, "to 1 (yellow)", 12);
-    terrain::draw_scale_bar(cr, f.w + 14, 130, f.scale, 150);
+         14, 0, "title");
+    colour_bar(cr, f.w + 14, 70, 200, 0, 1, "slope (max gradient)", [](cairo_t* c, double t) {
+        const terrain::Rgb rgb = terrain::palette_colour(terrain::Palette::viridis, t);
+        cairo_set_source_rgb(c, rgb.r / 255.0, rgb.g / 255.0, rgb.b / 255.0);
+    });
+    terrain::draw_scale_bar(cr, f.w + 14, 300, f.scale, 150);
     s.save(dir / "missions.png");
 }
 
@@ -705,7 +760,7 @@ void draw_histogram_plot(const std::vector<HistogramSeries>& series, double clas
         for (double v : h.stems_per_ha) ymax = std::max(ymax, v);
     }
     const double w = class_width_cm;
-    const Frame f{90, 40, 630, 380, 0, static_cast<double>(classes) * w, 0, ymax * 1.1};
+    const Frame f{90, 40, 630, 380, 0, static_cast<double>(classes) * w, 0, ymax * 1.1, w};
     const double n = std::max<double>(1, static_cast<double>(series.size()));
     std::vector<std::string> labels;
     for (std::size_t k = 0; k < series.size(); ++k) {

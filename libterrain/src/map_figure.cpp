@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 namespace ecoterra::terrain {
@@ -30,8 +31,7 @@ double nice_below(double limit) {
 
 std::string number(double v, double step) {
     char b[32];
-    const int digits = step >= 1 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
-    std::snprintf(b, sizeof b, "%.*f", std::min(digits, 6), v);
+    std::snprintf(b, sizeof b, "%.*f", tick_digits(step), v);
     return b;
 }
 
@@ -41,12 +41,89 @@ void set(cairo_t* cr, const Rgb& c) {
 
 } // namespace
 
-void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size, double align) {
+namespace {
+thread_local FigureLog* t_log = nullptr;
+thread_local int t_axes = 0;
+
+/// Logs the text whose box in user space is (x, y, w, h), in device pixels.
+void log_text(cairo_t* cr, const std::string& s, const char* role, double x, double y, double w,
+              double h) {
+    if (!t_log) return;
+    double xs[4] = {x, x + w, x, x + w}, ys[4] = {y, y, y + h, y + h};
+    DrawnText d{s, role, 1e300, 1e300, -1e300, -1e300, nullptr, 0, 0, t_axes};
+    for (int k = 0; k < 4; ++k) {
+        cairo_user_to_device(cr, &xs[k], &ys[k]);
+        d.x0 = std::min(d.x0, xs[k]);
+        d.y0 = std::min(d.y0, ys[k]);
+        d.x1 = std::max(d.x1, xs[k]);
+        d.y1 = std::max(d.y1, ys[k]);
+    }
+    // One id per picture: surfaces are tagged as they are first met (a freed surface's address
+    // is often the next one's).
+    static const cairo_user_data_key_t key{};
+    static std::uintptr_t next_id = 1;
+    cairo_surface_t* target = cairo_get_target(cr);
+    void* id = cairo_surface_get_user_data(target, &key);
+    if (!id) {
+        id = reinterpret_cast<void*>(next_id++);
+        cairo_surface_set_user_data(target, &key, id, nullptr);
+    }
+    d.surface = id;
+    if (cairo_surface_get_type(target) == CAIRO_SURFACE_TYPE_IMAGE) {
+        d.surface_width = cairo_image_surface_get_width(target);
+        d.surface_height = cairo_image_surface_get_height(target);
+    }
+    t_log->texts.push_back(std::move(d));
+}
+} // namespace
+
+FigureLog::FigureLog() {
+    t_log = this;
+    t_axes = 0;
+}
+
+void begin_axes() {
+    ++t_axes;
+}
+FigureLog::~FigureLog() {
+    t_log = nullptr;
+}
+
+void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size, double align,
+               const char* role) {
     cairo_set_font_size(cr, size);
     cairo_text_extents_t e;
     cairo_text_extents(cr, s.c_str(), &e);
     cairo_move_to(cr, x - align * e.width, y);
     cairo_show_text(cr, s.c_str());
+    if (!s.empty())
+        log_text(cr, s, role, x - align * e.width + e.x_bearing, y + e.y_bearing, e.width,
+                 e.height);
+}
+
+void draw_text_vertical(cairo_t* cr, double x, double y, const std::string& s, double size,
+                        const char* role) {
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_rotate(cr, -M_PI / 2);
+    draw_text(cr, 0, 0, s, size, 0.5, role);
+    cairo_restore(cr);
+}
+
+double text_width(const std::string& s, double size) {
+    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1);
+    cairo_t* cr = cairo_create(surface);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s.c_str(), &e);
+    cairo_destroy(cr);
+    cairo_surface_destroy(surface);
+    return e.x_advance;
+}
+
+int tick_digits(double step) {
+    if (!(step > 0) || step >= 1) return 0;
+    return std::min(6, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
 }
 
 double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double max_px) {
@@ -65,7 +142,7 @@ double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double m
         cairo_line_to(cr, e, y + 6);
         cairo_stroke(cr);
     }
-    draw_text(cr, x + px + 8, y + 5, number(len_m, len_m) + " m", 12);
+    draw_text(cr, x + px + 8, y + 5, number(len_m, len_m) + " m", 12, 0, "scale_bar");
     cairo_restore(cr);
     return len_m;
 }
@@ -117,7 +194,7 @@ void draw_legend(cairo_t* cr, const MapFigure& f, double bx) {
         double ly = y + 12;
         for (;;) {
             const auto nl = e.label.find('\n', start);
-            text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12);
+            draw_text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12, 0, "legend");
             if (nl == std::string::npos) break;
             start = nl + 1;
             ly += 16;
@@ -129,7 +206,7 @@ void draw_legend(cairo_t* cr, const MapFigure& f, double bx) {
 /// The colour bar of a continuous field, with round ticks.
 void draw_colour_bar(cairo_t* cr, const MapFigure& f, double bx, double mh) {
     const double bh = std::min(mh, 360.0), bw = 20;
-    text(cr, bx, kTop - 8, f.bar_label, 12);
+    draw_text(cr, bx, kTop - 8, f.bar_label, 12, 0, "bar_label");
     const int steps = 200;
     for (int k = 0; k < steps; ++k) {
         set(cr, palette_colour(f.palette, (k + 0.5) / steps));
@@ -155,7 +232,8 @@ void draw_colour_bar(cairo_t* cr, const MapFigure& f, double bx, double mh) {
         cairo_move_to(cr, bx + bw, y);
         cairo_line_to(cr, bx + bw + 5, y);
         cairo_stroke(cr);
-        text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12);
+        draw_text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12, 0,
+                  "bar_tick");
     }
 }
 
@@ -172,7 +250,8 @@ void draw_map_footer(cairo_t* cr, const GridSpec& g, const MapFigure& f, double 
              12);
     }
     for (std::size_t k = 0; k < f.notes.size(); ++k)
-        text(cr, kLeft, kTop + mh + 56 + 20.0 * static_cast<double>(k), f.notes[k], 12);
+        draw_text(cr, kLeft, kTop + mh + 56 + 20.0 * static_cast<double>(k), f.notes[k], 12, 0,
+                  "note");
 }
 
 } // namespace
@@ -184,8 +263,25 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
     const double mw = img.width * scale, mh = img.height * scale;
     const double notes_h = 20.0 * static_cast<double>(f.notes.size());
     const int height = static_cast<int>(std::ceil(kTop + mh + 60 + notes_h + 10));
+    // Wide enough for the legend's and the notes' longest lines (a legend of long class names
+    // was cut at the right edge).
+    const double bx = kLeft + mw + 40;
+    double width = std::max(kWidth, kLeft + text_width(f.title, 17) + 10);
+    for (const auto& e : f.legend) {
+        std::size_t start = 0;
+        for (;;) {
+            const auto nl = e.label.find('\n', start);
+            width =
+                std::max(width, bx + 26 + text_width(e.label.substr(start, nl - start), 12) + 12);
+            if (nl == std::string::npos) break;
+            start = nl + 1;
+        }
+    }
+    if (f.legend.empty() && f.colour_bar)
+        width = std::max(width, bx + text_width(f.bar_label, 12) + 12);
+    for (const auto& n : f.notes) width = std::max(width, kLeft + text_width(n, 12) + 12);
     cairo_surface_t* surface =
-        cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(kWidth), height);
+        cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(std::ceil(width)), height);
     cairo_t* cr = cairo_create(surface);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
@@ -196,9 +292,8 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
     cairo_rectangle(cr, kLeft - 0.5, kTop - 0.5, mw + 1, mh + 1);
     cairo_stroke(cr);
     // Title and north; the colour bar or legend right of the map; the footer under it.
-    text(cr, kLeft, 30, f.title, 17);
+    draw_text(cr, kLeft, 30, f.title, 17, 0, "title");
     text(cr, kLeft + mw, 30, "north up", 12, 1.0);
-    const double bx = kLeft + mw + 40;
     if (!f.legend.empty())
         draw_legend(cr, f, bx);
     else if (f.colour_bar)

@@ -23,9 +23,39 @@ struct Image {
     Rgb& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// A text a figure drew: its box in the picture's pixels, its role (title, xtick, ytick, xlabel,
+/// ylabel, bar_label, bar_tick, legend, scale_bar, note or "") and the picture it is on.
+struct DrawnText {
+    std::string text, role;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    const void* surface = nullptr; ///< one id per picture
+    int surface_width = 0, surface_height = 0;
+    int axes = 0; ///< which axes (panel) of the picture, counted by begin_axes(); 0 outside any
+};
+/// While a FigureLog lives, the texts drawn on its thread (draw_text, draw_text_vertical) are
+/// kept in it: tests check that figures keep their labels inside the picture, their ticks
+/// distinct and their axes labelled. Nesting is not supported.
+struct FigureLog {
+    FigureLog();
+    ~FigureLog();
+    FigureLog(const FigureLog&) = delete;
+    FigureLog& operator=(const FigureLog&) = delete;
+    std::vector<DrawnText> texts;
+};
+
 /// Text at (x, y) (the baseline) in a Cairo drawing; `align` 0 left, 0.5 centred, 1 right.
-void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size,
-               double align = 0);
+void draw_text(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0,
+               const char* role = "");
+/// Text read bottom to top, centred on (x, y) (an axis label left of a plot).
+void draw_text_vertical(cairo_t* cr, double x, double y, const std::string& s, double size,
+                        const char* role = "ylabel");
+/// Marks the start of a new set of axes (a panel): the texts drawn until the next call belong
+/// to it in the FigureLog.
+void begin_axes();
+/// The width in pixels of `s` at `size` (Cairo's toy font, as draw_text uses).
+double text_width(const std::string& s, double size);
+/// The decimals a tick label needs at this step (0 for steps of 1 and more; 2 for 0.02).
+int tick_digits(double step);
 /// A scale bar at (x, y) (its left end): a round length (1, 2 or 5 x 10^k m) of at most
 /// `max_px` pixels at `px_per_m`, with its length written after it. Returns the bar's length, m.
 double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double max_px);

@@ -308,6 +308,19 @@ EcosystemDef read_random_scene_inputs(const json& j, const std::string& source) 
 
 } // namespace
 
+namespace {
+/// The file's `life_stages`: true for "group" (the default), false for "separate".
+bool life_stages_grouped(const json& j, const std::string& source) {
+    if (!j.contains("life_stages")) return true;
+    const json& v = j.at("life_stages");
+    if (!v.is_string() || (v != "group" && v != "separate"))
+        throw InputError(source + ": 'life_stages' = " + v.dump() +
+                         " must be \"group\" (MAVS's young, medium and adult entries of a "
+                         "species become one species, the default) or \"separate\"");
+    return v == "group";
+}
+} // namespace
+
 EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     if (!j.is_object()) throw InputError(source + ": an ecosystem file must be a JSON object");
     if (j.contains("Ecosystem File") && !j.contains("Species"))
@@ -322,16 +335,9 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
         if (j.contains(k)) def.notes.push_back("MAVS key '" + k + "' is not used by ecoterra");
     if (!j.contains("Species") || !j.at("Species").is_array() || j.at("Species").empty())
         throw InputError(source + ": 'Species' must be a non-empty array");
-    bool group = true;
-    if (j.contains("life_stages")) {
-        const json& v = j.at("life_stages");
-        if (!v.is_string() || (v != "group" && v != "separate"))
-            throw InputError(source + ": 'life_stages' = " + v.dump() +
-                             " must be \"group\" (MAVS's young, medium and adult entries of a "
-                             "species become one species, the default) or \"separate\"");
-        group = v == "group";
-    }
-    const json entries = group ? group_life_stages(j.at("Species"), def.notes) : j.at("Species");
+    const json entries = life_stages_grouped(j, source)
+                             ? group_life_stages(j.at("Species"), def.notes)
+                             : j.at("Species");
     std::set<std::string> seen, names;
     std::set<std::string> defaulted_keys; // physiology keys some species leave to their default
     int species_with_defaults = 0;

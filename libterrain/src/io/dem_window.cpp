@@ -171,10 +171,22 @@ const std::vector<std::string>& dem_resampling_methods() {
     return m;
 }
 
-DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
-    gdal::init();
-    gdal::Quiet quiet;
-    const std::string where = req.path.string();
+namespace {
+
+/// The source, its grid and systems, and the window in the target system: what the warp needs.
+struct WarpPlan {
+    gdal::Dataset src;
+    int snx = 0, sny = 0;
+    double gt[6] = {};
+    Box extent{}, sw{}, tw{}; ///< the DEM's extent; the window in the source's, target's system
+    Srs source, target;       ///< target.h null: the source's own
+    std::string crs;          ///< the target as a user may give it back
+    bool reproject = false;
+    double own_cell = 0, cell = 0;
+    int nx = 0, ny = 0;
+};
+
+void check_request(const DemRequest& req) {
     const auto& methods = dem_resampling_methods();
     if (std::find(methods.begin(), methods.end(), req.resampling) == methods.end())
         throw InputError(req.key + ".resampling = '" + req.resampling +
@@ -183,36 +195,47 @@ DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
     if (!(req.cell_m >= 0 && std::isfinite(req.cell_m)))
         throw InputError(req.key + ".cell_m = " + num(req.cell_m) +
                          ": give a positive cell side in metres (0: the DEM's own)");
-    gdal::Dataset src = open_source(req.path);
-    const int snx = GDALGetRasterXSize(src.get()), sny = GDALGetRasterYSize(src.get());
-    double gt[6];
-    if (GDALGetGeoTransform(src.get(), gt) != CE_None)
+}
+
+/// The source's grid and extent, and the window in its system.
+void plan_source(const DemRequest& req, WarpPlan& p) {
+    const std::string where = req.path.string();
+    p.src = open_source(req.path);
+    p.snx = GDALGetRasterXSize(p.src.get());
+    p.sny = GDALGetRasterYSize(p.src.get());
+    double* gt = p.gt;
+    if (GDALGetGeoTransform(p.src.get(), gt) != CE_None)
         throw InputError(where + ": has no geotransform, so " + req.key +
                          ".window, cell_m and crs have no coordinates to work in");
     if (gt[2] != 0.0 || gt[4] != 0.0 || gt[1] == 0.0 || gt[5] == 0.0)
         throw InputError(where + ": rotated or degenerate geotransform (" + list(gt, 6) + ")");
-    const Box extent{std::min(gt[0], gt[0] + snx * gt[1]), std::min(gt[3], gt[3] + sny * gt[5]),
-                     std::max(gt[0], gt[0] + snx * gt[1]), std::max(gt[3], gt[3] + sny * gt[5])};
-    const Box sw = source_window(req, gt, snx, sny, extent);
-    OGRSpatialReferenceH raw = GDALGetSpatialRef(src.get());
-    Srs source(raw ? OSRClone(raw) : nullptr);
-    Srs target;
-    std::string crs = req.crs;
+    p.extent = {std::min(gt[0], gt[0] + p.snx * gt[1]), std::min(gt[3], gt[3] + p.sny * gt[5]),
+                std::max(gt[0], gt[0] + p.snx * gt[1]), std::max(gt[3], gt[3] + p.sny * gt[5])};
+    p.sw = source_window(req, gt, p.snx, p.sny, p.extent);
+}
+
+/// The target system: the user's, the window centre's UTM zone for a geographic DEM, or the
+/// DEM's own; in metres.
+void plan_systems(const DemRequest& req, WarpPlan& p) {
+    const std::string where = req.path.string();
+    OGRSpatialReferenceH raw = GDALGetSpatialRef(p.src.get());
+    p.source = Srs(raw ? OSRClone(raw) : nullptr);
+    p.crs = req.crs;
     if (!req.crs.empty()) {
-        if (!source.h)
+        if (!p.source.h)
             throw InputError(req.key + ".crs = '" + req.crs + "': " + where +
                              " has no coordinate system to reproject from");
-        target = srs_from_user(req.crs, req.key + ".crs");
-    } else if (source.h && OSRIsGeographic(source.h)) {
-        target = utm_zone_of(0.5 * (sw.x0 + sw.x1), 0.5 * (sw.y0 + sw.y1), where);
-        crs = "EPSG:" + std::to_string(target.epsg());
+        p.target = srs_from_user(req.crs, req.key + ".crs");
+    } else if (p.source.h && OSRIsGeographic(p.source.h)) {
+        p.target = utm_zone_of(0.5 * (p.sw.x0 + p.sw.x1), 0.5 * (p.sw.y0 + p.sw.y1), where);
+        p.crs = "EPSG:" + std::to_string(p.target.epsg());
     }
-    const bool reproject = target.h && !OSRIsSame(source.h, target.h);
-    if (target.h && OSRIsGeographic(target.h))
+    p.reproject = p.target.h && !OSRIsSame(p.source.h, p.target.h);
+    if (p.target.h && OSRIsGeographic(p.target.h))
         throw InputError(req.key + ".crs = '" + req.crs +
                          "' is geographic (degrees); ecoterra works in metres: give a projected "
                          "system");
-    if (const Srs& t = target.h ? target : source; t.h && OSRIsProjected(t.h)) {
+    if (const Srs& t = p.target.h ? p.target : p.source; t.h && OSRIsProjected(t.h)) {
         const double unit = OSRGetLinearUnits(t.h, nullptr);
         if (std::abs(unit - 1.0) > 1e-9)
             throw InputError(where + ": its coordinate system " + t.name() +
@@ -220,71 +243,73 @@ DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
                              " m; ecoterra works in metres: give " + req.key +
                              ".crs (a projected system in metres, e.g. the UTM zone)");
     }
-    Box tw = sw;
-    if (reproject) {
-        OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(source.h, target.h);
-        if (!ct)
-            throw InputError(where + ": GDAL cannot transform its system to " + target.name() +
-                             ": " + gdal::Quiet::last());
-        const bool ok = req.window.centre
-                            ? OCTTransform(ct, 1, &tw.x0, &tw.y0, nullptr) != 0
-                            : OCTTransformBounds(ct, sw.x0, sw.y0, sw.x1, sw.y1, &tw.x0, &tw.y0,
-                                                 &tw.x1, &tw.y1, 21) != 0;
-        OCTDestroyCoordinateTransformation(ct);
-        if (!ok)
-            throw InputError(req.key + ".window: GDAL cannot transform it to " + target.name() +
-                             ": " + gdal::Quiet::last());
-        if (req.window.centre) tw.x1 = tw.x0, tw.y1 = tw.y0;
-    }
+}
+
+/// Transforms a box (or, with `point`, its corner alone) from the source to the target system.
+Box transform(const WarpPlan& p, const Box& b, bool point, const std::string& what) {
+    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(p.source.h, p.target.h);
+    if (!ct)
+        throw InputError(what + ": GDAL cannot transform it to " + p.target.name() + ": " +
+                         gdal::Quiet::last());
+    Box t = b;
+    const bool ok =
+        point ? OCTTransform(ct, 1, &t.x0, &t.y0, nullptr) != 0
+              : OCTTransformBounds(ct, b.x0, b.y0, b.x1, b.y1, &t.x0, &t.y0, &t.x1, &t.y1, 21) != 0;
+    OCTDestroyCoordinateTransformation(ct);
+    if (!ok)
+        throw InputError(what + ": GDAL cannot transform it to " + p.target.name() + ": " +
+                         gdal::Quiet::last());
+    if (point) t.x1 = t.x0, t.y1 = t.y0;
+    return t;
+}
+
+/// The window in the target system, snapped to whole cells of the target cell.
+void plan_grid(const DemRequest& req, WarpPlan& p) {
+    const bool centre = req.window.centre.has_value();
+    p.tw = p.reproject ? transform(p, p.sw, centre, req.key + ".window") : p.sw;
     // The DEM's own cell in the target system: its side where nothing is reprojected, else the
     // side of a square holding as much of the window as one source cell does.
-    double own_cell = std::abs(gt[1]);
-    if (reproject) {
-        const Box probe = req.window.centre ? extent : sw;
-        const double cells = (probe.w() / std::abs(gt[1])) * (probe.h() / std::abs(gt[5]));
-        Box tp = tw;
-        if (req.window.centre) {
-            OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(source.h, target.h);
-            OCTTransformBounds(ct, probe.x0, probe.y0, probe.x1, probe.y1, &tp.x0, &tp.y0, &tp.x1,
-                               &tp.y1, 21);
-            OCTDestroyCoordinateTransformation(ct);
-        }
-        own_cell = std::sqrt(tp.w() * tp.h() / cells);
+    p.own_cell = std::abs(p.gt[1]);
+    if (p.reproject) {
+        const Box probe = centre ? p.extent : p.sw;
+        const double cells = (probe.w() / std::abs(p.gt[1])) * (probe.h() / std::abs(p.gt[5]));
+        const Box tp = centre ? transform(p, probe, false, req.path.string()) : p.tw;
+        p.own_cell = std::sqrt(tp.w() * tp.h() / cells);
     }
-    const double cell = req.cell_m > 0 ? req.cell_m : own_cell;
-    if (req.window.centre) {
-        const double cx = tw.x0, cy = tw.y0;
-        tw = {cx - 0.5 * req.window.size_m[0], cy - 0.5 * req.window.size_m[1],
-              cx + 0.5 * req.window.size_m[0], cy + 0.5 * req.window.size_m[1]};
-    }
-    const double nxd = std::max(1.0, std::round(tw.w() / cell));
-    const double nyd = std::max(1.0, std::round(tw.h() / cell));
+    p.cell = req.cell_m > 0 ? req.cell_m : p.own_cell;
+    const double half_w = 0.5 * req.window.size_m[0], half_h = 0.5 * req.window.size_m[1];
+    if (centre) p.tw = {p.tw.x0 - half_w, p.tw.y0 - half_h, p.tw.x0 + half_w, p.tw.y0 + half_h};
+    const double nxd = std::max(1.0, std::round(p.tw.w() / p.cell));
+    const double nyd = std::max(1.0, std::round(p.tw.h() / p.cell));
     if (!(nxd * nyd <= 4.0e9))
-        throw InputError(req.key + ".cell_m = " + num(cell) + ": the window would hold " +
+        throw InputError(req.key + ".cell_m = " + num(p.cell) + ": the window would hold " +
                          num(nxd) + " x " + num(nyd) + " cells");
-    ensure_fits_in_memory(static_cast<std::int64_t>(nxd * nyd), 16.0, where + " (window)");
-    const int nx = static_cast<int>(nxd), ny = static_cast<int>(nyd);
-    if (req.window.centre) {
-        const double cx = 0.5 * (tw.x0 + tw.x1), cy = 0.5 * (tw.y0 + tw.y1);
-        tw = {cx - 0.5 * nx * cell, cy - 0.5 * ny * cell, cx + 0.5 * nx * cell,
-              cy + 0.5 * ny * cell};
+    ensure_fits_in_memory(static_cast<std::int64_t>(nxd * nyd), 16.0,
+                          req.path.string() + " (window)");
+    p.nx = static_cast<int>(nxd);
+    p.ny = static_cast<int>(nyd);
+    if (centre) {
+        const double cx = 0.5 * (p.tw.x0 + p.tw.x1), cy = 0.5 * (p.tw.y0 + p.tw.y1);
+        p.tw = {cx - 0.5 * p.nx * p.cell, cy - 0.5 * p.ny * p.cell, cx + 0.5 * p.nx * p.cell,
+                cy + 0.5 * p.ny * p.cell};
     } else {
-        tw.x1 = tw.x0 + nx * cell;
-        tw.y1 = tw.y0 + ny * cell;
+        p.tw.x1 = p.tw.x0 + p.nx * p.cell;
+        p.tw.y1 = p.tw.y0 + p.ny * p.cell;
     }
-    const std::string method = req.resampling != "auto"
-                                   ? req.resampling
-                                   : (cell <= own_cell * (1 + 1e-9) ? "cubic" : "average");
+}
+
+/// GDAL's warper onto the planned grid, in memory.
+gdal::Dataset warp(const WarpPlan& p, const std::string& method, const std::string& where) {
     std::vector<std::string> args{"-of",
                                   "MEM",
                                   "-te",
-                                  exact(tw.x0),
-                                  exact(tw.y0),
-                                  exact(tw.x1),
-                                  exact(tw.y1),
+                                  exact(p.tw.x0),
+                                  exact(p.tw.y0),
+                                  exact(p.tw.x1),
+                                  exact(p.tw.y1),
                                   "-ts",
-                                  std::to_string(nx),
-                                  std::to_string(ny),
+                                  std::to_string(p.nx),
+                                  std::to_string(p.ny),
                                   "-r",
                                   gdal_method(method),
                                   "-ot",
@@ -293,19 +318,65 @@ DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
                                   "nan",
                                   "-et",
                                   "0"};
-    const std::string target_wkt = target.wkt();
-    if (reproject) args.insert(args.end(), {"-t_srs", target_wkt});
+    const std::string target_wkt = p.target.wkt();
+    if (p.reproject) args.insert(args.end(), {"-t_srs", target_wkt});
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     GDALWarpAppOptions* o = GDALWarpAppOptionsNew(argv.data(), nullptr);
     if (!o) throw IoError(where + ": GDAL refuses the warp options: " + gdal::Quiet::last());
-    GDALDatasetH in = src.get();
+    GDALDatasetH in = p.src.get();
     int usage_error = 0;
     gdal::Dataset out(GDALWarp("", nullptr, 1, &in, o, &usage_error));
     GDALWarpAppOptionsFree(o);
     if (!out) throw IoError(where + ": GDAL's warper failed: " + gdal::Quiet::last());
-    DemRead r{gdal::raster_from_dataset(out.get(), src.get(), where), json::object(), method, crs};
+    return out;
+}
+
+json record(const DemRequest& req, const WarpPlan& p, const std::string& method,
+            std::int64_t missing) {
+    const Srs& t = p.target.h ? p.target : p.source;
+    json w = json::object();
+    if (req.window.bounds) w["bounds"] = *req.window.bounds;
+    if (req.window.pixels) w["pixels"] = *req.window.pixels;
+    if (req.window.centre) w = {{"centre", *req.window.centre}, {"size_m", req.window.size_m}};
+    const bool degrees = p.source.h && OSRIsGeographic(p.source.h);
+    return {{"file", req.path.string()},
+            {"window", w},
+            {"method", "GDAL warper (gdalwarp), exact transformation"},
+            {"resampling", method},
+            {"source",
+             {{"size", {p.snx, p.sny}},
+              {"cell", std::abs(p.gt[1])},
+              {"crs", p.source.name()},
+              {"epsg", p.source.epsg()},
+              {"units", degrees ? "degrees" : "m"}}},
+            {"size", {p.nx, p.ny}},
+            {"cell_m", p.cell},
+            {"bounds_m", {p.tw.x0, p.tw.y0, p.tw.x1, p.tw.y1}},
+            {"crs", t.name()},
+            {"epsg", t.epsg()},
+            {"reprojected", p.reproject},
+            {"no_data_cells", missing}};
+}
+
+} // namespace
+
+DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
+    gdal::init();
+    gdal::Quiet quiet;
+    const std::string where = req.path.string();
+    check_request(req);
+    WarpPlan p;
+    plan_source(req, p);
+    plan_systems(req, p);
+    plan_grid(req, p);
+    const std::string method = req.resampling != "auto"
+                                   ? req.resampling
+                                   : (p.cell <= p.own_cell * (1 + 1e-9) ? "cubic" : "average");
+    const gdal::Dataset out = warp(p, method, where);
+    DemRead r{gdal::raster_from_dataset(out.get(), p.src.get(), where), json::object(), method,
+              p.crs};
     std::int64_t missing = 0;
     for (std::int64_t k = 0; k < r.z.size(); ++k) missing += std::isnan(r.z.data()[k]) ? 1 : 0;
     if (missing == r.z.size())
@@ -315,28 +386,7 @@ DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings) {
                             std::to_string(r.z.size()) +
                             " cells of the window have no data (outside the DEM or on its "
                             "NODATA cells); they are treated as outside the terrain");
-    const Srs& t = target.h ? target : source;
-    json w = json::object();
-    if (req.window.bounds) w["bounds"] = *req.window.bounds;
-    if (req.window.pixels) w["pixels"] = *req.window.pixels;
-    if (req.window.centre) w = {{"centre", *req.window.centre}, {"size_m", req.window.size_m}};
-    r.record = {{"file", where},
-                {"window", w},
-                {"method", "GDAL warper (gdalwarp), exact transformation"},
-                {"resampling", method},
-                {"source",
-                 {{"size", {snx, sny}},
-                  {"cell", std::abs(gt[1])},
-                  {"crs", source.name()},
-                  {"epsg", source.epsg()},
-                  {"units", source.h && OSRIsGeographic(source.h) ? "degrees" : "m"}}},
-                {"size", {nx, ny}},
-                {"cell_m", cell},
-                {"bounds_m", {tw.x0, tw.y0, tw.x1, tw.y1}},
-                {"crs", t.name()},
-                {"epsg", t.epsg()},
-                {"reprojected", reproject},
-                {"no_data_cells", missing}};
+    r.record = record(req, p, method, missing);
     return r;
 }
 

@@ -94,7 +94,8 @@ struct MapFigure {
     bool smooth = true; ///< scale continuous fields smoothly; categorical ones cell by cell
 };
 
-/// Writes `img` (one pixel per cell of the grid `g`, row 0 north) as a figure 800 px wide: the
+/// Writes `img` (one pixel per cell of the grid `g`, row 0 north) as a figure 800 px wide (wider
+/// when the legend, the colour bar label or a note needs it): the
 /// title, the map scaled to fill 600 px, its colour bar with ticks (or legend), a scale bar in
 /// metres and the notes. Atomic; IoError naming the file.
 void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,

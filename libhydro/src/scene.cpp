@@ -112,8 +112,41 @@ RasterD load_terrain(const json& t, const fs::path& base, json& resolved, json& 
     return std::move(g.z);
 }
 
-SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::uint64_t seed,
-                  SoilSpec& spec, json& resolved) {
+/// A raster on the terrain's grid: read as it is when it lies on it (to 1e-6), otherwise put on
+/// it by GDAL's warper (bilinear, from its own system to the terrain's), with a note. An
+/// InputError names `key` and the file where it does not cover the terrain.
+RasterD read_onto_terrain(const fs::path& path, const RasterD& dem, const std::string& key,
+                          std::vector<std::string>& notes) {
+    RasterD x = terrain::io::read_raster(path);
+    const GridSpec& g = dem.grid();
+    if (x.grid().matches(g)) return x;
+    terrain::io::DemRequest req;
+    req.path = path;
+    req.key = key;
+    req.onto = g;
+    req.onto_crs_wkt = dem.crs_wkt();
+    req.resampling = "bilinear";
+    terrain::io::DemRead d = terrain::io::read_dem(req);
+    std::int64_t uncovered = 0;
+    for (std::int64_t k = 0; k < g.size(); ++k)
+        uncovered += std::isnan(d.z.data()[k]) && !std::isnan(dem.data()[k]) ? 1 : 0;
+    if (uncovered > 0)
+        throw InputError(key + ": " + path.string() + " " + grid_mismatch(x.grid(), g) +
+                         "; put "
+                         "on it, it leaves " +
+                         std::to_string(uncovered) + " terrain cells without a value");
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  " (%d x %d cells of %.6g) resampled bilinearly onto the terrain's "
+                  "grid by GDAL's warper",
+                  x.nx(), x.ny(), x.cell_size());
+    notes.push_back(key + ": " + path.string() + b);
+    return std::move(d.z);
+}
+
+SoilMap load_soil(const json& s, const fs::path& base, const RasterD& dem, std::uint64_t seed,
+                  SoilSpec& spec, json& resolved, std::vector<std::string>& notes) {
+    const GridSpec& g = dem.grid();
     require_known_keys(s, {"uniform", "random", "rasters"}, "soil");
     if (s.size() != 1) throw InputError("soil: give exactly one of 'uniform', 'random', 'rasters'");
     spec.kind = s.begin().key();
@@ -134,11 +167,7 @@ SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::u
     auto read = [&](std::string& file, const char* key) {
         const fs::path path = resolve(base, file);
         file = path.string(); // resolved: a resume finds the same file
-        RasterD x = terrain::io::read_raster(path);
-        if (!x.grid().matches(g))
-            throw InputError("soil.rasters." + std::string(key) + ": " + path.string() + " " +
-                             grid_mismatch(x.grid(), g));
-        return x;
+        return read_onto_terrain(path, dem, "soil.rasters." + std::string(key), notes);
     };
     const auto sand = read(files.sand_pct, "sand_pct"), silt = read(files.silt_pct, "silt_pct"),
                clay = read(files.clay_pct, "clay_pct");
@@ -148,8 +177,10 @@ SoilMap load_soil(const json& s, const fs::path& base, const GridSpec& g, std::u
     return soil_from_rasters(sand, silt, clay, ph ? &*ph : nullptr, "soil.rasters");
 }
 
-RasterD load_vegetation_cover(const json& v, const fs::path& base, const GridSpec& g,
-                              VegetationCover& cover, json& resolved) {
+RasterD load_vegetation_cover(const json& v, const fs::path& base, const RasterD& dem,
+                              VegetationCover& cover, json& resolved,
+                              std::vector<std::string>& notes) {
+    const GridSpec& g = dem.grid();
     cover = vegetation_cover_catalog().read(v, VegetationCover{});
     if (v.contains("density") && v.contains("density_file"))
         throw InputError("vegetation: give 'density' or 'density_file', not both");
@@ -160,10 +191,7 @@ RasterD load_vegetation_cover(const json& v, const fs::path& base, const GridSpe
     }
     const auto path = resolve(base, cover.density_file);
     cover.density_file = path.string();
-    RasterD d = terrain::io::read_raster(path);
-    if (!d.grid().matches(g))
-        throw InputError("vegetation.density_file: " + path.string() + " " +
-                         grid_mismatch(d.grid(), g));
+    RasterD d = read_onto_terrain(path, dem, "vegetation.density_file", notes);
     resolved["vegetation"]["density_file"] = cover.density_file;
     return d;
 }
@@ -195,10 +223,18 @@ const ParamCatalog<SoilRasterFiles>& soil_rasters_catalog() {
     using F = SoilRasterFiles;
     static const ParamCatalog<F> c(
         "soil.rasters",
-        {text<F>("sand_pct", &F::sand_pct, "raster of sand, % (terrain grid)").mandatory(),
-         text<F>("silt_pct", &F::silt_pct, "raster of silt, % (terrain grid)").mandatory(),
-         text<F>("clay_pct", &F::clay_pct, "raster of clay, % (terrain grid)").mandatory(),
-         text<F>("ph", &F::ph, "raster of soil pH (terrain grid); empty: uniform pH 6.5")});
+        {text<F>("sand_pct", &F::sand_pct,
+                 "raster of sand, % (put on the terrain grid if on another)")
+             .mandatory(),
+         text<F>("silt_pct", &F::silt_pct,
+                 "raster of silt, % (put on the terrain grid if on another)")
+             .mandatory(),
+         text<F>("clay_pct", &F::clay_pct,
+                 "raster of clay, % (put on the terrain grid if on another)")
+             .mandatory(),
+         text<F>(
+             "ph", &F::ph,
+             "raster of soil pH (put on the terrain grid if on another); empty: uniform pH 6.5")});
     return c;
 }
 
@@ -209,7 +245,8 @@ const ParamCatalog<VegetationCover>& vegetation_cover_catalog() {
         {number<V>("density", &V::density, "1", 0, 1,
                    "uniform vegetation density for the rain partition (hydro run only)"),
          text<V>("density_file", &V::density_file,
-                 "raster of densities 0..1 on the terrain's grid instead of `density`")});
+                 "raster of densities 0..1 (put on the terrain's grid if on another) instead of "
+                 "`density`")});
     return c;
 }
 
@@ -247,11 +284,10 @@ HydroScene load_hydro_scene(const json& s, const fs::path& base) {
     if (!s.contains("terrain")) throw InputError("scene: missing key 'terrain'");
     scene.dem = load_terrain(s["terrain"], base, r, scene.terrain_source, scene.notes);
     require_valid_cells(scene.dem, "terrain");
-    const auto& g = scene.dem.grid();
-    scene.soil = load_soil(s.value("soil", json{{"uniform", json::object()}}), base, g, scene.seed,
-                           scene.soil_spec, r);
-    scene.vegetation_density =
-        load_vegetation_cover(s.value("vegetation", json::object()), base, g, scene.cover, r);
+    scene.soil = load_soil(s.value("soil", json{{"uniform", json::object()}}), base, scene.dem,
+                           scene.seed, scene.soil_spec, r, scene.notes);
+    scene.vegetation_density = load_vegetation_cover(s.value("vegetation", json::object()), base,
+                                                     scene.dem, scene.cover, r, scene.notes);
     scene.climate = load_climate(s.value("climate", json::object()), base, scene, r);
     scene.options = load_options(s.value("hydrology", json::object()), r);
     return scene;

@@ -7,6 +7,7 @@
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 #include "ecoterra/run/run_reader.hpp"
+#include "ecoterra/terrain/io/raster_io.hpp"
 
 #include <H5Cpp.h>
 
@@ -718,4 +719,62 @@ TEST_CASE("Shipped scenes print no noise, and exports take the format their suff
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, !Catch::Contains("landscape size"));
     CHECK_THAT(r.out, Catch::Contains("picture: forest_gazebo/picture.png"));
+}
+
+TEST_CASE("Soil rasters of a coarse grid are put on a DEM window's grid, or refused if short",
+          "[eco][dem]") {
+    test::TempDir dir;
+    // Sand, silt and clay on the Olinda DEM's own 90 m grid: planes in x and y summing to 100.
+    const RasterD dem = terrain::io::read_raster(test::data_dir() / "dem/olinda_dem_utm25s.tif");
+    const auto& g = dem.grid();
+    RasterD sand(g), silt(g), clay(g);
+    for (auto* r : {&sand, &silt, &clay}) r->set_crs_wkt(dem.crs_wkt());
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            sand(i, j) = 40 + 20.0 * i / g.nx;
+            clay(i, j) = 10 + 10.0 * j / g.ny;
+            silt(i, j) = 100 - sand(i, j) - clay(i, j);
+        }
+    terrain::io::write_geotiff(sand, dir / "sand.tif");
+    terrain::io::write_geotiff(silt, dir / "silt.tif");
+    terrain::io::write_geotiff(clay, dir / "clay.tif");
+    json s = parse_json(io::read_text(test::data_dir() / "scenes/quickstart.json"), "q");
+    s["terrain"] = {{"file", (test::data_dir() / "dem/olinda_dem_utm25s.tif").string()},
+                    {"window", {{"centre", {293770, 9115766}}, {"size_m", 60}}},
+                    {"cell_m", 1}};
+    s["vegetation"]["ecosystem"] =
+        (test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json").string();
+    s["soil"] = {{"rasters",
+                  {{"sand_pct", "sand.tif"}, {"silt_pct", "silt.tif"}, {"clay_pct", "clay.tif"}}}};
+    s["simulation"]["years"] = 1;
+    write(dir / "scene.json", s.dump());
+    auto r = test::run(dir, "run scene.json -o run.h5 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("soil.rasters.sand_pct: "));
+    CHECK_THAT(r.out, Catch::Contains("resampled bilinearly onto the terrain's grid"));
+    const GridSpec tg = run::read_run_terrain(dir / "run.h5").grid();
+    const RasterD rs = run::read_run_soil(dir / "run.h5", "sand_pct", tg);
+    const RasterD rc = run::read_run_soil(dir / "run.h5", "clay_pct", tg);
+    const RasterD ri = run::read_run_soil(dir / "run.h5", "silt_pct", tg);
+    REQUIRE(rs.nx() == 60);
+    for (int j = 0; j < rs.ny(); ++j)
+        for (int i = 0; i < rs.nx(); ++i) {
+            // Bilinear keeps the planes: sand at x is 40 + 20 (column of x) / 111.
+            const double col = g.col_of(rs.grid().x_of(i)), row = g.row_of(rs.grid().y_of(j));
+            REQUIRE(rs(i, j) == Approx(40 + 20.0 * col / g.nx).margin(1e-3));
+            REQUIRE(rc(i, j) == Approx(10 + 10.0 * row / g.ny).margin(1e-3));
+            REQUIRE(rs(i, j) + ri(i, j) + rc(i, j) == Approx(100).margin(1e-3));
+        }
+    // A soil raster covering only part of the terrain is refused, naming the key and file.
+    RasterD part(GridSpec{10, 10, g.cell_size_m, g.origin_x_m, g.origin_y_m}, 30.0);
+    part.set_crs_wkt(dem.crs_wkt());
+    terrain::io::write_geotiff(part, dir / "part.tif");
+    s["soil"]["rasters"]["sand_pct"] = "part.tif";
+    write(dir / "scene.json", s.dump());
+    r = test::run(dir, "run scene.json -o run2.h5 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("soil.rasters.sand_pct"));
+    CHECK_THAT(r.out, Catch::Contains("part.tif"));
+    CHECK(!fs::exists(dir / "run2.h5"));
 }

@@ -3,12 +3,18 @@
 // the map drawn outside its frame. The texts come from terrain::FigureLog, which records what
 // draw_text put where; the pixels from the PNG files.
 #include "support/png_size.hpp"
+#include "support/run_cli.hpp"
 #include "support/scenes.hpp"
 
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/population.hpp"
 #include "ecoterra/eco/scene_config.hpp"
+#include "ecoterra/export/picture.hpp"
+#include "ecoterra/export/scene.hpp"
+#include "ecoterra/mobility/map.hpp"
+#include "ecoterra/mobility/route.hpp"
 #include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/mobility/traverse.hpp"
 #include "ecoterra/mobility/vehicle.hpp"
 #include "ecoterra/run/pictures.hpp"
 #include "ecoterra/run/run_reader.hpp"
@@ -18,6 +24,7 @@
 #include <cairo.h>
 #include <catch2/catch.hpp>
 
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -70,6 +77,20 @@ void check_picture(const std::vector<terrain::DrawnText>& texts,
     }
 }
 
+/// The PNG files are the pictures the log saw, in order, at the sizes it saw.
+void check_files(const std::vector<std::vector<terrain::DrawnText>>& pics,
+                 const std::vector<fs::path>& files) {
+    REQUIRE(pics.size() == files.size());
+    for (std::size_t k = 0; k < files.size(); ++k) {
+        CAPTURE(files[k]);
+        const auto [w, h] = test::png_size(files[k]);
+        CHECK(w == static_cast<unsigned>(pics[k].front().surface_width));
+        CHECK(h == static_cast<unsigned>(pics[k].front().surface_height));
+        CHECK(w >= 600);
+        CHECK(h >= 300);
+    }
+}
+
 /// True if every pixel of the rectangle is white (nothing drawn there).
 bool white_strip(const fs::path& png, int x0, int y0, int x1, int y1) {
     cairo_surface_t* s = cairo_image_surface_create_from_png(png.string().c_str());
@@ -116,8 +137,8 @@ TEST_CASE("Run pictures hold their labels, ticks and crowns", "[pictures]") {
         terrain::FigureLog log;
         run::draw_run_pictures(e, dir.path());
         const auto pics = by_picture(log);
-        // stems, dbh histogram, stand history, soil moisture, surface water
-        REQUIRE(pics.size() == 5);
+        check_files(pics, {dir / "stems.png", dir / "dbh_histogram.png", dir / "stand_history.png",
+                           dir / "soil_moisture.png", dir / "surface_water_depth.png"});
         check_picture(pics[0], {"title", "legend", "scale_bar"});
         check_picture(pics[1], {"title", "xtick", "ytick", "xlabel", "ylabel"});
         check_picture(pics[2], {"title", "xtick", "ytick", "xlabel", "ylabel"});
@@ -161,17 +182,81 @@ TEST_CASE("Mobility, traverse and analysis pictures hold their labels and scales
         terrain::FigureLog log;
         run::draw_mobility_pictures(m, v, sc.hydro.dem, dir.path());
         const auto pics = by_picture(log);
-        REQUIRE(pics.size() == 2);
+        check_files(pics, {dir / "smg_lines.png", dir / "smg_histogram.png"});
         check_picture(pics[0], {"title", "legend", "bar_label", "bar_tick", "scale_bar"});
         check_picture(pics[1], {"title", "xtick", "ytick", "xlabel", "ylabel"});
     }
-    test::TempDir dir;
-    const eco::EcoScene sc = eco::load_eco_scene(scene(60, 1.0, 1, 3, 0), test::data_dir());
-    terrain::FigureLog log;
-    terrain::AnalysisOptions opt;
-    const auto a = terrain::analyze_terrain(sc.hydro.dem, opt);
-    terrain::write_analysis_pictures(sc.hydro.dem, a, opt, dir.path());
-    for (const auto& p : by_picture(log)) check_picture(p, {"title", "scale_bar"});
+    for (const int size : {48, 150}) {
+        CAPTURE(size);
+        test::TempDir dir;
+        const eco::EcoScene sc = eco::load_eco_scene(scene(size, 1.0, 1, 3, 600), test::data_dir());
+        const RasterD& dem = sc.hydro.dem;
+        {
+            terrain::FigureLog log;
+            terrain::AnalysisOptions opt;
+            const auto a = terrain::analyze_terrain(dem, opt);
+            const auto files = terrain::write_analysis_pictures(dem, a, opt, dir.path());
+            const auto pics = by_picture(log);
+            check_files(pics, files);
+            for (const auto& p : pics) check_picture(p, {"title", "scale_bar"});
+        }
+        const auto v = mobility::load_vehicle(test::data_dir() / "vehicles/husky_a200.json");
+        {
+            terrain::FigureLog log;
+            std::vector<mobility::MissionLine> missions;
+            const double w = dem.grid().width_m();
+            for (int k = 0; k < 6; ++k)
+                missions.push_back(
+                    {k, 0.1 * w, (0.1 + 0.15 * k) * w, 0.9 * w, (0.9 - 0.15 * k) * w});
+            const auto r = mobility::traverse_missions(v, dem, missions);
+            run::draw_traverse_picture(r.missions, r.results, dem, dir / "traverse");
+            const auto pics = by_picture(log);
+            check_files(pics, {dir / "traverse/missions.png"});
+            check_picture(pics[0], {"title", "bar_label", "bar_tick", "scale_bar"});
+        }
+        {
+            terrain::FigureLog log;
+            eco::Ecosystem e(sc);
+            e.run_year();
+            std::vector<mobility::StandStem> stems;
+            for (const auto& p : eco::rows(e.plants()))
+                stems.push_back(mobility::StandStem{p.x_m, p.y_m, p.dbh_m, p.height_m});
+            const mobility::MapPlan plan(v, dem, stems, {}, mobility::MapOptions{});
+            const auto m = plan.map({});
+            run::draw_mobility_map_pictures(m, dem, dir / "speed.png", dir / "limit.png");
+            const double w = dem.grid().width_m();
+            const auto route = mobility::fastest_route(m.speed_m_per_s, m.headings_deg,
+                                                       {0.1 * w, 0.1 * w}, {0.9 * w, 0.8 * w});
+            run::draw_route_picture(m.speed_mean_m_per_s, v.top_speed_m_per_s, route,
+                                    dir / "route.png");
+            const auto pics = by_picture(log);
+            check_files(pics, {dir / "speed.png", dir / "limit.png", dir / "route.png"});
+            check_picture(pics[0], {"title", "bar_label", "bar_tick", "scale_bar"});
+            check_picture(pics[1], {"title", "legend", "scale_bar"});
+            check_picture(pics[2], {"title", "bar_label", "bar_tick", "scale_bar", "note"});
+        }
+    }
+}
+
+TEST_CASE("The export picture holds its titles, scales and crowns", "[pictures]") {
+    for (const int size : {20, 150}) {
+        CAPTURE(size);
+        test::TempDir dir;
+        json s = scene(size, 2.0, 2, 6, 500);
+        std::ofstream(dir / "scene.json") << s.dump();
+        const auto r = test::run(dir, "run scene.json -o run.h5 --no-pictures");
+        REQUIRE(r.code == 0);
+        const exporter::Scene sc = exporter::load_scene(dir / "run.h5", -1);
+        terrain::FigureLog log;
+        exporter::draw_export_picture(sc, dir / "picture.png");
+        const auto pics = by_picture(log);
+        check_files(pics, {dir / "picture.png"});
+        check_picture(pics[0], {"title", "note", "scale_bar"});
+        // Two scale bars: one under each panel.
+        int bars = 0;
+        for (const auto& t : pics[0]) bars += t.role == "scale_bar";
+        CHECK(bars == 2);
+    }
 }
 
 TEST_CASE("Ensemble plots hold their labels, ticks at class edges and fits in the frame",

@@ -211,7 +211,9 @@ void plan_source(const DemRequest& req, WarpPlan& p) {
         throw InputError(where + ": rotated or degenerate geotransform (" + list(gt, 6) + ")");
     p.extent = {std::min(gt[0], gt[0] + p.snx * gt[1]), std::min(gt[3], gt[3] + p.sny * gt[5]),
                 std::max(gt[0], gt[0] + p.snx * gt[1]), std::max(gt[3], gt[3] + p.sny * gt[5])};
-    p.sw = source_window(req, gt, p.snx, p.sny, p.extent);
+    if (req.onto && (req.window.bounds || req.window.pixels || req.window.centre))
+        throw InputError(req.key + ": a window and a target grid together");
+    p.sw = req.onto ? p.extent : source_window(req, gt, p.snx, p.sny, p.extent);
 }
 
 /// The target system: the user's, the window centre's UTM zone for a geographic DEM, or the
@@ -221,7 +223,10 @@ void plan_systems(const DemRequest& req, WarpPlan& p) {
     OGRSpatialReferenceH raw = GDALGetSpatialRef(p.src.get());
     p.source = Srs(raw ? OSRClone(raw) : nullptr);
     p.crs = req.crs;
-    if (!req.crs.empty()) {
+    if (req.onto) {
+        if (p.source.h && !req.onto_crs_wkt.empty())
+            p.target = srs_from_user(req.onto_crs_wkt, req.key + " (the terrain's system)");
+    } else if (!req.crs.empty()) {
         if (!p.source.h)
             throw InputError(req.key + ".crs = '" + req.crs + "': " + where +
                              " has no coordinate system to reproject from");
@@ -265,6 +270,20 @@ Box transform(const WarpPlan& p, const Box& b, bool point, const std::string& wh
 
 /// The window in the target system, snapped to whole cells of the target cell.
 void plan_grid(const DemRequest& req, WarpPlan& p) {
+    if (req.onto) { // the given grid, exactly
+        const GridSpec& g = *req.onto;
+        p.tw = {g.origin_x_m, g.origin_y_m, g.origin_x_m + g.width_m(),
+                g.origin_y_m + g.height_m()};
+        p.cell = g.cell_size_m;
+        p.nx = g.nx;
+        p.ny = g.ny;
+        p.own_cell = std::abs(p.gt[1]);
+        if (p.reproject) {
+            const Box tp = transform(p, p.extent, false, req.path.string());
+            p.own_cell = std::sqrt(tp.w() * tp.h() / (static_cast<double>(p.snx) * p.sny));
+        }
+        return;
+    }
     const bool centre = req.window.centre.has_value();
     p.tw = p.reproject ? transform(p, p.sw, centre, req.key + ".window") : p.sw;
     // The DEM's own cell in the target system: its side where nothing is reprojected, else the

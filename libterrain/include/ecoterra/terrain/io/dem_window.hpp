@@ -33,10 +33,14 @@ struct DemRequest {
     std::filesystem::path path;
     DemWindow window;
     double cell_m = 0; ///< target cell side, m; 0: the DEM's own
-    std::string resampling =
-        "auto";                  ///< auto, nearest, bilinear, cubic, cubicspline, lanczos, average
+    /// auto, nearest, bilinear, cubic, cubicspline, lanczos, average
+    std::string resampling = "auto";
     std::string crs;             ///< target system (EPSG:n, WKT, PROJ); "": see read_dem
     std::string key = "terrain"; ///< the scene section named in errors
+    /// Instead of a window: exactly this grid (in `onto_crs_wkt`, or the source's system when
+    /// that is empty or the source has none), e.g. a soil raster put on the terrain's grid.
+    std::optional<GridSpec> onto;
+    std::string onto_crs_wkt;
 };
 
 /// The resampling methods `DemRequest::resampling` accepts, in the order the docs list them.
@@ -59,7 +63,8 @@ DemRead read_dem(const DemRequest& req, std::vector<std::string>* warnings = nul
 
 /// True if a request asks for more than reading the file as it is (a window, a cell, a system).
 inline bool dem_request_resamples(const DemRequest& r) {
-    return r.window.bounds || r.window.pixels || r.window.centre || r.cell_m > 0 || !r.crs.empty();
+    return r.window.bounds || r.window.pixels || r.window.centre || r.cell_m > 0 ||
+           !r.crs.empty() || r.onto.has_value();
 }
 
 } // namespace ecoterra::terrain::io

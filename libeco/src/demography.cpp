@@ -181,7 +181,11 @@ void background_arrivals(const std::vector<Species>& species, const GridSpec& gr
         for (std::int64_t q = 0; q < n; ++q) {
             const double x = grid.origin_x_m + rng.uniform() * grid.width_m();
             const double y = grid.origin_y_m + rng.uniform() * grid.height_m();
-            if (bed.ledger) (*bed.ledger)[sp].arrivals += 1;
+            if (bed.ledger) {
+                SpeciesLedger& l = (*bed.ledger)[sp];
+                l.arrivals += 1;
+                if (s.life_form == LifeForm::object) l.attempts += 1, l.established += 1;
+            }
             if (s.life_form == LifeForm::object || bed.establishes(s, x, y, rng))
                 recruits.push_back(
                     nursery.make(static_cast<std::uint16_t>(sp), x, y, s.recruit_dbh_m));

@@ -177,8 +177,6 @@ void Ecosystem::sample_growth_factors(const DayClimate& day) {
         l.soil_sum += m_pop.soil_factor[k];
         l.temperature_sum += day.ftemp[sp];
     }
-    for (std::size_t k = 0; k < m_pop.size(); ++k)
-        if (m_pop.alive[k]) m_diag[m_pop.species[k]].plants_sum += 1;
 }
 
 void Ecosystem::refresh_canopy() {

@@ -22,7 +22,8 @@ struct SpeciesLedger {
     double seeds_landed = 0, seeds_lost = 0, arrivals = 0;
     // Establishment attempts and where each failed, in the order of the tests: light at the
     // ground below the minimum, relative soil water below the minimum, standing water, and the
-    // draw against germination probability x soil suitability.
+    // draw against germination probability x soil suitability. Objects (placed without a test)
+    // count as attempts that established.
     double attempts = 0, failed_light = 0, failed_water = 0, failed_pond = 0, failed_draw = 0;
     double established = 0;
     // Sums over the attempts that reached the draw: the soil's texture and pH factors.
@@ -31,7 +32,6 @@ struct SpeciesLedger {
     double deaths[9] = {};
     // Growth factors met by living plants in leaf, sampled once a canopy interval.
     double samples = 0, light_sum = 0, water_sum = 0, soil_sum = 0, temperature_sum = 0;
-    double plants_sum = 0; ///< living plants at the samples (their mean count)
 };
 
 /// What the diagnosis found about the stand as a whole.

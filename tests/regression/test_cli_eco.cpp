@@ -778,3 +778,33 @@ TEST_CASE("Soil rasters of a coarse grid are put on a DEM window's grid, or refu
     CHECK_THAT(r.out, Catch::Contains("part.tif"));
     CHECK(!fs::exists(dir / "run2.h5"));
 }
+
+TEST_CASE("A user's one-species file grows a stand or is told why not", "[eco][diagnosis]") {
+    test::TempDir dir;
+    // The user's file: the pine ecosystem's loblolly pine alone, under the user's own name.
+    json e = parse_json(
+        io::read_text(test::data_dir() / "ecosystems/southeastern_pine_forest.json"), "pines");
+    json one = json::array();
+    for (const auto& s : e["Species"])
+        if (s["Species Name"] == "Loblolly pine") one.push_back(s);
+    REQUIRE(one.size() == 1);
+    e["Species"] = one;
+    e["name"] = "my_loblolly";
+    write(dir / "my_loblolly.json", e.dump());
+    const std::string mine = " --set vegetation.ecosystem=" + (dir / "my_loblolly.json").string();
+    // On the quickstart's silt at pH 6.2: told why not.
+    auto r = test::run(dir, "run " + (test::data_dir() / "scenes/quickstart.json").string() + mine +
+                                " --years 25 -o silt.h5 --no-pictures --strict");
+    INFO(r.out);
+    CHECK(r.code == 3);
+    CHECK_THAT(r.out, Catch::Contains("diagnosis: the stand is empty after 25 years"));
+    CHECK_THAT(r.out, Catch::Contains("Loblolly pine: "));
+    CHECK_THAT(r.out, Catch::Contains("Limit: the soil"));
+    // On the sandy loam it asks for: a stand.
+    r = test::run(dir, "run " + (test::data_dir() / "scenes/southeastern_pine.json").string() +
+                           mine + " --years 30 -o sand.h5 --no-pictures --strict");
+    INFO(r.out);
+    CHECK(r.code == 0);
+    const auto p = run::read_snapshot_plants(dir / "sand.h5", -1);
+    CHECK(p.values("dbh_m").size() > 100);
+}

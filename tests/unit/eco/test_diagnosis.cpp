@@ -196,7 +196,8 @@ TEST_CASE("diagnose: verdicts and the limit it names", "[eco][diagnosis]") {
         SpeciesLedger l;
         l.arrivals = l.attempts = l.draws = l.established = 100;
         l.texture_factor_sum = l.ph_factor_sum = 100;
-        DiagnosisInput in = input({l});
+        const std::vector<SpeciesLedger> ledgers{l}; // DiagnosisInput refers to it
+        DiagnosisInput in = input(ledgers);
         in.living = {100};
         in.stand.basal_area_m2_per_ha = 6;
         in.stand.stems_per_ha = 100;
@@ -216,7 +217,8 @@ TEST_CASE("diagnose: verdicts and the limit it names", "[eco][diagnosis]") {
     SECTION("sparse only after 20 years") {
         SpeciesLedger l;
         l.arrivals = l.attempts = l.draws = l.established = 10;
-        DiagnosisInput in = input({l});
+        const std::vector<SpeciesLedger> ledgers{l}; // DiagnosisInput refers to it
+        DiagnosisInput in = input(ledgers);
         in.living = {50};
         in.stand.stems_per_ha = 50;
         in.stand.basal_area_m2_per_ha = 3;

@@ -55,6 +55,7 @@ inline constexpr double kSparseBasalArea = 2.0;
 /// A target is missed when the basal area at the end is below this share of it.
 inline constexpr double kTargetShare = 0.95;
 
+/// What diagnose() reads; it refers to the species and ledgers (they must outlive it).
 struct DiagnosisInput {
     const std::vector<Species>& species;
     const std::vector<SpeciesLedger>& ledger;

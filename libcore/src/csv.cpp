@@ -13,12 +13,34 @@ namespace ecoterra {
 
 namespace {
 
+/// The fields of one line (RFC 4180): a field in double quotes may hold commas, and "" inside
+/// it stands for one quote; an unquoted field is taken as it is.
 std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> out;
-    std::stringstream ss(line);
     std::string f;
-    while (std::getline(ss, f, ',')) out.push_back(f);
-    if (!line.empty() && line.back() == ',') out.emplace_back();
+    bool quoted = false, was_quoted = false;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+        const char c = line[k];
+        if (quoted) {
+            if (c == '"' && k + 1 < line.size() && line[k + 1] == '"') {
+                f += '"';
+                ++k;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                f += c;
+            }
+        } else if (c == '"' && f.empty() && !was_quoted) {
+            quoted = was_quoted = true;
+        } else if (c == ',') {
+            out.push_back(std::move(f));
+            f.clear();
+            was_quoted = false;
+        } else {
+            f += c;
+        }
+    }
+    if (!line.empty()) out.push_back(std::move(f));
     return out;
 }
 
@@ -93,6 +115,13 @@ std::string CsvReader::text(int col) const {
 
 std::string CsvReader::where() const {
     return m_path.string() + " line " + std::to_string(m_line);
+}
+
+std::string csv_field(const std::string& text) {
+    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+    std::string q = "\"";
+    for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
 }
 
 } // namespace ecoterra

@@ -1,5 +1,6 @@
 // MAVS, Gazebo and Unreal exports (docs/exports.md; formats from reference mobility.md s3 and
 // mavs.md s3.5).
+#include "ecoterra/csv.hpp"
 #include "ecoterra/export/formats.hpp"
 #include "ecoterra/export/mesh.hpp"
 
@@ -595,12 +596,12 @@ void write_unreal_trees(const Scene& s, OutputFolder& folder, const ExportOption
                       "dbh_cm,height_m,crown_radius_m,collision_radius_cm\n";
     auto row = [&](const Tree& t, const std::string& mesh, std::array<double, 3> scale) {
         csv += "plant_" + std::to_string(t.id) + "," +
-               s.species[static_cast<std::size_t>(t.species)].name + "," + stage_name(t.stage) +
-               "," + mesh + "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
-               num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + "," + num(scale[0]) +
-               "," + num(scale[1]) + "," + num(scale[2]) + "," + num(t.dbh_m * kCmPerM) + "," +
-               num(t.height_m) + "," + num(t.crown_radius_m) + "," +
-               num(0.5 * stem_diameter_m(t) * kCmPerM) + "\n";
+               csv_field(s.species[static_cast<std::size_t>(t.species)].name) + "," +
+               stage_name(t.stage) + "," + mesh + "," + num(t.x_m * kCmPerM) + "," +
+               num(-t.y_m * kCmPerM) + "," + num(t.z_m * kCmPerM) + "," +
+               num(-rad_to_deg(t.yaw_rad)) + "," + num(scale[0]) + "," + num(scale[1]) + "," +
+               num(scale[2]) + "," + num(t.dbh_m * kCmPerM) + "," + num(t.height_m) + "," +
+               num(t.crown_radius_m) + "," + num(0.5 * stem_diameter_m(t) * kCmPerM) + "\n";
     };
     for (const auto& g : user_groups(s, opt.user)) {
         copy_user_mesh(folder, "meshes/", *g.mesh);
@@ -626,10 +627,11 @@ void write_unreal_grass(const Scene& s, OutputFolder& folder) {
         for (const auto i : tufts) {
             const Tuft& t = s.tufts[i];
             grass += "tuft_" + std::to_string(i) + "," +
-                     s.species[static_cast<std::size_t>(k)].name + "," + tuft_mesh_name(s, k) +
-                     "," + num(t.x_m * kCmPerM) + "," + num(-t.y_m * kCmPerM) + "," +
-                     num(t.z_m * kCmPerM) + "," + num(-rad_to_deg(t.yaw_rad)) + "," +
-                     num(t.height_m) + "," + num(t.radius_m) + "\n";
+                     csv_field(s.species[static_cast<std::size_t>(k)].name) + "," +
+                     tuft_mesh_name(s, k) + "," + num(t.x_m * kCmPerM) + "," +
+                     num(-t.y_m * kCmPerM) + "," + num(t.z_m * kCmPerM) + "," +
+                     num(-rad_to_deg(t.yaw_rad)) + "," + num(t.height_m) + "," + num(t.radius_m) +
+                     "\n";
         }
     }
     if (!s.tufts.empty()) folder.write("grass.csv", grass);
@@ -647,7 +649,7 @@ void write_unreal_deadwood(const Scene& s, OutputFolder& folder) {
         const double dia = std::max(d.diameter_m, 1e-3), len = std::max(d.length_m, 1e-3);
         const double z = d.z_m + (d.standing ? 0.0 : d.top_height_m - 0.5 * dia);
         csv += "deadwood_" + std::to_string(d.id) + "_" + dead_piece_name(d.piece) + "," +
-               s.species[static_cast<std::size_t>(d.species)].name + "," +
+               csv_field(s.species[static_cast<std::size_t>(d.species)].name) + "," +
                dead_piece_name(d.piece) + "," + std::to_string(d.decay_class) + ",deadwood," +
                num(d.x_m * kCmPerM) + "," + num(-d.y_m * kCmPerM) + "," + num(z * kCmPerM) + "," +
                (d.standing ? "0" : "-90") + "," +

@@ -1,5 +1,7 @@
 #include "ecoterra/run/records.hpp"
 
+#include "ecoterra/csv.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -203,7 +205,9 @@ std::string deadwood_csv(const std::vector<DeadWoodRecord>& pieces,
                             : std::to_string(static_cast<long long>(v)));
         }
         const auto sp = static_cast<std::size_t>(p.species);
-        out.append(",").append(sp < species.size() ? species[sp] : std::to_string(sp)).append("\n");
+        out.append(",")
+            .append(csv_field(sp < species.size() ? species[sp] : std::to_string(sp)))
+            .append("\n");
     }
     return out;
 }
@@ -216,7 +220,9 @@ std::string stem_csv(const std::vector<PlantRecord>& plants,
     out += '\n';
     for (const auto& p : plants) {
         for (std::size_t k = 0; k < cols.size(); ++k)
-            out.append(k ? "," : "").append(cols[k].text(p, species));
+            out.append(k ? "," : "")
+                .append(cols[k].type == ColumnType::text ? csv_field(cols[k].text(p, species))
+                                                         : cols[k].text(p, species));
         out += '\n';
     }
     return out;

@@ -3,6 +3,7 @@
 #include "support/run_cli.hpp"
 #include "support/scenes.hpp"
 
+#include "ecoterra/csv.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
@@ -807,4 +808,41 @@ TEST_CASE("A user's one-species file grows a stand or is told why not", "[eco][d
     CHECK(r.code == 0);
     const auto p = run::read_snapshot_plants(dir / "sand.h5", -1);
     CHECK(p.values("dbh_m").size() > 100);
+}
+
+TEST_CASE("A species named with a comma and quotes survives the stem CSV and back", "[eco][csv]") {
+    test::TempDir dir;
+    json e = parse_json(
+        io::read_text(test::data_dir() / "ecosystems/humid_subtropical_broadleaf.json"), "eco");
+    const std::string name = "Birch, \"paper\"";
+    for (auto& s : e["Species"])
+        if (s["Species Name"] == "Birch") s["Species Name"] = name;
+    write(dir / "eco.json", e.dump());
+    json s = small_scene(3);
+    s["vegetation"]["ecosystem"] = (dir / "eco.json").string();
+    write(dir / "scene.json", s.dump());
+    REQUIRE(test::run(dir, "run scene.json -o a.h5 --no-pictures").code == 0);
+    REQUIRE(test::run(dir, "export vegetation a.h5 -o stems.csv").code == 0);
+    CHECK_THAT(io::read_text(dir / "stems.csv"), Catch::Contains("\"Birch, \"\"paper\"\"\""));
+    // The list starts a new run: the same stems of the same species.
+    s["vegetation"]["initial"] = {{"file", (dir / "stems.csv").string()}};
+    write(dir / "scene.json", s.dump());
+    const auto r = test::run(dir, "run scene.json -o b.h5 --years 1 --no-pictures");
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    // The CSV's species, row by row, are the run's (read back by ecoterra's own reader).
+    const auto a = run::read_snapshot_plants(dir / "a.h5", -1);
+    const auto names = run::read_run_info(dir / "a.h5").species;
+    const auto idx = a.values("species");
+    CsvReader csv(dir / "stems.csv", "stems");
+    const int col = csv.require("species");
+    std::size_t k = 0, birches = 0;
+    while (csv.next()) {
+        REQUIRE(k < idx.size());
+        CHECK(csv.text(col) == names[static_cast<std::size_t>(idx[k])]);
+        birches += csv.text(col) == name;
+        ++k;
+    }
+    CHECK(k == idx.size());
+    CHECK(birches > 0);
 }

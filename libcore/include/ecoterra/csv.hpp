@@ -1,7 +1,7 @@
 #pragma once
-// Reading comma-separated tables by their header: columns are found by name, rows one at a time,
-// numbers parsed in full (no "12abc") with errors that name the file, the line, the column and
-// the value.
+// Reading comma-separated tables (RFC 4180 quoting) by their header: columns are found by name,
+// rows one at a time, numbers parsed in full (no "12abc") with errors that name the file, the line,
+// the column and the value.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -38,5 +38,9 @@ private:
     std::vector<std::string> m_header, m_row;
     int m_line = 1;
 };
+
+/// `text` as one CSV field: as it is, or in double quotes (with "" for a quote) when it holds a
+/// comma, a quote or a line break (RFC 4180; CsvReader reads it back).
+std::string csv_field(const std::string& text);
 
 } // namespace ecoterra

@@ -117,6 +117,35 @@ TEST_CASE("csv: numbers in full, spaces allowed, the column and line named other
     CHECK_THROWS_WITH(csv.require("c"), Catch::Contains("lacks column c"));
 }
 
+TEST_CASE("csv: quoted fields (RFC 4180) round-trip through csv_field and the reader",
+          "[core][csv]") {
+    test::TempDir dir;
+    // Fields with commas, quotes, spaces and nothing, each with a number beside it; pandas and
+    // spreadsheet programs write quotes this way too.
+    const std::vector<std::string> texts{
+        "Oak", "Oak, white", "say \"hi\"", "", " spaced ", "a,\"b\",c", "\"", ",", "Birch (paper)"};
+    std::string file = "name,value\n";
+    for (std::size_t k = 0; k < texts.size(); ++k)
+        file += csv_field(texts[k]) + "," + std::to_string(k) + "\n";
+    std::ofstream(dir / "q.csv") << file;
+    CHECK(csv_field("Oak, white") == "\"Oak, white\"");
+    CHECK(csv_field("say \"hi\"") == "\"say \"\"hi\"\"\"");
+    CHECK(csv_field("plain") == "plain");
+    CsvReader csv(dir / "q.csv", "test table");
+    const int name = csv.require("name"), value = csv.require("value");
+    std::size_t k = 0;
+    while (csv.next()) {
+        CAPTURE(k);
+        REQUIRE(k < texts.size());
+        CHECK(csv.fields() == 2);
+        CHECK(csv.text(name) == texts[k]);
+        CHECK(csv.number(value, "value") == static_cast<double>(k));
+        ++k;
+    }
+    // The empty text's row reads as a row (its one field empty, then the value), not a blank.
+    CHECK(k == texts.size());
+}
+
 TEST_CASE("staging: names carry host and process, a folder is replaced whole", "[core][staging]") {
     test::TempDir dir;
     const fs::path p = io::staging_path(dir.path(), "run", "replacing", ".h5");

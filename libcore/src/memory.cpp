@@ -21,16 +21,6 @@ std::string gib(double bytes) {
     return s.str();
 }
 
-std::string grouped(double n) {
-    const std::string digits = std::to_string(static_cast<long long>(std::llround(n)));
-    std::string out;
-    for (std::size_t k = 0; k < digits.size(); ++k) {
-        if (k > 0 && (digits.size() - k) % 3 == 0) out.push_back(',');
-        out.push_back(digits[k]);
-    }
-    return out;
-}
-
 /// The first number in a file, or NaN ("max" and missing files too).
 double number_in(const char* path) {
     std::ifstream f(path);
@@ -108,6 +98,16 @@ void check_memory(const MemoryEstimate& need, const std::string& what) {
                      " is available (" + source +
                      "); make the grid smaller or coarser, or run it on a larger machine "
                      "(docs/scaling.md)");
+}
+
+std::string grouped(double n) {
+    const std::string digits = std::to_string(static_cast<long long>(std::llround(n)));
+    std::string out;
+    for (std::size_t k = 0; k < digits.size(); ++k) {
+        if (k > 0 && (digits.size() - k) % 3 == 0) out.push_back(',');
+        out.push_back(digits[k]);
+    }
+    return out;
 }
 
 } // namespace ecoterra

@@ -1,6 +1,7 @@
 #include "ecoterra/eco/diagnosis.hpp"
 
 #include "ecoterra/eco/deadwood.hpp"
+#include "ecoterra/error.hpp"
 #include "ecoterra/hydro/soil.hpp"
 
 #include <algorithm>
@@ -24,18 +25,6 @@ std::string pct(double part, double whole) {
     return fmt("%.0f %%", whole > 0 ? 100.0 * part / whole : 0.0);
 }
 
-std::string count(double n) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.0f", n);
-    std::string s = b, out;
-    const int lead = static_cast<int>(s.size()) % 3;
-    for (std::size_t k = 0; k < s.size(); ++k) {
-        if (k && (static_cast<int>(k) - lead) % 3 == 0) out += ',';
-        out += s[k];
-    }
-    return out;
-}
-
 struct Factors {
     double light = 1, water = 1, soil = 1, temperature = 1;
 };
@@ -46,14 +35,16 @@ Factors mean_factors(const SpeciesLedger& l) {
             l.temperature_sum / l.samples};
 }
 
-/// The smallest growth factor, named.
-std::pair<std::string, double> weakest(const Factors& f) {
-    std::array<std::pair<std::string, double>, 4> a{{{"light", f.light},
-                                                     {"soil water", f.water},
-                                                     {"soil (texture and pH)", f.soil},
-                                                     {"temperature", f.temperature}}};
+/// The smallest growth factor: its hint key (hint()) and its value.
+struct Weakest {
+    const char* key;
+    double value;
+};
+Weakest weakest(const Factors& f) {
+    const std::array<Weakest, 4> a{
+        {{"light", f.light}, {"water", f.water}, {"soil", f.soil}, {"temperature", f.temperature}}};
     return *std::min_element(a.begin(), a.end(),
-                             [](const auto& x, const auto& y) { return x.second < y.second; });
+                             [](const auto& x, const auto& y) { return x.value < y.value; });
 }
 
 /// What a user can change for a limit: "soil", "water", "temperature", "light" or "pond".
@@ -68,11 +59,6 @@ std::string hint(const std::string& key, const Species& s) {
     if (key == "light")
         return ". Try a more shade-tolerant physiology.shade, or gaps by management";
     return "";
-}
-
-/// The hint key of a growth factor named by `weakest`.
-std::string factor_key(const std::string& what) {
-    return what == "soil water" ? "water" : what.substr(0, what.find(' '));
 }
 
 /// The soil's fit for a species, from the factors met at the establishment draws (or, without
@@ -135,7 +121,7 @@ std::string deaths_text(const SpeciesLedger& l) {
         if (l.deaths[c] > l.deaths[top]) top = c;
     }
     if (total <= 0) return "";
-    return "; " + count(total) + " died (" + pct(l.deaths[top], total) + " " +
+    return "; " + grouped(total) + " died (" + pct(l.deaths[top], total) + " " +
            death_cause_name(static_cast<DeathCause>(top)) + ")";
 }
 
@@ -148,16 +134,16 @@ std::string species_limit(const DiagnosisInput& in, std::size_t k) {
                fmt("%.3g", s.new_per_area_per_yr * 1e4) +
                " per ha a year; none of its plants matured at " + fmt("%.0f", s.maturity_age_yr) +
                " years)";
-    std::string t = s.name + ": " + count(l.seeds_landed + l.arrivals) + " seeds (" +
-                    count(l.arrivals) + " from outside), " + count(l.established) +
-                    " established, " + count(in.living[k]) + " alive" + deaths_text(l);
+    std::string t = s.name + ": " + grouped(l.seeds_landed + l.arrivals) + " seeds (" +
+                    grouped(l.arrivals) + " from outside), " + grouped(l.established) +
+                    " established, " + grouped(in.living[k]) + " alive" + deaths_text(l);
     const Factors f = mean_factors(l);
-    const auto [what, v] = weakest(f);
+    const Weakest tightest = weakest(f);
     std::string key;
     if (l.established < 0.05 * l.attempts)
         key = establishment_key(l);
-    else if (l.samples > 0 && v < 0.5)
-        key = factor_key(what);
+    else if (l.samples > 0 && tightest.value < 0.5)
+        key = tightest.key;
     if (!key.empty()) t += ". Limit: " + limit_text(key, s, l, in);
     if (l.samples > 0)
         t += ". Growth factors in leaf (1 = no limit): light " + fmt("%.2f", f.light) + ", water " +

@@ -83,17 +83,16 @@ struct Frame {
             cairo_stroke(cr);
             text(cr, px(v), y0 + h + 18, fmt(v, terrain::tick_digits(sx)), 12, 0.5, "xtick");
         }
+        double widest = 0; // the y label goes left of the widest tick label
         for (double v = std::ceil(ymin / sy) * sy; v <= ymax + 1e-9; v += sy) {
             cairo_move_to(cr, x0 - 5, py(v));
             cairo_line_to(cr, x0, py(v));
             cairo_stroke(cr);
-            text(cr, x0 - 8, py(v) + 4, fmt(v, terrain::tick_digits(sy)), 12, 1.0, "ytick");
+            const std::string label = fmt(v, terrain::tick_digits(sy));
+            text(cr, x0 - 8, py(v) + 4, label, 12, 1.0, "ytick");
+            widest = std::max(widest, terrain::text_width(label, 12));
         }
         text(cr, x0 + w / 2, y0 + h + 38, xlabel, 13, 0.5, "xlabel");
-        // Left of the widest tick label.
-        double widest = 0;
-        for (double v = std::ceil(ymin / sy) * sy; v <= ymax + 1e-9; v += sy)
-            widest = std::max(widest, terrain::text_width(fmt(v, terrain::tick_digits(sy)), 12));
         terrain::draw_text_vertical(cr, x0 - 16 - widest, y0 + h / 2, ylabel, 13);
         text(cr, x0 + w / 2, y0 - 10, title, 14, 0.5, "title");
     }
@@ -119,40 +118,14 @@ struct MapFrame {
 };
 
 /// Speed colours: red (0) through yellow to green (the top speed).
-void speed_colour(cairo_t* cr, double fraction) {
+terrain::Rgb speed_rgb(double fraction) {
     const double f = std::clamp(fraction, 0.0, 1.0);
-    cairo_set_source_rgb(cr, f < 0.5 ? 0.85 : 0.85 * (1 - f) * 2, f < 0.5 ? 1.6 * f : 0.75, 0.1);
+    auto byte = [](double v) { return static_cast<std::uint8_t>(std::lround(255 * v)); };
+    return {byte(f < 0.5 ? 0.85 : 0.85 * (1 - f) * 2), byte(f < 0.5 ? 1.6 * f : 0.75), byte(0.1)};
 }
-
-/// A vertical colour bar at (x, y), `h` px high, from vmin (bottom) to vmax (top), coloured by
-/// `colour(t)` for t in [0, 1], with its label above and round ticks to the right.
-template <class Colour>
-void colour_bar(cairo_t* cr, double x, double y, double h, double vmin, double vmax,
-                const std::string& label, Colour colour) {
-    constexpr double kW = 16;
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    text(cr, x, y - 8, label, 12, 0, "bar_label");
-    constexpr int kSteps = 100;
-    for (int k = 0; k < kSteps; ++k) {
-        colour(cr, (k + 0.5) / kSteps);
-        cairo_rectangle(cr, x, y + h * (1 - static_cast<double>(k + 1) / kSteps), kW,
-                        h / kSteps + 0.6);
-        cairo_fill(cr);
-    }
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1);
-    cairo_rectangle(cr, x - 0.5, y - 0.5, kW + 1, h + 1);
-    cairo_stroke(cr);
-    const double step = nice_step(vmax - vmin);
-    for (double v = std::ceil(vmin / step - 1e-9) * step; v <= vmax + 1e-9 * (vmax - vmin);
-         v += step) {
-        const double py = y + h * (1 - (v - vmin) / (vmax - vmin));
-        cairo_move_to(cr, x + kW, py);
-        cairo_line_to(cr, x + kW + 4, py);
-        cairo_stroke(cr);
-        text(cr, x + kW + 7, py + 4, fmt(std::abs(v) < 1e-12 ? 0.0 : v, terrain::tick_digits(step)),
-             11, 0, "bar_tick");
-    }
+void speed_colour(cairo_t* cr, double fraction, double alpha = 1.0) {
+    const terrain::Rgb c = speed_rgb(fraction);
+    cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, alpha);
 }
 
 void draw_stems(const Ecosystem& eco, const fs::path& path) {
@@ -395,9 +368,7 @@ void draw_smg_lines(cairo_t* cr, const MapFrame& f, const mobility::StandMobilit
         }
         if (r.nogo || r.path.empty()) continue;
         cairo_set_line_width(cr, many ? 1.0 : 2.0);
-        const double frac = std::clamp(r.smg_m_per_s / v.top_speed_m_per_s, 0.0, 1.0);
-        cairo_set_source_rgba(cr, frac < 0.5 ? 0.85 : 0.85 * (1 - frac) * 2,
-                              frac < 0.5 ? 1.6 * frac : 0.75, 0.1, many ? 0.6 : 1.0);
+        speed_colour(cr, r.smg_m_per_s / v.top_speed_m_per_s, many ? 0.6 : 1.0);
         cairo_move_to(cr, f.x(r.path.front().x_m), f.y(r.path.front().y_m));
         for (const auto& p : r.path) cairo_line_to(cr, f.x(p.x_m), f.y(p.y_m));
         cairo_stroke(cr);
@@ -436,7 +407,8 @@ void draw_smg_legend(cairo_t* cr, const MapFrame& f, const mobility::StandMobili
     text(cr, lx, ly, m.lines.size() > kFewLines ? "dashed: a NOGO line" : "dashed: the line", 12, 0,
          "legend");
     ly += 40;
-    colour_bar(cr, lx, ly, 150, 0, v.top_speed_m_per_s, "path's SMG (m/s)", speed_colour);
+    terrain::draw_colour_bar(cr, lx, ly, 16, 150, 0, v.top_speed_m_per_s, "path's SMG (m/s)",
+                             speed_rgb);
     terrain::draw_scale_bar(cr, lx, ly + 180, f.scale, 150);
 }
 
@@ -664,9 +636,8 @@ void draw_traverse_picture(const std::vector<mobility::MissionLine>& missions,
          std::to_string(ok) + " of " + std::to_string(results.size()) +
              " missions succeed (green); failed (red, x where)",
          14, 0, "title");
-    colour_bar(cr, f.w + 14, 70, 200, 0, 1, "slope (max gradient)", [](cairo_t* c, double t) {
-        const terrain::Rgb rgb = terrain::palette_colour(terrain::Palette::viridis, t);
-        cairo_set_source_rgb(c, rgb.r / 255.0, rgb.g / 255.0, rgb.b / 255.0);
+    terrain::draw_colour_bar(cr, f.w + 14, 70, 16, 200, 0, 1, "slope (max gradient)", [](double t) {
+        return terrain::palette_colour(terrain::Palette::viridis, t);
     });
     terrain::draw_scale_bar(cr, f.w + 14, 300, f.scale, 150);
     s.save(dir / "missions.png");

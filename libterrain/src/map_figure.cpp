@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 
 namespace ecoterra::terrain {
 
@@ -147,6 +148,44 @@ double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double m
     return len_m;
 }
 
+void draw_colour_bar(cairo_t* cr, double x, double y, double w, double h, double vmin, double vmax,
+                     const std::string& label, const std::function<Rgb(double)>& colour) {
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    draw_text(cr, x, y - 8, label, 12, 0, "bar_label");
+    const int steps = 200;
+    for (int k = 0; k < steps; ++k) {
+        set(cr, colour((k + 0.5) / steps));
+        const double y0 = y + h * (1 - static_cast<double>(k + 1) / steps);
+        cairo_rectangle(cr, x, y0, w, h / steps + 0.6);
+        cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1);
+    cairo_rectangle(cr, x - 0.5, y - 0.5, w + 1, h + 1);
+    cairo_stroke(cr);
+    const double span = vmax - vmin;
+    if (span > 0 && std::isfinite(span)) {
+        const double raw = span / 5;
+        const double p = std::pow(10.0, std::floor(std::log10(raw)));
+        double step = p;
+        for (double m : {1.0, 2.0, 5.0, 10.0})
+            if (m * p >= raw) {
+                step = m * p;
+                break;
+            }
+        for (double v = std::ceil(vmin / step - 1e-9) * step; v <= vmax + 1e-9 * span; v += step) {
+            const double ty = y + h * (1 - (v - vmin) / span);
+            cairo_move_to(cr, x + w, ty);
+            cairo_line_to(cr, x + w + 5, ty);
+            cairo_stroke(cr);
+            draw_text(cr, x + w + 8, ty + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12,
+                      0, "bar_tick");
+        }
+    }
+    cairo_restore(cr);
+}
+
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,
                  bool smooth) {
     cairo_surface_t* raster = cairo_image_surface_create(CAIRO_FORMAT_RGB24, img.width, img.height);
@@ -181,6 +220,18 @@ void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, do
 namespace {
 
 /// Each legend entry: a swatch, and its label's lines ('\n') beside and under it.
+/// The lines of a legend label ('\n' between them).
+std::vector<std::string> lines_of(const std::string& label) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    for (;;) {
+        const auto nl = label.find('\n', start);
+        out.push_back(label.substr(start, nl - start));
+        if (nl == std::string::npos) return out;
+        start = nl + 1;
+    }
+}
+
 void draw_legend(cairo_t* cr, const MapFigure& f, double bx) {
     double y = kTop + 4;
     for (const auto& e : f.legend) {
@@ -190,50 +241,10 @@ void draw_legend(cairo_t* cr, const MapFigure& f, double bx) {
         cairo_set_source_rgb(cr, 0, 0, 0);
         cairo_rectangle(cr, bx - 0.5, y - 0.5, 19, 15);
         cairo_stroke(cr);
-        std::size_t start = 0;
-        double ly = y + 12;
-        for (;;) {
-            const auto nl = e.label.find('\n', start);
-            draw_text(cr, bx + 26, ly, e.label.substr(start, nl - start), 12, 0, "legend");
-            if (nl == std::string::npos) break;
-            start = nl + 1;
-            ly += 16;
-        }
+        double ly = y + 12 - 16;
+        for (const auto& line : lines_of(e.label))
+            draw_text(cr, bx + 26, ly += 16, line, 12, 0, "legend");
         y = ly + 16;
-    }
-}
-
-/// The colour bar of a continuous field, with round ticks.
-void draw_colour_bar(cairo_t* cr, const MapFigure& f, double bx, double mh) {
-    const double bh = std::min(mh, 360.0), bw = 20;
-    draw_text(cr, bx, kTop - 8, f.bar_label, 12, 0, "bar_label");
-    const int steps = 200;
-    for (int k = 0; k < steps; ++k) {
-        set(cr, palette_colour(f.palette, (k + 0.5) / steps));
-        const double y0 = kTop + bh * (1 - static_cast<double>(k + 1) / steps);
-        cairo_rectangle(cr, bx, y0, bw, bh / steps + 0.6);
-        cairo_fill(cr);
-    }
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_rectangle(cr, bx - 0.5, kTop - 0.5, bw + 1, bh + 1);
-    cairo_stroke(cr);
-    const double span = f.vmax - f.vmin;
-    if (!(span > 0 && std::isfinite(span))) return;
-    const double raw = span / 5;
-    const double p = std::pow(10.0, std::floor(std::log10(raw)));
-    double step = p;
-    for (double m : {1.0, 2.0, 5.0, 10.0})
-        if (m * p >= raw) {
-            step = m * p;
-            break;
-        }
-    for (double v = std::ceil(f.vmin / step - 1e-9) * step; v <= f.vmax + 1e-9 * span; v += step) {
-        const double y = kTop + bh * (1 - (v - f.vmin) / span);
-        cairo_move_to(cr, bx + bw, y);
-        cairo_line_to(cr, bx + bw + 5, y);
-        cairo_stroke(cr);
-        draw_text(cr, bx + bw + 8, y + 4, number(std::abs(v) < 1e-9 * span ? 0.0 : v, step), 12, 0,
-                  "bar_tick");
     }
 }
 
@@ -267,16 +278,9 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
     // was cut at the right edge).
     const double bx = kLeft + mw + 40;
     double width = std::max(kWidth, kLeft + text_width(f.title, 17) + 10);
-    for (const auto& e : f.legend) {
-        std::size_t start = 0;
-        for (;;) {
-            const auto nl = e.label.find('\n', start);
-            width =
-                std::max(width, bx + 26 + text_width(e.label.substr(start, nl - start), 12) + 12);
-            if (nl == std::string::npos) break;
-            start = nl + 1;
-        }
-    }
+    for (const auto& e : f.legend)
+        for (const auto& line : lines_of(e.label))
+            width = std::max(width, bx + 26 + text_width(line, 12) + 12);
     if (f.legend.empty() && f.colour_bar)
         width = std::max(width, bx + text_width(f.bar_label, 12) + 12);
     for (const auto& n : f.notes) width = std::max(width, kLeft + text_width(n, 12) + 12);
@@ -297,7 +301,8 @@ void write_map_figure(const Image& img, const GridSpec& g, const MapFigure& f,
     if (!f.legend.empty())
         draw_legend(cr, f, bx);
     else if (f.colour_bar)
-        draw_colour_bar(cr, f, bx, mh);
+        draw_colour_bar(cr, bx, kTop, 20, std::min(mh, 360.0), f.vmin, f.vmax, f.bar_label,
+                        [&f](double t) { return palette_colour(f.palette, t); });
     draw_map_footer(cr, g, f, mw, mh);
 
     cairo_destroy(cr);

@@ -34,6 +34,8 @@ public:
 
 /// A number as a short string for messages ("0.05", "1e-08"), as an ostream prints it.
 std::string format_number(double v);
+/// A count rounded to a whole number, its thousands separated by commas ("12,321").
+std::string grouped(double n);
 
 /// Runs `f`; an ecoterra error it throws is thrown on as the same class with "<context>: " before
 /// its message, so a user reads what was being done ("data/ecosystems/x.json: species 'Birch':

@@ -86,11 +86,11 @@ Srs srs_from_user(const std::string& text, const std::string& where) {
 
 /// The WGS 84 UTM zone of a point in degrees (EPSG 326zz north, 327zz south).
 Srs utm_zone_of(double lon, double lat, const std::string& where) {
-    if (!(lat > -80 && lat < 84 && lon >= -180 && lon <= 180))
+    const int epsg = gdal::utm_epsg(lon, lat);
+    if (epsg == 0)
         throw InputError(where + ": the window's centre (" + num(lon) + ", " + num(lat) +
                          ") degrees lies outside the UTM zones; give terrain.crs");
-    const int zone = std::clamp(static_cast<int>(std::floor((lon + 180) / 6)) + 1, 1, 60);
-    return srs_from_user("EPSG:" + std::to_string((lat >= 0 ? 32600 : 32700) + zone), where);
+    return srs_from_user("EPSG:" + std::to_string(epsg), where);
 }
 
 struct Box {

@@ -34,6 +34,10 @@ using Dataset = std::unique_ptr<void, DatasetCloser>;
 /// cells a damaged header may declare; `where` names it in errors.
 RasterD raster_from_dataset(GDALDatasetH ds, GDALDatasetH source, const std::string& where);
 
+/// The EPSG code of the WGS 84 UTM zone holding (lon, lat) in degrees (326zz north, 327zz
+/// south), or 0 outside the UTM zones (latitudes from -80 to 84).
+int utm_epsg(double lon, double lat);
+
 /// An in-memory GDAL dataset (Float64, NODATA NaN) holding `z` north-up with its CRS.
 Dataset dataset_from_raster(const RasterD& z, const std::string& where);
 

@@ -32,6 +32,12 @@ void init() {
     });
 }
 
+int utm_epsg(double lon, double lat) {
+    if (!(lat > -80 && lat < 84 && lon >= -180 && lon <= 180)) return 0;
+    const int zone = std::clamp(static_cast<int>(std::floor((lon + 180) / 6)) + 1, 1, 60);
+    return (lat >= 0 ? 32600 : 32700) + zone;
+}
+
 Quiet::Quiet() {
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();
@@ -63,13 +69,13 @@ Dataset utm_view(GDALDatasetH ds, const std::string& where, std::string& note) {
         throw InputError(where + ": geographic coordinates but no geotransform");
     const double lon = gt[0] + 0.5 * GDALGetRasterXSize(ds) * gt[1];
     const double lat = gt[3] + 0.5 * GDALGetRasterYSize(ds) * gt[5];
-    if (!(lat > -80 && lat < 84 && lon >= -180 && lon <= 180))
+    const int epsg = gdal::utm_epsg(lon, lat);
+    if (epsg == 0)
         throw InputError(where + ": geographic coordinates centred at (" + std::to_string(lon) +
                          ", " + std::to_string(lat) +
                          ") degrees, outside the UTM zones; reproject it to a projected system "
                          "in metres first");
-    const int zone = std::clamp(static_cast<int>(std::floor((lon + 180) / 6)) + 1, 1, 60);
-    const int epsg = (lat >= 0 ? 32600 : 32700) + zone;
+    const int zone = epsg % 100;
     OGRSpatialReferenceH utm = OSRNewSpatialReference(nullptr);
     char* wkt = nullptr;
     if (OSRImportFromEPSG(utm, epsg) != OGRERR_NONE || OSRExportToWkt(utm, &wkt) != OGRERR_NONE) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,10 @@ int tick_digits(double step);
 /// A scale bar at (x, y) (its left end): a round length (1, 2 or 5 x 10^k m) of at most
 /// `max_px` pixels at `px_per_m`, with its length written after it. Returns the bar's length, m.
 double draw_scale_bar(cairo_t* cr, double x, double y, double px_per_m, double max_px);
+/// A vertical colour bar at (x, y), w x h pixels, from vmin (bottom) to vmax (top), coloured by
+/// `colour(t)` for t in [0, 1], its label above and round ticks to the right.
+void draw_colour_bar(cairo_t* cr, double x, double y, double w, double h, double vmin, double vmax,
+                     const std::string& label, const std::function<Rgb(double)>& colour);
 /// Paints `img` scaled to w x h pixels at (x, y) of a Cairo drawing; `smooth` interpolates
 /// (continuous fields), otherwise each cell stays a sharp block (classes).
 void paint_image(cairo_t* cr, const Image& img, double x, double y, double w, double h,

@@ -1,53 +1,123 @@
 // Reproduces the roughness-class study of Majhor & Bos s3.1 (Fig. 5): median class areas of
-// multifractal terrains for D_high = 2.3, 2.45, 2.6 over N seeds, for a given relief and filter.
-// Usage: study_majhor2023 [seeds=20] [relief_m=19.2] [sigma_m=0.025]
+// multifractal terrains for D_high = 2.3, 2.45, 2.6 over N seeds, for a given reading of the
+// generator. Terrain s of every level shares its phases (the same seed), so the study reports the
+// change of the medians (unpaired, as the paper) and the mean and standard deviation of the
+// per-seed changes (paired).
+// Usage: study_majhor2023 [--seeds N=20] [--relief M=19.2] [--sigma M=0.025]
+//                         [--scaling zero_mean|unit_interval] [--offset C=0] [--phase RAD=pi]
+//                         [--phase-low|--phase-mid|--phase-high RAD] (one layer's phase range)
 #include "ecoterra/terrain/roughness.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <string>
 #include <vector>
 
 using namespace ecoterra;
 using namespace ecoterra::terrain;
 
+namespace {
+
+struct Options {
+    int seeds = 20;
+    MultifractalParams params;
+};
+
+Options parse(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "study_majhor2023: %s needs a value\n", a.c_str());
+            std::exit(2);
+        }
+        const char* v = argv[++i];
+        if (a == "--seeds")
+            o.seeds = std::atoi(v);
+        else if (a == "--relief")
+            o.params.relief_m = std::atof(v);
+        else if (a == "--sigma")
+            o.params.filter_sigma_m = std::atof(v);
+        else if (a == "--offset")
+            o.params.layer_offset = std::atof(v);
+        else if (a == "--phase")
+            o.params.low.phase_max_rad = o.params.mid.phase_max_rad = o.params.high.phase_max_rad =
+                std::atof(v);
+        else if (a == "--phase-low")
+            o.params.low.phase_max_rad = std::atof(v);
+        else if (a == "--phase-mid")
+            o.params.mid.phase_max_rad = std::atof(v);
+        else if (a == "--phase-high")
+            o.params.high.phase_max_rad = std::atof(v);
+        else if (a == "--scaling" && std::strcmp(v, "unit_interval") == 0)
+            o.params.layer_scaling = LayerScaling::unit_interval;
+        else if (a == "--scaling" && std::strcmp(v, "zero_mean") == 0)
+            o.params.layer_scaling = LayerScaling::zero_mean;
+        else {
+            std::fprintf(stderr, "study_majhor2023: unknown option %s %s\n", a.c_str(), v);
+            std::exit(2);
+        }
+    }
+    if (o.seeds < 2) {
+        std::fprintf(stderr, "study_majhor2023: --seeds must be at least 2\n");
+        std::exit(2);
+    }
+    return o;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
-    const int seeds = argc > 1 ? std::atoi(argv[1]) : 20;
-    const double relief = argc > 2 ? std::atof(argv[2]) : MultifractalParams{}.relief_m;
-    const double sigma = argc > 3 ? std::atof(argv[3]) : MultifractalParams{}.filter_sigma_m;
-    std::printf("majhor2023 study: %d seeds, relief %.3g m, filter sigma %.3g m, "
-                "thresholds %.4f / %.4f, 5 m border, classes before closing\n",
-                seeds, relief, sigma, kDefaultLowThreshold, kDefaultHighThreshold);
-    std::printf("%-8s %10s %10s %10s   (median %% of area)\n", "D_high", "low", "semi", "high");
-    double prev[3] = {0, 0, 0};
-    bool first = true;
-    for (double d : {2.3, 2.45, 2.6}) {
-        std::vector<double> a[3];
-        for (int s = 1; s <= seeds; ++s) {
-            MultifractalParams p = majhor2023_params(d);
-            p.relief_m = relief;
-            p.filter_sigma_m = sigma;
+    const Options o = parse(argc, argv);
+    const MultifractalParams& q = o.params;
+    std::printf("majhor2023 study: %d seeds, relief %.3g m, filter sigma %.3g m, layers %s with "
+                "offset %g, phases in [0, %.3g] / [0, %.3g] / [0, %.3g] rad, thresholds %.4f / "
+                "%.4f, 5 m border, classes "
+                "before closing\n",
+                o.seeds, q.relief_m, q.filter_sigma_m,
+                q.layer_scaling == LayerScaling::unit_interval ? "unit_interval" : "zero_mean",
+                q.layer_offset, q.low.phase_max_rad, q.mid.phase_max_rad, q.high.phase_max_rad,
+                kDefaultLowThreshold, kDefaultHighThreshold);
+    const double levels[3] = {2.3, 2.45, 2.6};
+    std::vector<double> area[3][3]; // [level][class], one entry per seed
+    for (int l = 0; l < 3; ++l)
+        for (int s = 1; s <= o.seeds; ++s) {
+            MultifractalParams p = q;
+            p.high.D = levels[l];
             const auto z = multifractal_generate(majhor2023_grid(), p, s).z;
             const auto c = class_areas(classify_gradient(max_gradient_map(z)), 5.0);
-            a[0].push_back(c.low_pct);
-            a[1].push_back(c.semi_pct);
-            a[2].push_back(c.high_pct);
+            area[l][0].push_back(c.low_pct);
+            area[l][1].push_back(c.semi_pct);
+            area[l][2].push_back(c.high_pct);
         }
-        double med[3];
-        for (int k = 0; k < 3; ++k) {
-            std::sort(a[k].begin(), a[k].end());
-            const std::size_t n = a[k].size();
-            med[k] = n % 2 ? a[k][n / 2] : 0.5 * (a[k][n / 2 - 1] + a[k][n / 2]);
+    std::printf("%-8s %8s %8s %8s   (median %% of area)\n", "D_high", "low", "semi", "high");
+    for (int l = 0; l < 3; ++l)
+        std::printf("%-8.2f %8.2f %8.2f %8.2f\n", levels[l], median(area[l][0]), median(area[l][1]),
+                    median(area[l][2]));
+    const char* names[3] = {"low", "semi", "high"};
+    std::printf("change, points: unpaired (of the medians) | paired (mean +/- sd of the per-seed "
+                "changes)\n");
+    for (int k = 0; k < 3; ++k)
+        for (int l = 1; l < 3; ++l) {
+            std::vector<double> d;
+            for (int s = 0; s < o.seeds; ++s) d.push_back(area[l][k][s] - area[l - 1][k][s]);
+            double mean = 0, var = 0;
+            for (double x : d) mean += x / d.size();
+            for (double x : d) var += (x - mean) * (x - mean) / (d.size() - 1);
+            std::printf("%-5s %.2f -> %.2f: %+7.2f | %+7.2f +/- %.2f\n", names[k], levels[l - 1],
+                        levels[l], median(area[l][k]) - median(area[l - 1][k]), mean,
+                        std::sqrt(var));
         }
-        std::printf("%-8.2f %10.2f %10.2f %10.2f", d, med[0], med[1], med[2]);
-        if (!first)
-            std::printf("   change %+.2f %+.2f %+.2f points", med[0] - prev[0], med[1] - prev[1],
-                        med[2] - prev[2]);
-        std::printf("\n");
-        std::copy(med, med + 3, prev);
-        first = false;
-    }
     std::printf("paper (Majhor & Bos s3.1): low -13.8 then -7.16, semi +11.7 then +5.63, "
                 "high +1.54 then +3.33 points\n");
     return 0;

@@ -96,7 +96,10 @@ const ParamCatalog<MultifractalParams>& multifractal_fields() {
                        {"zero_mean", LayerScaling::zero_mean},
                        {"unit_interval", LayerScaling::unit_interval}},
                    "each layer before the product: zero mean and peak 1 (the paper's text), or "
-                   "[0, 1] (no flat bands where a layer crosses zero)")});
+                   "[0, 1] (no flat bands where a layer crosses zero)"),
+         number<P>("layer_offset", &P::layer_offset, "1", -kInf, kInf,
+                   "added to each rescaled layer before the product (0 = the paper's zero "
+                   "mean; above 1 no layer crosses zero)")});
     return c;
 }
 

@@ -196,6 +196,9 @@ void validate(const MultifractalParams& p) {
         throw InputError("multifractal: relief must be > 0 m, got " + format_number(p.relief_m));
     if (!std::isfinite(p.base_elevation_m))
         throw InputError("multifractal: base elevation must be finite");
+    if (!std::isfinite(p.layer_offset))
+        throw InputError("multifractal: layer offset must be finite, got " +
+                         format_number(p.layer_offset));
 }
 
 MultifractalResult multifractal_generate(const GridSpec& grid, const MultifractalParams& p,
@@ -223,6 +226,7 @@ MultifractalResult multifractal_generate(const GridSpec& grid, const Multifracta
             const double peak = f.array().abs().maxCoeff();
             if (peak > 0.0) f.array() /= peak;
         }
+        f.array() += p.layer_offset;
         product.array() *= f.array();
         if (keep_layers) res.layers[static_cast<std::size_t>(k)] = std::move(f);
     }

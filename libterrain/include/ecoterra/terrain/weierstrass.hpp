@@ -91,6 +91,10 @@ struct MultifractalParams {
     double relief_m = 19.2;
     double base_elevation_m = 0.0; ///< elevation of the lowest cell, m
     LayerScaling layer_scaling = LayerScaling::zero_mean;
+    /// Added to each layer after its rescaling, before the product (dimensionless). 0 keeps the
+    /// paper's zero-mean layers; an offset above 1 keeps every zero-mean layer positive, so no
+    /// layer's zero crossing flattens the product (docs/terrain.md s1.2).
+    double layer_offset = 0.0;
 };
 
 void validate(const MultifractalParams& p);

@@ -20,6 +20,8 @@ constexpr double kLightOnlyHeightFraction = 0.95;
 /// stem at or above D95 gets the age of this share), and 1 - share floored at kMinRemainder.
 constexpr double kLightOnlyMaxShareOfD95 = 0.999;
 constexpr double kMinRemainder = 1e-9;
+/// MAVS's height curve is inverted for heights up to this share of Max Height.
+constexpr double kMavsMaxHeightShare = 0.999;
 /// The yearly carbon check: |cumulative residual| may reach this share of the cumulative
 /// throughput (at least 1 kg of it) plus kCarbonStockRounding of the stock.
 constexpr double kCarbonTolerance = 1e-9;
@@ -250,6 +252,108 @@ void light_only_arrivals(Population& pop, std::vector<char>& dead,
             sums.births += 1;
         }
     }
+}
+
+double mavs_height_m(const Species& s, double age_yr) {
+    return s.max_height_m * -std::expm1(-s.growth_rate_per_yr * age_yr);
+}
+
+double mavs_age_yr(const Species& s, double height_m) {
+    const double share = std::clamp(height_m / s.max_height_m, 0.0, kMavsMaxHeightShare);
+    return -std::log1p(-share) / s.growth_rate_per_yr;
+}
+
+namespace {
+/// A MAVS plant's size from its height: the diameter from the height curve's inverse, the crown
+/// from the diameter.
+void set_mavs_height(const Species& s, Population& pop, std::size_t k, double height_m) {
+    const allometry::Size z = allometry::size(s, allometry::dbh_from_height_m(s, height_m));
+    pop.height_m[k] = height_m;
+    pop.dbh_m[k] = z.dbh_m;
+    pop.crown_radius_m[k] = z.crown_radius_m;
+    pop.leaf_area_m2[k] = z.leaf_area_m2;
+}
+
+void mavs_arrivals(Population& pop, const std::vector<Species>& species, const GridSpec& g,
+                   double plant_density, const Nursery& nursery, Rng& rng, PlantSums& sums) {
+    const double area = g.width_m() * g.height_m() * plant_density;
+    for (std::size_t sp = 0; sp < species.size(); ++sp) {
+        const Species& s = species[sp];
+        if (s.life_form == LifeForm::grass) continue;
+        const double expected = s.new_per_area_per_yr * area;
+        const double whole = std::floor(expected);
+        const auto n = static_cast<std::int64_t>(whole) + (rng.uniform() < expected - whole);
+        for (std::int64_t q = 0; q < n; ++q) {
+            const double x = g.origin_x_m + rng.uniform() * g.width_m();
+            const double y = g.origin_y_m + rng.uniform() * g.height_m();
+            const double h = rng.uniform() * mavs_height_m(s, 1.0);
+            pop.push(nursery.make(static_cast<std::uint16_t>(sp), x, y, 0.0));
+            if (s.life_form != LifeForm::object) set_mavs_height(s, pop, pop.size() - 1, h);
+            sums.births += 1;
+        }
+    }
+}
+
+/// Every pair of circles that overlap: the smaller dies, equal ones both.
+void mavs_competition(const Population& pop, const std::vector<Species>& species, const GridSpec& g,
+                      std::vector<char>& dead, PlantSums& sums) {
+    const std::size_t n = pop.size();
+    std::vector<double> radius(n);
+    double rmax = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        radius[k] = mavs_competition_radius_m(species[pop.species[k]], pop.height_m[k]);
+        rmax = std::max(rmax, radius[k]);
+    }
+    const double bucket = std::max(2 * rmax, g.cell_size_m);
+    const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
+    const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
+    auto cell_of = [&](std::size_t k) {
+        return std::pair<int, int>{static_cast<int>((pop.x_m[k] - g.origin_x_m) / bucket),
+                                   static_cast<int>((pop.y_m[k] - g.origin_y_m) / bucket)};
+    };
+    std::vector<std::vector<std::size_t>> cells(static_cast<std::size_t>(bx) * by);
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto [cx, cy] = cell_of(k);
+        cells[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
+    }
+    std::vector<char> killed(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto [cx, cy] = cell_of(i);
+        for (int y = std::max(0, cy - 1); y <= std::min(by - 1, cy + 1); ++y)
+            for (int x = std::max(0, cx - 1); x <= std::min(bx - 1, cx + 1); ++x)
+                for (const std::size_t j : cells[static_cast<std::size_t>(y) * bx + x]) {
+                    if (j <= i || !(std::hypot(pop.x_m[i] - pop.x_m[j], pop.y_m[i] - pop.y_m[j]) <
+                                    radius[i] + radius[j]))
+                        continue;
+                    if (radius[i] >= radius[j]) killed[j] = 1;
+                    if (radius[j] >= radius[i]) killed[i] = 1;
+                }
+    }
+    for (std::size_t k = 0; k < n; ++k)
+        if (killed[k] && !dead[k]) {
+            dead[k] = static_cast<char>(DeathCause::overlap);
+            sums.deaths_overlap += 1;
+        }
+}
+} // namespace
+
+std::vector<char> mavs_step(Population& pop, const std::vector<Species>& species,
+                            const GridSpec& grid, double plant_density, const Nursery& nursery,
+                            Rng& rng, PlantSums& sums) {
+    mavs_arrivals(pop, species, grid, plant_density, nursery, rng, sums);
+    std::vector<char> dead(pop.size(), 0);
+    for (std::size_t k = 0; k < pop.size(); ++k) {
+        const Species& s = species[pop.species[k]];
+        if (s.life_form != LifeForm::object)
+            set_mavs_height(s, pop, k, mavs_height_m(s, mavs_age_yr(s, pop.height_m[k]) + 1));
+        pop.age_yr[k] += 1;
+        if (pop.age_yr[k] > s.max_age_yr) {
+            dead[k] = kAge;
+            sums.deaths_age += 1;
+        }
+    }
+    mavs_competition(pop, species, grid, dead, sums);
+    return dead;
 }
 
 void overlap_thinning(const Population& pop, std::vector<char>& dead,

@@ -341,9 +341,15 @@ void Ecosystem::year_end_light_only() {
         const std::vector<double> ones(species.size(), 1.0);
         m_ground.step(species, m_ground_env, 1.0, ones, ones);
     }
-    std::vector<char> dead = light_only_growth(m_pop, species, m_sum);
-    light_only_arrivals(m_pop, dead, species, plant_grid(), nursery(), m_rng_arrival, m_sum);
-    overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
+    std::vector<char> dead;
+    if (m_scene.light_only_model == LightOnlyModel::mavs) {
+        dead = mavs_step(m_pop, species, plant_grid(), m_scene.mavs_plant_density, nursery(),
+                         m_rng_arrival, m_sum);
+    } else {
+        dead = light_only_growth(m_pop, species, m_sum);
+        light_only_arrivals(m_pop, dead, species, plant_grid(), nursery(), m_rng_arrival, m_sum);
+        overlap_thinning(m_pop, dead, species, plant_grid(), m_scene.light_only_radius, m_sum);
+    }
     storm(dead);
     harvest(dead, true);
     count_deaths(dead);

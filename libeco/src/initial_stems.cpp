@@ -5,6 +5,7 @@
 #include "ecoterra/units.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ecoterra::eco {
 
@@ -35,7 +36,11 @@ std::vector<Plant> random_stems(const EcoScene& scene, const GridSpec& g, const 
         const Species& s = species[sp];
         const double d = rng.uniform(s.recruit_dbh_m, std::max(ini.max_dbh_m, s.recruit_dbh_m));
         Plant p = nursery.make(sp, x, y, d);
-        if (scene.competition == Competition::light_only) {
+        if (scene.competition == Competition::light_only &&
+            scene.light_only_model == LightOnlyModel::mavs) {
+            allometry::apply(s, p); // the height of this diameter, and its age on MAVS's curve
+            p.age_yr = std::floor(mavs_age_yr(s, p.height_m));
+        } else if (scene.competition == Competition::light_only) {
             // Age that gives this diameter on the light-only growth curve.
             p.age_yr = light_only_age_yr(s, d);
             p.dbh_m = light_only_dbh_m(s, p.age_yr);

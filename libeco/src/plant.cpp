@@ -14,6 +14,8 @@ constexpr double kRelativeStepTolerance = 1e-13;
 constexpr double kToleranceFloorM = 1e-6;
 /// The first upper bracket when the guess is smaller, m.
 constexpr double kFirstBracketM = 1e-4;
+/// dbh_from_height_m reads heights at or above Max Height at this share of the curve.
+constexpr double kMaxInvertedHeightShare = 1 - 1e-9;
 } // namespace
 
 namespace {
@@ -28,6 +30,17 @@ double height_m(const Species& s, double d) {
     if (s.life_form == LifeForm::object) return s.max_height_m;
     const double h0 = base_height_m(s);
     return h0 + (s.max_height_m - h0) * (1.0 - std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM));
+}
+
+double dbh_from_height_m(const Species& s, double h) {
+    if (s.life_form == LifeForm::object) return object_diameter_m(s);
+    const double h0 = base_height_m(s);
+    if (!(h > h0)) return 0.0;
+    // The curve reaches Max Height only at an infinite diameter: heights at or above it are read
+    // at kMaxInvertedHeightShare of the way up.
+    const double share = std::min((h - h0) / (s.max_height_m - h0), kMaxInvertedHeightShare);
+    const double d = -std::log1p(-share) / (s.height_dbh_slope_per_cm * kCmPerM);
+    return s.max_stem_diameter_m > 0 ? std::min(d, s.max_stem_diameter_m) : d;
 }
 
 double crown_radius_m(const Species& s, double d) {

@@ -41,7 +41,19 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
          choice<E>("light_only_radius", &E::light_only_radius,
                    std::vector<std::pair<std::string, LightOnlyRadius>>{
                        {"crown", LightOnlyRadius::crown}, {"mavs", LightOnlyRadius::mavs}},
-                   "light-only overlap circle: the crown radius or MAVS's 0.5 ratio H"),
+                   "light-only overlap circle of the diameter_curve model: the crown radius or "
+                   "MAVS's 0.5 ratio H"),
+         choice<E>("light_only_model", &E::light_only_model,
+                   std::vector<std::pair<std::string, LightOnlyModel>>{
+                       {"diameter_curve", LightOnlyModel::diameter_curve},
+                       {"mavs", LightOnlyModel::mavs}},
+                   "light-only yearly step: diameter_curve (ecoterra's: the diameter curve, "
+                   "Poisson arrivals, largest-first thinning with light_only_radius) or mavs "
+                   "(MAVS's ecosystem step: the height curve, MAVS's arrivals and circle, every "
+                   "overlapping pair at once, the smaller dies), docs/ecosystem.md s7"),
+         number<E>("mavs_plant_density", &E::mavs_plant_density, "1", 0, 1000,
+                   "MAVS's \"Plant Density\" (its random scene's growth factor): multiplies "
+                   "every species' Num New Per Area in the mavs light-only model"),
          number<E>("plant_cell_m", &E::plant_cell_m, "m", 0.05, 10,
                    "crown and root grid cell; divides the terrain cell a whole number of times "
                    "(to 1e-6). Crowns, roots, seeds and light live on these cells, so a cell "
@@ -226,7 +238,13 @@ Methods scene_methods(const EcoScene& sc) {
     Methods m = hydro::scene_methods(sc.hydro);
     bool ground = false;
     for (const auto& s : sc.ecosystem.species) ground = ground || s.life_form == LifeForm::grass;
-    if (sc.competition == Competition::light_only) {
+    if (sc.competition == Competition::light_only && sc.light_only_model == LightOnlyModel::mavs) {
+        m.push_back({"plants (light-only baseline)",
+                     "MAVS's ecosystem step (Goodin 2018; MAVS terrain_generator/ecosystem.cpp): "
+                     "the height curve, uniform arrivals, every overlapping pair of circles, "
+                     "after Deussen, Hanrahan, Lintermann, Mech, Pharr & Prusinkiewicz (1998) "
+                     "SIGGRAPH"});
+    } else if (sc.competition == Competition::light_only) {
         m.push_back({"plants (light-only baseline)",
                      "overlap thinning of Deussen, Hanrahan, Lintermann, Mech, Pharr & "
                      "Prusinkiewicz (1998) SIGGRAPH, as MAVS implements it (Goodin et al.)"});

@@ -357,6 +357,119 @@ TEST_CASE("light-only: thinning leaves no two circles overlapping and counts wha
     }
 }
 
+namespace {
+/// MAVS's competition written out pair by pair, as ecosystem.cpp's loops are (every pair, both
+/// orders; the smaller circle dies, equal circles both): the reference for mavs_step.
+std::vector<char> mavs_pairs_brute_force(const Population& pop, const std::vector<Species>& sp) {
+    std::vector<char> killed(pop.size(), 0);
+    auto r = [&](std::size_t k) {
+        return 0.5 * sp[pop.species[k]].height_to_diameter_ratio * pop.height_m[k];
+    };
+    for (std::size_t i = 0; i < pop.size(); ++i)
+        for (std::size_t j = 0; j < pop.size(); ++j)
+            if (i != j &&
+                std::hypot(pop.x_m[i] - pop.x_m[j], pop.y_m[i] - pop.y_m[j]) < r(i) + r(j))
+                killed[r(i) > r(j) ? j : i] = 1;
+    return killed;
+}
+} // namespace
+
+TEST_CASE("MAVS's ecosystem step: heights on its curve, its arrivals, every overlapping pair",
+          "[eco][processes][light_only][mavs]") {
+    World w;
+    for (auto& s : w.species) s.height_to_diameter_ratio = 0.5; // circles that meet often
+    SECTION("the competition equals MAVS's pair loops on random stands") {
+        for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+            for (auto& s : w.species) s.new_per_area_per_yr = 0;
+            Population pop = w.population(seed, 150);
+            PlantSums sums;
+            const auto before = pop.size();
+            Rng rng(seed);
+            std::vector<char> dead = mavs_step(pop, w.species, w.canopy.plant_grid, 1.0,
+                                               w.nursery(Competition::light_only), rng, sums);
+            REQUIRE(pop.size() == before);
+            const std::vector<char> expected = mavs_pairs_brute_force(pop, w.species);
+            std::int64_t overlap = 0;
+            for (std::size_t k = 0; k < pop.size(); ++k) {
+                const bool aged = pop.age_yr[k] > w.species[pop.species[k]].max_age_yr;
+                CHECK((dead[k] != 0) == (expected[k] != 0 || aged));
+                overlap += dead[k] == static_cast<char>(DeathCause::overlap);
+            }
+            CHECK(static_cast<double>(overlap) == sums.deaths_overlap);
+            CHECK(sums.deaths_overlap > 0);
+        }
+    }
+    SECTION(
+        "a chain: the middle plant, overtopped, still kills the smallest; equal ones both die") {
+        Population pop;
+        Nursery make = w.nursery(Competition::light_only);
+        for (const double x : {1.0, 5.5, 7.5, 11.5, 13.5}) pop.push(make.make(0, x, 8, 0.0));
+        const double h[] = {12.0, 8.0, 4.0, 6.0, 6.0}; // circles 3, 2, 1, 1.5, 1.5 m (slow growth)
+        for (std::size_t k = 0; k < 5; ++k) pop.height_m[k] = h[k];
+        for (auto& s : w.species) s.new_per_area_per_yr = 0;
+        w.species[0].max_height_m = 30;
+        w.species[0].growth_rate_per_yr = 0.005;
+        PlantSums sums;
+        Rng rng(1);
+        const auto dead = mavs_step(pop, w.species, w.canopy.plant_grid, 1.0, make, rng, sums);
+        CHECK(dead[0] == 0);
+        CHECK(dead[1] == static_cast<char>(DeathCause::overlap));
+        CHECK(dead[2] == static_cast<char>(DeathCause::overlap)); // a greedy rule would keep it
+        CHECK(dead[3] == static_cast<char>(DeathCause::overlap));
+        CHECK(dead[4] == static_cast<char>(DeathCause::overlap));
+    }
+    SECTION("a lone plant follows H(t) = Hmax (1 - exp(-r t)) and dies once over Max Age") {
+        Species& s = w.species[0];
+        s.growth_rate_per_yr = 0.05;
+        s.max_age_yr = 30;
+        for (auto& q : w.species) q.new_per_area_per_yr = 0;
+        Population pop;
+        Nursery make = w.nursery(Competition::light_only);
+        pop.push(make.make(0, 5, 5, 0.0));
+        pop.height_m[0] = 3.0;
+        const double t0 = -std::log(1 - 3.0 / s.max_height_m) / s.growth_rate_per_yr;
+        Rng rng(1);
+        for (int year = 1; year <= 31; ++year) {
+            PlantSums sums;
+            const auto dead = mavs_step(pop, w.species, w.canopy.plant_grid, 1.0, make, rng, sums);
+            CHECK(pop.height_m[0] ==
+                  Approx(s.max_height_m * (1 - std::exp(-s.growth_rate_per_yr * (t0 + year))))
+                      .epsilon(1e-12));
+            CHECK(pop.dbh_m[0] == Approx(allometry::dbh_from_height_m(s, pop.height_m[0])));
+            CHECK(allometry::height_m(s, pop.dbh_m[0]) ==
+                  Approx(std::max(pop.height_m[0], kBreastHeightM)).epsilon(1e-9));
+            CHECK((dead[0] == static_cast<char>(DeathCause::age)) == (year > 30));
+        }
+    }
+    SECTION("arrivals: floor(A g n) plus one with the remainder's probability, heights in "
+            "[0, H(1)]") {
+        const auto& g = w.canopy.plant_grid;
+        const double area = g.width_m() * g.height_m(); // 256 m2
+        for (auto& s : w.species) s.new_per_area_per_yr = 0;
+        w.species[0].new_per_area_per_yr = 0.0123; // A n = 3.1488
+        const double density = 2.5;                // A g n = 7.872
+        const double expected = area * density * 0.0123;
+        Rng rng(7);
+        double total = 0;
+        const int years = 4000;
+        Nursery make = w.nursery(Competition::light_only);
+        for (int y = 0; y < years; ++y) {
+            Population pop;
+            PlantSums sums;
+            (void)mavs_step(pop, w.species, g, density, make, rng, sums);
+            CHECK((pop.size() == 7 || pop.size() == 8));
+            for (std::size_t k = 0; k < pop.size(); ++k) {
+                CHECK(pop.age_yr[k] == 1);
+                CHECK(pop.height_m[k] <= mavs_height_m(w.species[0], 2.0));
+            }
+            total += static_cast<double>(pop.size());
+        }
+        // The remainder 0.872 is a Bernoulli draw: its mean within 4 sigma.
+        const double sigma = std::sqrt(0.872 * 0.128 / years);
+        CHECK(std::abs(total / years - expected) < 4 * sigma);
+    }
+}
+
 TEST_CASE("carbon budget: closes on consistent sums and names the year when a kilogram appears",
           "[eco][processes][carbon]") {
     World w;

@@ -64,6 +64,9 @@ double leaf_area_m2(const Species& s, double crown_radius_m);
 double stem_mass_kg(const Species& s, double dbh_m);
 /// Inverse of stem_mass_kg (Newton on a monotone function, bracketed).
 double dbh_from_stem_mass(const Species& s, double mass_kg, double guess_m);
+/// Inverse of height_m: 0 at or below the curve's base height, capped at max_stem_diameter_m
+/// (the curve only approaches Max Height).
+double dbh_from_height_m(const Species& s, double height_m);
 /// An object's diameter: ratio x Max Height, m.
 double object_diameter_m(const Species& s);
 /// A plant's size from its diameter: an object's diameter is its footprint's.

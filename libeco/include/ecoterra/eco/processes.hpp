@@ -206,6 +206,25 @@ void overlap_thinning(const Population& pop, std::vector<char>& dead,
                       const std::vector<Species>& species, const GridSpec& grid,
                       LightOnlyRadius rule, PlantSums& sums);
 
+/// MAVS's ecosystem step (Goodin 2018, as MAVS's terrain_generator/ecosystem.cpp does it;
+/// reference mavs.md s1.2-1.4), one year:
+/// 1. arrivals: per species floor(A g n) plants plus one with probability the remainder (A the
+///    plant grid's area, g MAVS's "Plant Density", n "Num New Per Area"), uniform over the grid,
+///    each of a height uniform in [0, H(1 yr)];
+/// 2. growth, arrivals included: the age is read off the height curve and one year added; the
+///    plant's own age counter grows by one and it dies (cause age) once over "Max Age";
+/// 3. competition: every pair closer than the sum of their circles (0.5 ratio H) is tested at once,
+///    plants dying this year included; the smaller circle dies, equal circles both (cause
+///    overlap).
+/// The diameter is the height curve's inverse (allometry::dbh_from_height_m). Returns the causes.
+std::vector<char> mavs_step(Population& pop, const std::vector<Species>& species,
+                            const GridSpec& grid, double plant_density, const Nursery& nursery,
+                            Rng& rng, PlantSums& sums);
+/// MAVS's height curve H(t) = Hmax (1 - exp(-r t)) and the age it gives a height (capped below
+/// Hmax).
+double mavs_height_m(const Species& s, double age_yr);
+double mavs_age_yr(const Species& s, double height_m);
+
 // --- initial stems -----------------------------------------------------------------------------
 
 /// The initial stems of a scene (vegetation.initial): none, random, or a stem file.

@@ -21,6 +21,11 @@ enum class Competition { coupled, light_only };
 /// The radius of the light-only overlap test: MAVS's competitive radius 0.5 x "Height To
 /// Diameter Ratio" x H (MAVS plant.cpp; reference mavs.md s1.2), or the allometric crown radius.
 enum class LightOnlyRadius { mavs, crown };
+/// The light-only yearly step: ecoterra's diameter curve with Poisson arrivals and largest-first
+/// overlap thinning (light_only_radius picks its circle), or MAVS's own ecosystem step (height
+/// curve, arrivals at floor(A n) plus one with the remainder's probability, every overlapping pair
+/// tested at once: MAVS ecosystem.cpp, reference mavs.md s1.2-1.4; docs/ecosystem.md s7).
+enum class LightOnlyModel { diameter_curve, mavs };
 std::string competition_name(Competition c);
 
 struct InitialPlants {
@@ -41,6 +46,10 @@ struct EcoScene {
     WindthrowOptions windthrow;   ///< vegetation.windthrow (windthrow.hpp)
     double extinction = 0.5;      ///< Beer-Lambert k
     LightOnlyRadius light_only_radius = LightOnlyRadius::crown;
+    LightOnlyModel light_only_model = LightOnlyModel::diameter_curve;
+    /// MAVS's "Plant Density" (its random scene's growth factor): multiplies every species'
+    /// arrivals in the mavs light-only model.
+    double mavs_plant_density = 1.0;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
     int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
     InitialPlants initial;

@@ -35,6 +35,7 @@ using nlohmann::json;
 struct MobilityArgs {
     // Defaults of the mobility analysis's catalogue (analyses.hpp), as an ensemble's.
     std::string run, stems, deadwood, dem, vehicle, json_out, layout = "random", pictures;
+    std::string effects = "both";
     bool no_pictures = false, force = false, no_deadwood = false, no_soil = false;
     int snapshot = -1, lines = analyses::MobilityAnalysis{}.lines;
     long long seed = 1;
@@ -151,6 +152,13 @@ void run_mobility(const MobilityArgs& a) {
         opt.layout = mobility::LineLayout::transects;
     else if (a.layout != "random")
         throw InputError("--layout must be random or transects, got '" + a.layout + "'");
+    opt.effects = mobility::StemEffects::both;
+    bool known = false;
+    for (const auto& [name, e] : mobility::stem_effects_names())
+        if (name == a.effects) opt.effects = e, known = true;
+    if (!known)
+        throw InputError("--effects must be both, override_only or avoidance_only, got '" +
+                         a.effects + "'");
     StandInput in = read_stand_input(a);
     const mobility::ConeIndexNeeds needs = mobility::cone_index_needs(v);
     if (in.ground) opt.smg.ground = in.ground->maps();
@@ -190,6 +198,7 @@ void run_mobility(const MobilityArgs& a) {
         json j = analyses::mobility_json(m, v);
         j["source"] = source;
         j["lines_layout"] = a.layout;
+        j["effects"] = a.effects;
         j["line_length_m"] = opt.length_m;
         j["seed"] = opt.seed;
         j["provenance"] = provenance();
@@ -793,6 +802,11 @@ void add_mobility_command(CLI::App& app) {
                   "random (random positions and headings) | transects (parallel, west to east)")
         ->capture_default_str();
     m->add_option("--seed", a->seed, "seed of the random lines")->capture_default_str();
+    m->add_option("--effects", a->effects,
+                  "both | override_only (only the stems below the critical diameter) | "
+                  "avoidance_only (only those at or above it, and objects): take the slowing "
+                  "apart")
+        ->capture_default_str();
     m->add_option("--json", a->json_out, "write the figures and every line as JSON");
     m->add_option("--pictures", a->pictures,
                   "picture folder (default: NAME.pictures beside --json NAME.json)");

@@ -300,6 +300,7 @@ mobility::StandLinesOptions MobilityAnalysis::lines_options() const {
     o.length_m = length_m;
     o.seed = seed;
     o.layout = layout;
+    o.effects = effects;
     return o;
 }
 
@@ -323,7 +324,11 @@ const ParamCatalog<MobilityAnalysis>& mobility_catalog() {
          flag<M>("soil", &M::soil,
                  "the snapshot's ground: soil strength (NO-GO below the vehicle's VCI1, slower "
                  "on soft soil) and standing water (NO-GO over the fording depth) (false: firm, "
-                 "dry ground; stem lists have neither)")});
+                 "dry ground; stem lists have neither)"),
+         choice<M>("effects", &M::effects, mobility::stem_effects_names(),
+                   "the stems the lines meet: both (all), override_only (those below the "
+                   "critical diameter) or avoidance_only (those at or above it, and objects), "
+                   "to take the slowing apart (docs/mobility.md s4)")});
     return c;
 }
 

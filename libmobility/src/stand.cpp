@@ -285,6 +285,14 @@ void summarise_lines(StandMobility& m) {
 
 } // namespace
 
+const std::vector<std::pair<std::string, StemEffects>>& stem_effects_names() {
+    static const std::vector<std::pair<std::string, StemEffects>> n{
+        {"both", StemEffects::both},
+        {"override_only", StemEffects::override_only},
+        {"avoidance_only", StemEffects::avoidance_only}};
+    return n;
+}
+
 StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stems,
                             const RasterD& dem, const StandLinesOptions& opt,
                             const std::vector<Log>& logs) {
@@ -300,6 +308,11 @@ StandMobility analyse_stand(const Vehicle& v, const std::vector<StandStem>& stem
     m.area_ha = g.width_m() * g.height_m() / kM2PerHa;
     m.critical_diameter_m = critical_diameter_m(v.weight_n(), v.push_height_m);
     std::vector<Stem> pushable = stems_at_push_height(v, stems, g, m);
+    if (opt.effects != StemEffects::both)
+        std::erase_if(pushable, [&](const Stem& s) {
+            const bool avoided = s.rigid || s.diameter_m >= m.critical_diameter_m;
+            return avoided == (opt.effects == StemEffects::override_only);
+        });
     const StemIndex index(pushable, std::max(v.width_m, 1.0));
     m.stems = std::move(pushable);
     const LogIndex log_index(logs, std::max(v.width_m, 2.0));

@@ -81,6 +81,7 @@ struct MobilityAnalysis {
     mobility::LineLayout layout = mobility::LineLayout::random;
     bool deadwood = true; ///< drive through the snapshot's snags and over or around its logs
     bool soil = true;     ///< the snapshot's soil strength and standing water (ground.hpp)
+    mobility::StemEffects effects = mobility::StemEffects::both; ///< which stems the lines meet
     mobility::StandLinesOptions lines_options() const;
 };
 const ParamCatalog<MobilityAnalysis>& mobility_catalog();

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ecoterra::mobility {
@@ -57,11 +58,19 @@ StandDeadWood read_deadwood_csv(const std::filesystem::path& path);
 
 enum class LineLayout { random, transects };
 
+/// Which stems the lines meet, to take the slowing apart (paper 002 Fig 9): all of them; only
+/// those the vehicle overrides (below its critical diameter; the ones it would avoid are left
+/// out); or only those it avoids (at or above the critical diameter, and objects).
+enum class StemEffects { both, override_only, avoidance_only };
+/// The names of StemEffects, as scene keys and the command line take them.
+const std::vector<std::pair<std::string, StemEffects>>& stem_effects_names();
+
 struct StandLinesOptions {
     int lines = 200;
     std::uint64_t seed = 1;
     double length_m = 50;
     LineLayout layout = LineLayout::random;
+    StemEffects effects = StemEffects::both;
     SmgOptions smg;
 };
 

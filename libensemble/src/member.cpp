@@ -217,6 +217,9 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
         }
     } else if (m.kind == BaseKind::terrain) {
         const auto t = terrain::generate_terrain(mb.scene);
+        // What a replay needs: `ecoterra terrain generate --config terrain_spec.json` makes this
+        // terrain again, bit for bit.
+        io::write_text_atomic(stage / "terrain_spec.json", t.resolved.dump(1) + "\n");
         if (an.contains("terrain")) analyse_terrain(an["terrain"], t.z, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], t.z, stage, metrics);
         if (m.keep_files) {

@@ -466,6 +466,12 @@ TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli]") {
     REQUIRE(test::run(d, "terrain convert g.h5 g.asc").code == 0);
     REQUIRE(test::run(d, "terrain convert t/members/000000/terrain.h5 m.asc").code == 0);
     CHECK(io::read_text(d / "g.asc") == io::read_text(d / "m.asc"));
+    // The member's own specification, kept beside its figures, replays it without the manifest.
+    REQUIRE(
+        test::run(d, "terrain generate --config t/members/000000/terrain_spec.json -o s.h5").code ==
+        0);
+    REQUIRE(test::run(d, "terrain convert s.h5 s.asc").code == 0);
+    CHECK(io::read_text(d / "s.asc") == io::read_text(d / "m.asc"));
     // A stand given as a stem list over a DEM, driven by two vehicles.
     REQUIRE(
         test::run(d, "run " + data + "/scenes/quickstart.json -o run.h5 --years 15 --no-pictures")

@@ -6,6 +6,7 @@
 // Usage: study_majhor2023 [--seeds N=20] [--relief M=19.2] [--sigma M=0.025]
 //                         [--scaling zero_mean|unit_interval] [--offset C=0] [--phase RAD=pi]
 //                         [--phase-low|--phase-mid|--phase-high RAD] (one layer's phase range)
+#include "ecoterra/random.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
 
@@ -31,6 +32,12 @@ Options parse(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
+        if (a == "--help") {
+            std::printf("study_majhor2023 [--seeds N=20] [--relief M=19.2] [--sigma M=0.025]\n"
+                        "  [--scaling zero_mean|unit_interval] [--offset C=0] [--phase RAD=pi]\n"
+                        "  [--phase-low|--phase-mid|--phase-high RAD]\n");
+            std::exit(0);
+        }
         if (i + 1 >= argc) {
             std::fprintf(stderr, "study_majhor2023: %s needs a value\n", a.c_str());
             std::exit(2);
@@ -75,6 +82,26 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/// The spread of a change of medians between two sets of N terrains drawn independently (as
+/// the paper's): the standard deviation of median(resample of b) - median(resample of a) over
+/// bootstrap resamples.
+double bootstrap_sd_of_change(const std::vector<double>& a, const std::vector<double>& b) {
+    constexpr int kResamples = 2000;
+    Rng rng(1, "study.bootstrap");
+    auto resample = [&](const std::vector<double>& v) {
+        std::vector<double> r(v.size());
+        for (double& x : r) x = v[rng.below(v.size())];
+        return median(r);
+    };
+    double sum = 0, sum2 = 0;
+    for (int k = 0; k < kResamples; ++k) {
+        const double d = resample(b) - resample(a);
+        sum += d, sum2 += d * d;
+    }
+    const double mean = sum / kResamples;
+    return std::sqrt(std::max(0.0, sum2 / kResamples - mean * mean));
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -105,8 +132,8 @@ int main(int argc, char** argv) {
         std::printf("%-8.2f %8.2f %8.2f %8.2f\n", levels[l], median(area[l][0]), median(area[l][1]),
                     median(area[l][2]));
     const char* names[3] = {"low", "semi", "high"};
-    std::printf("change, points: unpaired (of the medians) | paired (mean +/- sd of the per-seed "
-                "changes)\n");
+    std::printf("change, points: unpaired (of the medians, +/- its bootstrap sd for independent "
+                "sets of terrains) | paired (mean +/- sd of the per-seed changes)\n");
     for (int k = 0; k < 3; ++k)
         for (int l = 1; l < 3; ++l) {
             std::vector<double> d;
@@ -114,9 +141,9 @@ int main(int argc, char** argv) {
             double mean = 0, var = 0;
             for (double x : d) mean += x / d.size();
             for (double x : d) var += (x - mean) * (x - mean) / (d.size() - 1);
-            std::printf("%-5s %.2f -> %.2f: %+7.2f | %+7.2f +/- %.2f\n", names[k], levels[l - 1],
-                        levels[l], median(area[l][k]) - median(area[l - 1][k]), mean,
-                        std::sqrt(var));
+            std::printf("%-5s %.2f -> %.2f: %+7.2f +/- %.2f | %+7.2f +/- %.2f\n", names[k],
+                        levels[l - 1], levels[l], median(area[l][k]) - median(area[l - 1][k]),
+                        bootstrap_sd_of_change(area[l - 1][k], area[l][k]), mean, std::sqrt(var));
         }
     std::printf("paper (Majhor & Bos s3.1): low -13.8 then -7.16, semi +11.7 then +5.63, "
                 "high +1.54 then +3.33 points\n");

@@ -163,9 +163,15 @@ TEST_CASE("mobility map --season: after a week of heavy rain a heavy truck bogs 
     };
     CHECK(rci(loam, 157) < rci(loam, 140));
     CHECK(rci(loam, back) > rci(loam, 157));
-    // Sand firms as it wets (Sullivan & Anderson): the truck goes all year.
+    // Sand firms as it wets (Sullivan & Anderson): the truck goes all year. Clay, at the same
+    // rain, bogs it down.
     const json sand = season("sand", 92, 5, 3, "truck.json");
     for (int d = 1; d <= 365; ++d) CHECK(go(sand, d) == 1);
+    const json clay = season("clay", 20, 20, 60, "truck.json");
+    double clay_worst = 1;
+    for (int d = 150; d <= 365; ++d) clay_worst = std::min(clay_worst, go(clay, d));
+    CHECK(go(clay, 140) == 1);
+    CHECK(clay_worst < 1);
     // The MRZR (VCI1 98 kPa) never bogs down in loam, but the wet soil slows it.
     const json light =
         season("loam", 40, 40, 20, (test::data_dir() / "vehicles/mrzr4.json").string());

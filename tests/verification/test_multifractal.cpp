@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 using namespace ecoterra;
 using namespace ecoterra::terrain;
@@ -72,6 +73,28 @@ TEST_CASE("Multifractal parameters are checked", "[multifractal][errors]") {
     p = MultifractalParams{};
     p.high.D = 2.0;
     CHECK_THROWS_WITH(validate(p), Catch::Contains("(2, 3)"));
+    p = MultifractalParams{};
+    p.layer_offset = std::nan("");
+    CHECK_THROWS_WITH(validate(p), Catch::Contains("layer offset"));
+}
+
+TEST_CASE("A layer offset shifts each rescaled layer before the product", "[multifractal]") {
+    const GridSpec g{120, 100, 0.05, 0, 0};
+    MultifractalParams p = majhor2023_params(2.45);
+    const auto zero = multifractal_generate(g, p, 5, true);
+    for (const double c : {0.5, 1.0, 2.5}) {
+        p.layer_offset = c;
+        const auto r = multifractal_generate(g, p, 5, true);
+        for (std::size_t k = 0; k < 3; ++k) {
+            CHECK(r.layers[k].array().mean() == Approx(c).margin(1e-12));
+            CHECK(r.layers[k](30, 40) == Approx(zero.layers[k](30, 40) + c).margin(1e-15));
+        }
+        // Above 1 no layer crosses zero, so the product has a single sign.
+        const RasterD::Array prod = r.layers[0].array() * r.layers[1].array() * r.layers[2].array();
+        if (c > 1) CHECK(prod.minCoeff() > 0);
+        const double lo = prod.minCoeff(), hi = prod.maxCoeff();
+        CHECK(r.z(55, 61) == Approx(p.relief_m * (prod(61, 55) - lo) / (hi - lo)));
+    }
 }
 
 TEST_CASE("majhor2023: rougher high-frequency layers shrink the low-roughness area",

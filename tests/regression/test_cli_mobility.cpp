@@ -238,6 +238,17 @@ TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil wat
     CHECK_THAT(r.out,
                Catch::Contains("gives no engine_power_kw") && !Catch::Contains("tyre_width_m"));
     CHECK(read_json(dir / "s.json")["source"]["soil_strength_applied"] == true);
+    // Taking the slowing apart: only the overridden stems, or a clear error for a wrong name.
+    r = test::run(dir, "mobility run.h5 --vehicle " + mrzr +
+                           " --lines 20 --length 15 --effects override_only --json o.json "
+                           "--no-pictures");
+    REQUIRE(r.code == 0);
+    CHECK(read_json(dir / "o.json")["effects"] == "override_only");
+    for (const auto& l : read_json(dir / "o.json")["lines"]) CHECK(l["stems_avoided"] == 0);
+    r = test::run(dir, "mobility run.h5 --vehicle " + mrzr + " --effects sideways --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("--effects must be both, override_only or avoidance_only, "
+                                      "got 'sideways'"));
     r = test::run(dir, "mobility run.h5 --vehicle " + husky + " --lines 20 --length 15");
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("no VCI1") && Catch::Contains("Brixius"));

@@ -6,6 +6,7 @@
 // Usage: study_majhor2023 [--seeds N=20] [--relief M=19.2] [--sigma M=0.025]
 //                         [--scaling zero_mean|unit_interval] [--offset C=0] [--phase RAD=pi]
 //                         [--phase-low|--phase-mid|--phase-high RAD] (one layer's phase range)
+//                         [--n-max N] (frequency terms of every layer; 0 = the grid's Nyquist)
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/roughness.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
@@ -35,7 +36,7 @@ Options parse(int argc, char** argv) {
         if (a == "--help") {
             std::printf("study_majhor2023 [--seeds N=20] [--relief M=19.2] [--sigma M=0.025]\n"
                         "  [--scaling zero_mean|unit_interval] [--offset C=0] [--phase RAD=pi]\n"
-                        "  [--phase-low|--phase-mid|--phase-high RAD]\n");
+                        "  [--phase-low|--phase-mid|--phase-high RAD] [--n-max N=0 (Nyquist)]\n");
             std::exit(0);
         }
         if (i + 1 >= argc) {
@@ -60,6 +61,8 @@ Options parse(int argc, char** argv) {
             o.params.mid.phase_max_rad = std::atof(v);
         else if (a == "--phase-high")
             o.params.high.phase_max_rad = std::atof(v);
+        else if (a == "--n-max")
+            o.params.low.n_max = o.params.mid.n_max = o.params.high.n_max = std::atoi(v);
         else if (a == "--scaling" && std::strcmp(v, "unit_interval") == 0)
             o.params.layer_scaling = LayerScaling::unit_interval;
         else if (a == "--scaling" && std::strcmp(v, "zero_mean") == 0)

@@ -243,8 +243,9 @@ TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil wat
                            " --lines 20 --length 15 --effects override_only --json o.json "
                            "--no-pictures");
     REQUIRE(r.code == 0);
-    CHECK(read_json(dir / "o.json")["effects"] == "override_only");
-    for (const auto& l : read_json(dir / "o.json")["lines"]) CHECK(l["stems_avoided"] == 0);
+    const json only = read_json(dir / "o.json");
+    CHECK(only["effects"] == "override_only");
+    for (const auto& l : only["lines"]) CHECK(l["stems_avoided"] == 0);
     r = test::run(dir, "mobility run.h5 --vehicle " + mrzr + " --effects sideways --no-pictures");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("--effects must be both, override_only or avoidance_only, "

@@ -469,13 +469,80 @@ void Aggregates::add_histogram(std::size_t c, const Member& first,
     }
 }
 
+/// The paired table: replicate r of every combination shares its seeds (terrain, weather,
+/// lines), so the change of a metric from one value of an axis to the next, all other axes
+/// fixed, can be taken replicate by replicate. One row per combination and axis whose value is
+/// not the axis's first: the number of replicates ok at both, and the mean, standard deviation
+/// and standard error of each metric's change. Empty when seeds are per member or one replicate.
+Columns paired_table(const Manifest& m, const std::vector<std::string>& metrics,
+                     const std::map<std::size_t, const Row*>& by_member) {
+    using C = Columns;
+    Columns t;
+    if (m.seed_per_member || m.replicates < 2 || m.axes.empty()) return t;
+    const std::size_t c_comb = t.add("combination", C::integer),
+                      c_from = t.add("from_combination", C::integer),
+                      c_axis = t.add("axis", C::text), c_fromv = t.add("from", C::text),
+                      c_to = t.add("to", C::text), c_pairs = t.add("pairs", C::integer);
+    std::vector<std::size_t> c_axes;
+    for (const auto& a : m.axes) c_axes.push_back(t.add(a.key, C::text));
+    std::vector<std::array<std::size_t, 3>> c_m;
+    for (const auto& k : metrics)
+        c_m.push_back({t.add(k + ".change_mean", C::number), t.add(k + ".change_sd", C::number),
+                       t.add(k + ".change_se", C::number)});
+    // Combination c's index along axis k: the last axis turns fastest.
+    std::vector<std::size_t> stride(m.axes.size(), 1);
+    for (std::size_t k = m.axes.size() - 1; k > 0; --k)
+        stride[k - 1] = stride[k] * m.axes[k].values.size();
+    const auto reps = static_cast<std::size_t>(m.replicates);
+    auto row_of = [&](std::size_t comb, std::size_t r) -> const Row* {
+        const auto it = by_member.find(comb * reps + r);
+        return it != by_member.end() && it->second->ok ? it->second : nullptr;
+    };
+    for (std::size_t c = 0; c < m.combinations(); ++c)
+        for (std::size_t k = 0; k < m.axes.size(); ++k) {
+            const std::size_t i = c / stride[k] % m.axes[k].values.size();
+            if (i == 0) continue;
+            const std::size_t from = c - stride[k];
+            const Member first = make_member(m, c * reps);
+            t.integers[c_comb].push_back(static_cast<std::int64_t>(c));
+            t.integers[c_from].push_back(static_cast<std::int64_t>(from));
+            t.strings[c_axis].push_back(m.axes[k].key);
+            t.strings[c_fromv].push_back(value_text(m.axes[k].values[i - 1]));
+            t.strings[c_to].push_back(value_text(m.axes[k].values[i]));
+            for (std::size_t a = 0; a < m.axes.size(); ++a)
+                t.strings[c_axes[a]].push_back(value_text(first.axes[a].second));
+            std::int64_t pairs = 0;
+            for (std::size_t r = 0; r < reps; ++r) pairs += row_of(c, r) && row_of(from, r);
+            t.integers[c_pairs].push_back(pairs);
+            for (std::size_t q = 0; q < metrics.size(); ++q) {
+                std::vector<double> d;
+                for (std::size_t r = 0; r < reps; ++r) {
+                    const Row *a = row_of(from, r), *b = row_of(c, r);
+                    if (!a || !b) continue;
+                    const double x = metric(b->record, metrics[q]) - metric(a->record, metrics[q]);
+                    if (std::isfinite(x)) d.push_back(x);
+                }
+                const Stats st = stats(d);
+                t.numbers[c_m[q][0]].push_back(st.mean);
+                t.numbers[c_m[q][1]].push_back(st.sd);
+                t.numbers[c_m[q][2]].push_back(
+                    d.size() > 1 ? st.sd / std::sqrt(static_cast<double>(d.size())) : NAN);
+            }
+        }
+    return t;
+}
+
 /// The tables as CSV and in summary.h5; the files are added to `rep`.
 void write_tables(const fs::path& dir, const Manifest& m, const Columns& mt, const Aggregates& a,
-                  bool histograms, SummaryReport& rep) {
+                  const Columns& paired, bool histograms, SummaryReport& rep) {
     io::create_folder(dir, "the summary folder");
     io::write_text_atomic(dir / "members.csv", mt.csv());
     io::write_text_atomic(dir / "aggregate.csv", a.ag.csv());
     rep.files = {dir / "members.csv", dir / "aggregate.csv"};
+    if (paired.rows() > 0) {
+        io::write_text_atomic(dir / "paired.csv", paired.csv());
+        rep.files.push_back(dir / "paired.csv");
+    }
     if (histograms) {
         io::write_text_atomic(dir / "histograms.csv", a.hg.csv());
         rep.files.push_back(dir / "histograms.csv");
@@ -490,6 +557,9 @@ void write_tables(const fs::path& dir, const Manifest& m, const Columns& mt, con
     mt.hdf5(w, "/members", "one row per finished member");
     a.ag.hdf5(w, "/aggregate", "one row per combination of axis values");
     if (histograms) a.hg.hdf5(w, "/histograms", "mean diameter histogram per combination");
+    if (paired.rows() > 0)
+        paired.hdf5(w, "/paired",
+                    "change of each metric to the next value of an axis, replicate by replicate");
     w.commit();
     rep.files.push_back(dir / "summary.h5");
 }
@@ -569,8 +639,11 @@ SummaryReport write_summary(const fs::path& out, const Manifest& m) {
     std::map<std::size_t, std::vector<const Row*>> by_comb;
     for (const auto& r : rows) by_comb[r.record.value("combination", std::size_t{0})].push_back(&r);
     for (std::size_t c = 0; c < m.combinations(); ++c) a.add(c, by_comb[c]);
+    std::map<std::size_t, const Row*> by_member;
+    for (const auto& r : rows) by_member[r.index] = &r;
+    const Columns paired = paired_table(m, metrics, by_member);
     const fs::path dir = out / "summary";
-    write_tables(dir, m, mt, a, histograms, rep);
+    write_tables(dir, m, mt, a, paired, histograms, rep);
     draw_pictures(m, rows, dir, rep);
     if (m.analyses.contains("mobility_map"))
         for (std::size_t c = 0; c < m.combinations(); ++c)

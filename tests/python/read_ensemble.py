@@ -38,6 +38,17 @@ for _, row in agg.iterrows():
     q = members[members["vegetation.competition"] == c]["stand.stems_per_ha"].quantile([0.1, 0.5, 0.9])
     for p, name in zip([0.1, 0.5, 0.9], ["p10", "p50", "p90"]):
         check(math.isclose(row[f"stand.stems_per_ha.{name}"], q[p], rel_tol=1e-12), f"{c}: {name}")
+# Paired changes (replicate r shares its seeds across combinations): pandas' own differences.
+paired = pd.read_csv(os.path.join(out, "summary/paired.csv"), float_precision="round_trip")
+check(len(paired) > 0, "paired rows")
+by = members.set_index(["combination", "replicate"])["stand.basal_area_m2_per_ha"]
+for _, row in paired.iterrows():
+    d = (by.loc[int(row["combination"])] - by.loc[int(row["from_combination"])]).dropna()
+    check(int(row["pairs"]) == len(d), f"paired {row['combination']}: pairs")
+    check(math.isclose(row["stand.basal_area_m2_per_ha.change_mean"], d.mean(), rel_tol=1e-9, abs_tol=1e-12),
+          f"paired {row['combination']}: change mean")
+    check(math.isclose(row["stand.basal_area_m2_per_ha.change_sd"], d.std(), rel_tol=1e-9, abs_tol=1e-12),
+          f"paired {row['combination']}: change sd")
 with h5py.File(os.path.join(out, "summary/summary.h5"), "r") as f:
     h5 = pd.DataFrame({k: v.asstr()[()] if v.dtype.kind == "O" else v[()] for k, v in f["members"].items()})
     check(f["members/mobility.smg_mean_m_per_s"].attrs["units"] == "m/s", "SMG units m/s")

@@ -12,6 +12,7 @@
 #include <csignal>
 #include <fstream>
 #include <map>
+#include <set>
 #include <thread>
 
 using namespace ecoterra;
@@ -216,6 +217,35 @@ TEST_CASE("ensemble: the summary is the members' figures, gathered", "[ensemble]
                 sum += std::stod(h.at("mean_stems_per_ha"));
         CHECK(sum == Approx(std::stod(row.at("stand.stems_per_ha.mean"))).epsilon(1e-9));
     }
+    // Paired changes: replicate r of each combination shares its seeds, so the change to the
+    // next value of an axis is taken replicate by replicate (2 axes of 2 values: 4 rows).
+    const auto paired = read_csv(d / "out/summary/paired.csv");
+    REQUIRE(paired.size() == 4);
+    auto member_value = [&](const std::string& comb, const std::string& rep) {
+        for (const auto& m : members)
+            if (m.at("combination") == comb && m.at("replicate") == rep)
+                return std::stod(m.at("stand.basal_area_m2_per_ha"));
+        FAIL("no member " << comb << "/" << rep);
+        return 0.0;
+    };
+    std::set<std::string> axes_seen;
+    for (const auto& row : paired) {
+        CHECK(row.at("pairs") == "2");
+        axes_seen.insert(row.at("axis"));
+        CHECK(row.at(row.at("axis")) == row.at("to"));
+        CHECK(row.at("from") != row.at("to"));
+        const double d0 = member_value(row.at("combination"), "0") -
+                          member_value(row.at("from_combination"), "0"),
+                     d1 = member_value(row.at("combination"), "1") -
+                          member_value(row.at("from_combination"), "1");
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.change_mean")) ==
+              Approx((d0 + d1) / 2).epsilon(1e-12).margin(1e-12));
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.change_sd")) ==
+              Approx(std::abs(d0 - d1) / std::sqrt(2.0)).epsilon(1e-9).margin(1e-12));
+        CHECK(std::stod(row.at("stand.basal_area_m2_per_ha.change_se")) ==
+              Approx(std::abs(d0 - d1) / 2).epsilon(1e-9).margin(1e-12));
+    }
+    CHECK(axes_seen == std::set<std::string>{"vegetation.competition", "soil.random.patch_size_m"});
     for (const char* f : {"summary.h5", "smg.png", "hist.png"})
         CHECK(fs::file_size(d / "out/summary" / f) > 1000);
     // --summary gathers the same tables again from the folder alone.

@@ -294,41 +294,60 @@ void mavs_arrivals(Population& pop, const std::vector<Species>& species, const G
     }
 }
 
+/// Circles in square buckets at least two of the largest radii wide: a circle can only overlap
+/// one in its own or a neighbouring bucket.
+class CircleBuckets {
+public:
+    CircleBuckets(const GridSpec& g, const std::vector<double>& radius) : m_g(g) {
+        double rmax = 0;
+        for (const double r : radius) rmax = std::max(rmax, r);
+        m_size = std::max(2 * rmax, g.cell_size_m);
+        m_nx = static_cast<int>(std::ceil(g.width_m() / m_size)) + 1;
+        m_ny = static_cast<int>(std::ceil(g.height_m() / m_size)) + 1;
+        m_items.resize(static_cast<std::size_t>(m_nx) * m_ny);
+    }
+    void add(std::size_t k, double x, double y) { m_items[slot(col(x), row(y))].push_back(k); }
+    /// Calls f(k) for the circles in the buckets around (x, y) until f returns true; returns
+    /// whether it did.
+    template <class F>
+    bool any_near(double x, double y, F&& f) const {
+        const int cx = col(x), cy = row(y);
+        for (int j = std::max(0, cy - 1); j <= std::min(m_ny - 1, cy + 1); ++j)
+            for (int i = std::max(0, cx - 1); i <= std::min(m_nx - 1, cx + 1); ++i)
+                for (const std::size_t k : m_items[slot(i, j)])
+                    if (f(k)) return true;
+        return false;
+    }
+
+private:
+    int col(double x) const { return static_cast<int>((x - m_g.origin_x_m) / m_size); }
+    int row(double y) const { return static_cast<int>((y - m_g.origin_y_m) / m_size); }
+    std::size_t slot(int i, int j) const { return static_cast<std::size_t>(j) * m_nx + i; }
+    const GridSpec& m_g;
+    double m_size = 0;
+    int m_nx = 0, m_ny = 0;
+    std::vector<std::vector<std::size_t>> m_items;
+};
+
 /// Every pair of circles that overlap: the smaller dies, equal ones both.
 void mavs_competition(const Population& pop, const std::vector<Species>& species, const GridSpec& g,
                       std::vector<char>& dead, PlantSums& sums) {
     const std::size_t n = pop.size();
     std::vector<double> radius(n);
-    double rmax = 0;
-    for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t k = 0; k < n; ++k)
         radius[k] = mavs_competition_radius_m(species[pop.species[k]], pop.height_m[k]);
-        rmax = std::max(rmax, radius[k]);
-    }
-    const double bucket = std::max(2 * rmax, g.cell_size_m);
-    const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
-    const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
-    auto cell_of = [&](std::size_t k) {
-        return std::pair<int, int>{static_cast<int>((pop.x_m[k] - g.origin_x_m) / bucket),
-                                   static_cast<int>((pop.y_m[k] - g.origin_y_m) / bucket)};
-    };
-    std::vector<std::vector<std::size_t>> cells(static_cast<std::size_t>(bx) * by);
-    for (std::size_t k = 0; k < n; ++k) {
-        const auto [cx, cy] = cell_of(k);
-        cells[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
-    }
+    CircleBuckets buckets(g, radius);
+    for (std::size_t k = 0; k < n; ++k) buckets.add(k, pop.x_m[k], pop.y_m[k]);
     std::vector<char> killed(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto [cx, cy] = cell_of(i);
-        for (int y = std::max(0, cy - 1); y <= std::min(by - 1, cy + 1); ++y)
-            for (int x = std::max(0, cx - 1); x <= std::min(bx - 1, cx + 1); ++x)
-                for (const std::size_t j : cells[static_cast<std::size_t>(y) * bx + x]) {
-                    if (j <= i || !(std::hypot(pop.x_m[i] - pop.x_m[j], pop.y_m[i] - pop.y_m[j]) <
-                                    radius[i] + radius[j]))
-                        continue;
-                    if (radius[i] >= radius[j]) killed[j] = 1;
-                    if (radius[j] >= radius[i]) killed[i] = 1;
-                }
-    }
+    for (std::size_t i = 0; i < n; ++i)
+        buckets.any_near(pop.x_m[i], pop.y_m[i], [&](std::size_t j) {
+            if (j <= i || !(std::hypot(pop.x_m[i] - pop.x_m[j], pop.y_m[i] - pop.y_m[j]) <
+                            radius[i] + radius[j]))
+                return false;
+            if (radius[i] >= radius[j]) killed[j] = 1;
+            if (radius[j] >= radius[i]) killed[i] = 1;
+            return false; // every pair
+        });
     for (std::size_t k = 0; k < n; ++k)
         if (killed[k] && !dead[k]) {
             dead[k] = static_cast<char>(DeathCause::overlap);
@@ -369,35 +388,19 @@ void overlap_thinning(const Population& pop, std::vector<char>& dead,
                         : pop.crown_radius_m[k];
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return radius[a] > radius[b]; });
-    // Kept plants in square buckets at least two of the largest radii wide: a circle can only
-    // overlap one in its own or a neighbouring bucket.
-    double rmax = 0;
-    for (const double r : radius) rmax = std::max(rmax, r);
-    const double bucket = std::max(2 * rmax, g.cell_size_m);
-    const int bx = static_cast<int>(std::ceil(g.width_m() / bucket)) + 1;
-    const int by = static_cast<int>(std::ceil(g.height_m() / bucket)) + 1;
-    std::vector<std::vector<std::size_t>> kept(static_cast<std::size_t>(bx) * by);
-    auto overlaps_kept = [&](std::size_t k, int cx, int cy) {
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int x = cx + dx, y = cy + dy;
-                if (x < 0 || y < 0 || x >= bx || y >= by) continue;
-                for (const std::size_t o : kept[static_cast<std::size_t>(y) * bx + x])
-                    if (std::hypot(pop.x_m[k] - pop.x_m[o], pop.y_m[k] - pop.y_m[o]) <
-                        radius[k] + radius[o])
-                        return true;
-            }
-        return false;
-    };
+    // The kept plants: a plant overlapping a kept (larger) one dies.
+    CircleBuckets kept(g, radius);
     for (const std::size_t k : order) {
         if (dead[k]) continue;
-        const int cx = static_cast<int>((pop.x_m[k] - g.origin_x_m) / bucket);
-        const int cy = static_cast<int>((pop.y_m[k] - g.origin_y_m) / bucket);
-        if (overlaps_kept(k, cx, cy)) {
+        const bool overlaps = kept.any_near(pop.x_m[k], pop.y_m[k], [&](std::size_t o) {
+            return std::hypot(pop.x_m[k] - pop.x_m[o], pop.y_m[k] - pop.y_m[o]) <
+                   radius[k] + radius[o];
+        });
+        if (overlaps) {
             dead[k] = static_cast<char>(DeathCause::overlap);
             sums.deaths_overlap += 1;
         } else {
-            kept[static_cast<std::size_t>(cy) * bx + cx].push_back(k);
+            kept.add(k, pop.x_m[k], pop.y_m[k]);
         }
     }
 }

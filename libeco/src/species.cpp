@@ -216,7 +216,8 @@ json group_life_stages(const json& species, std::vector<std::string>& notes) {
             if (!list.empty()) list += ", ";
             list += kStageWords[static_cast<std::size_t>(stage)];
             list += " (";
-            list += e.value("Mesh File", std::string("?"));
+            const auto mesh = e.find("Mesh File");
+            list += mesh != e.end() && mesh->is_string() ? mesh->get<std::string>() : "?";
             list += ')';
         }
         if (!numbers_ok) continue; // the species reader names the bad key
@@ -330,7 +331,9 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     with_context(source, [&] { require_known_keys(j, top, ""); });
     EcosystemDef def;
     def.source = source;
-    def.name = j.value("name", std::filesystem::path(source).stem().string());
+    with_context(source, [&] {
+        def.name = get_string(j, "name", std::filesystem::path(source).stem().string(), "");
+    });
     for (const auto& k : kMavsTopKeys)
         if (j.contains(k)) def.notes.push_back("MAVS key '" + k + "' is not used by ecoterra");
     if (!j.contains("Species") || !j.at("Species").is_array() || j.at("Species").empty())

@@ -220,7 +220,7 @@ void plan_source(const DemRequest& req, WarpPlan& p) {
 /// DEM's own; in metres.
 void plan_systems(const DemRequest& req, WarpPlan& p) {
     const std::string where = req.path.string();
-    OGRSpatialReferenceH raw = GDALGetSpatialRef(p.src.get());
+    OGRSpatialReferenceH raw = gdal::dataset_srs(p.src.get(), where);
     p.source = Srs(raw ? OSRClone(raw) : nullptr);
     p.crs = req.crs;
     if (req.onto) {

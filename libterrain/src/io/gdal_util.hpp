@@ -3,6 +3,7 @@
 #include "ecoterra/raster.hpp"
 
 #include <gdal.h>
+#include <ogr_srs_api.h>
 
 #include <memory>
 #include <string>
@@ -33,6 +34,11 @@ using Dataset = std::unique_ptr<void, DatasetCloser>;
 /// the file behind `ds` (itself or what a warped view reads), whose size on disk bounds the
 /// cells a damaged header may declare; `where` names it in errors.
 RasterD raster_from_dataset(GDALDatasetH ds, GDALDatasetH source, const std::string& where);
+
+/// The coordinate system of `ds` (null without one), checked: a system that names an EPSG code of
+/// another kind (a geocentric code declared as geographic, say) is refused with an InputError
+/// naming `where`, since PROJ 9.1 crashes transforming from it (fuzz/library-defects/README.md).
+OGRSpatialReferenceH dataset_srs(GDALDatasetH ds, const std::string& where);
 
 /// The EPSG code of the WGS 84 UTM zone holding (lon, lat) in degrees (326zz north, 327zz
 /// south), or 0 outside the UTM zones (latitudes from -80 to 84).

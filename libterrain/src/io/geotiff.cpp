@@ -7,6 +7,7 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_string.h>
+#include <cstdlib>
 #include <gdal.h>
 #include <gdalwarper.h>
 #include <hdf5.h>
@@ -30,6 +31,30 @@ void init() {
         // file that is not HDF5. ecoterra reports errors itself.
         H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     });
+}
+
+OGRSpatialReferenceH dataset_srs(GDALDatasetH ds, const std::string& where) {
+    OGRSpatialReferenceH srs = GDALGetSpatialRef(ds);
+    if (!srs) return nullptr;
+    const char* auth = OSRGetAuthorityName(srs, nullptr);
+    const char* code = OSRGetAuthorityCode(srs, nullptr);
+    if (!auth || !code || std::string(auth) != "EPSG") return srs;
+    OGRSpatialReferenceH registry = OSRNewSpatialReference(nullptr);
+    const bool known = OSRImportFromEPSG(registry, std::atoi(code)) == OGRERR_NONE;
+    const auto kind = [](OGRSpatialReferenceH s) {
+        return OSRIsGeocentric(s)   ? "geocentric"
+               : OSRIsProjected(s)  ? "projected"
+               : OSRIsGeographic(s) ? "geographic"
+                                    : "other";
+    };
+    const std::string declared = kind(srs), registered = known ? kind(registry) : declared;
+    OSRDestroySpatialReference(registry);
+    if (declared != registered)
+        throw InputError(where + ": its coordinate system is " + declared +
+                         " but names EPSG:" + code + ", a " + registered +
+                         " system; the file's georeferencing is damaged (give it a coordinate "
+                         "system with gdal_edit.py -a_srs)");
+    return srs;
 }
 
 int utm_epsg(double lon, double lat) {
@@ -151,7 +176,8 @@ RasterD read_gdal(const std::filesystem::path& path, std::vector<std::string>* w
     if (!source) throw InputError(where + ": GDAL cannot read it: " + QuietGdal::last());
     std::string reprojected;
     Dataset view; // a UTM view of a geographic raster, read through `source`
-    if (OGRSpatialReferenceH srs = GDALGetSpatialRef(source.get()); srs && OSRIsGeographic(srs))
+    if (OGRSpatialReferenceH srs = gdal::dataset_srs(source.get(), where);
+        srs && OSRIsGeographic(srs))
         view = utm_view(source.get(), where, reprojected);
     RasterD z = gdal::raster_from_dataset(view ? view.get() : source.get(), source.get(), where);
     if (warnings && !reprojected.empty()) warnings->push_back(reprojected);

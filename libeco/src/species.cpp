@@ -322,6 +322,15 @@ bool life_stages_grouped(const json& j, const std::string& source) {
 }
 } // namespace
 
+namespace {
+/// How messages name an entry of "Species": 'its name', or #its index without one.
+std::string species_label(const json& e, int index) {
+    if (e.is_object() && e.contains("Species Name") && e.at("Species Name").is_string())
+        return "'" + e.at("Species Name").get<std::string>() + "'";
+    return "#" + std::to_string(index);
+}
+} // namespace
+
 EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     if (!j.is_object()) throw InputError(source + ": an ecosystem file must be a JSON object");
     if (j.contains("Ecosystem File") && !j.contains("Species"))
@@ -346,15 +355,7 @@ EcosystemDef parse_ecosystem(const json& j, const std::string& source) {
     int species_with_defaults = 0;
     int index = 0;
     for (const auto& e : entries) {
-        std::string label;
-        if (e.is_object() && e.contains("Species Name") && e.at("Species Name").is_string()) {
-            label = e.at("Species Name").get<std::string>();
-            label.insert(label.begin(), '\'');
-            label.push_back('\'');
-        } else {
-            label = std::to_string(index);
-            label.insert(label.begin(), '#');
-        }
+        const std::string label = species_label(e, index);
         with_context(source + ": species " + label, [&] {
             Species s = parse_species(e);
             if (!seen.insert(s.mesh_file).second)

@@ -1,8 +1,12 @@
 #include "ecoterra/eco/canopy.hpp"
 
+#include "ecoterra/error.hpp"
+#include "ecoterra/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 namespace ecoterra::eco {
 
@@ -33,10 +37,81 @@ void CrownSet::add(const GridSpec& g, double x, double y, double r) {
     cells.push_back(n);
 }
 
+namespace {
+/// The leaf area of crown q (lai per crown area, top `top_m`, depth `depth_m`) above height z.
+double leaf_above(double lai, double top_m, double depth_m, double z) {
+    if (!(top_m > z)) return 0.0;
+    return depth_m > 0 ? lai * std::min(1.0, (top_m - z) / depth_m) : lai;
+}
+
+std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& crowns,
+                                          const std::vector<double>& height,
+                                          const std::vector<double>& lai,
+                                          const std::vector<double>& depth, double k,
+                                          RasterD* ground) {
+    const std::size_t n = crowns.size();
+    if (depth.size() != n)
+        throw Error("crown_profile shading needs a crown depth per plant (" +
+                    std::to_string(depth.size()) + " for " + std::to_string(n) + " plants)");
+    // The crowns over each cell, tallest first (compressed rows: cell c's are
+    // [start[c], start[c + 1]) of `ids`).
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return height[a] > height[b]; });
+    const auto cells = static_cast<std::size_t>(g.size());
+    std::vector<std::uint32_t> start(cells + 1, 0);
+    auto for_each_cell = [&](std::uint32_t p, auto&& f) {
+        for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
+            const Span& sp = crowns.spans[s];
+            const std::size_t row =
+                static_cast<std::size_t>(sp.row) * static_cast<std::size_t>(g.nx);
+            for (int x = sp.x0; x <= sp.x1; ++x) f(row + static_cast<std::size_t>(x));
+        }
+    };
+    for (std::uint32_t p = 0; p < n; ++p) for_each_cell(p, [&](std::size_t c) { ++start[c + 1]; });
+    for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+    std::vector<std::uint32_t> ids(start[cells]);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (const std::uint32_t p : order)
+        for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
+
+    std::vector<double> shade(n, 0.0);
+    const auto ni = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(dynamic, 64) if (ni >= parallel_min_items())
+    for (std::int64_t q = 0; q < ni; ++q) {
+        const auto p = static_cast<std::uint32_t>(q);
+        const double z = height[p] - 0.5 * depth[p];
+        double light = 0;
+        for_each_cell(p, [&](std::size_t c) {
+            double l = 0;
+            for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) {
+                const std::uint32_t o = ids[e];
+                if (!(height[o] > z)) break; // tallest first: no higher leaves remain
+                if (o != p) l += leaf_above(lai[o], height[o], depth[o], z);
+            }
+            light += std::exp(-k * l);
+        });
+        shade[p] = 1.0 - light / crowns.cells[p];
+    }
+    if (ground) {
+        *ground = RasterD(g, 0.0);
+        for (std::size_t c = 0; c < cells; ++c) {
+            double l = 0;
+            for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) l += lai[ids[e]];
+            ground->data()[static_cast<std::int64_t>(c)] = 1.0 - std::exp(-k * l);
+        }
+    }
+    return shade;
+}
+} // namespace
+
 std::vector<double> compute_shading(const GridSpec& g, const CrownSet& crowns,
                                     const std::vector<double>& height,
                                     const std::vector<double>& lai, ShadingMode mode, double k,
-                                    RasterD* ground) {
+                                    RasterD* ground, const std::vector<double>& depth) {
+    if (mode == ShadingMode::crown_profile)
+        return crown_profile_shading(g, crowns, height, lai, depth, k, ground);
     const std::size_t n = crowns.size();
     std::vector<double> shade(n, 0.0);
     std::vector<double> stack(static_cast<std::size_t>(g.size()), 0.0);

@@ -107,7 +107,7 @@ bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const 
 }
 
 std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Species>& species,
-                                       Rng& rng, PlantSums& sums) {
+                                       Rng& rng, PlantSums& sums, GrowthModel model) {
     std::vector<char> dead(pop.size(), 0);
     for (std::size_t k = 0; k < pop.size(); ++k) {
         const Species& s = species[pop.species[k]];
@@ -124,7 +124,7 @@ std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Specie
         update_growth_efficiency(pop.wood_kg[k], pop.reserve_kg[k], pop.leaf_area_m2[k],
                                  pop.mass_at_year_start_kg[k], pop.turnover_kg[k],
                                  pop.growth_efficiency[k]);
-        const double suppression = suppression_mortality(s, pop.growth_efficiency[k]);
+        const double suppression = suppression_mortality(s, pop.growth_efficiency[k], model);
         if (pop.age_yr[k] >= s.max_age_yr) {
             dead[k] = kAge;
             sums.deaths_age += 1;

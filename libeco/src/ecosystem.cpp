@@ -309,7 +309,8 @@ void Ecosystem::ground_layer_day(const hydro::DayWeather& w, const DayClimate& d
 void Ecosystem::year_end_coupled() {
     const auto& species = m_scene.ecosystem.species;
     count_starved(); // since the last refresh; removed below
-    std::vector<char> dead = ageing_and_mortality(m_pop, species, m_rng_mort, m_sum);
+    std::vector<char> dead =
+        ageing_and_mortality(m_pop, species, m_rng_mort, m_sum, m_scene.growth);
     const Seedbed bed = seedbed();
     const Nursery make = nursery();
     std::vector<Plant> recruits =

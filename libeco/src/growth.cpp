@@ -82,7 +82,8 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
                      double q10_factor) {
     CarbonPools pools{p.reserve_kg, p.wood_kg, p.turnover_kg};
     const CarbonDay c =
-        carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, growth, phen, f_temp, q10_factor);
+        carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, growth, phen, f_temp, q10_factor,
+                   0.0, s.respiration_kg_per_m2_leaf_per_m_per_yr);
     p.reserve_kg = pools.reserve_kg;
     p.wood_kg = pools.wood_kg;
     p.turnover_kg = pools.turnover_kg;
@@ -90,12 +91,11 @@ CarbonDay carbon_day(const Species& s, Plant& p, double growth, double phen, dou
 }
 
 CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m, CarbonPools& p,
-                     double growth, double phen, double f_temp, double q10_factor,
-                     double tissue_kg) {
+                     double growth, double phen, double f_temp, double q10_factor, double tissue_kg,
+                     double r_m) {
     CarbonDay c;
     c.production_kg = s.max_production_kg_per_m2_leaf_per_day * la * growth * phen * f_temp;
-    c.maintenance_kg =
-        s.respiration_kg_per_m2_leaf_per_m_per_yr / kDaysPerYear * la * height_m * q10_factor;
+    c.maintenance_kg = r_m / kDaysPerYear * la * height_m * q10_factor;
     c.growth_respiration_kg = kGrowthRespiration * tissue_kg;
     c.litter_kg = tissue_kg - c.growth_respiration_kg;
     const double net = c.production_kg - c.maintenance_kg - tissue_kg;
@@ -118,6 +118,11 @@ CarbonDay carbon_day(const Species& s, double la, double height_m, double dbh_m,
         if (p.reserve_kg <= 0) c.starved = true;
     }
     return c;
+}
+
+double maintenance_coefficient(const Species& s, GrowthModel model) {
+    return model == GrowthModel::paper002 ? s.respiration_kg_per_m2_leaf_per_m_per_yr
+                                          : s.sapwood_respiration_kg_per_m2_leaf_per_m_per_yr;
 }
 
 double tissue_cost_kg_per_day(const Species& s, double leaf_area_m2) {
@@ -152,9 +157,9 @@ double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_a
     return e;
 }
 
-double suppression_mortality(const Species& s, double mean_efficiency) {
+double suppression_mortality(const Species& s, double mean_efficiency, GrowthModel model) {
     const double threshold = s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr;
-    if (!(threshold > 0)) return 0.0;
+    if (!(threshold > 0) || model != GrowthModel::paper002) return 0.0;
     return s.suppression_mortality_per_yr * std::clamp(1.0 - mean_efficiency / threshold, 0.0, 1.0);
 }
 

@@ -2,6 +2,7 @@
 #include "ecoterra/eco/processes.hpp"
 
 #include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/windthrow.hpp"
 #include "ecoterra/parallel.hpp"
 #include "ecoterra/units.hpp"
 
@@ -115,7 +116,8 @@ void carbon_balance(Population& pop, const std::vector<Species>& species, const 
         const double tissue =
             model == GrowthModel::paper002 ? 0.0 : tissue_cost_kg_per_day(s, pop.leaf_area_m2[k]);
         cd[k] = carbon_day(s, pop.leaf_area_m2[k], pop.height_m[k], pop.dbh_m[k], pools, g, ph,
-                           day.ftemp[pop.species[k]], day.q10, tissue);
+                           day.ftemp[pop.species[k]], day.q10, tissue,
+                           maintenance_coefficient(s, model));
         pop.reserve_kg[k] = pools.reserve_kg;
         pop.wood_kg[k] = pools.wood_kg;
         pop.turnover_kg[k] = pools.turnover_kg;
@@ -180,13 +182,15 @@ void Canopy::rebuild(const Population& pop) {
 void Canopy::refresh(Population& pop, const std::vector<Species>& species, ShadingMode mode,
                      double extinction) {
     rebuild(pop);
-    std::vector<double> lai(pop.size());
+    std::vector<double> lai(pop.size()), depth;
+    if (mode == ShadingMode::crown_profile) depth.resize(pop.size());
     for (std::size_t k = 0; k < pop.size(); ++k) {
         const Species& s = species[pop.species[k]];
         lai[k] = s.life_form == LifeForm::object ? 0.0 : s.leaf_area_per_crown_area;
+        if (!depth.empty()) depth[k] = wind::crown_depth_m(s, pop.height_m[k]);
     }
-    pop.shade_fraction =
-        compute_shading(plant_grid, crowns, pop.height_m, lai, mode, extinction, &ground_shade);
+    pop.shade_fraction = compute_shading(plant_grid, crowns, pop.height_m, lai, mode, extinction,
+                                         &ground_shade, depth);
     shade_per_cell();
 }
 

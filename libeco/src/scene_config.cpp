@@ -26,16 +26,23 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
          choice<E>(
              "shading", &E::shading,
              std::vector<std::pair<std::string, ShadingMode>>{
-                 {"blocking", ShadingMode::blocking}, {"beer_lambert", ShadingMode::beer_lambert}},
-             "shading rule"),
+                 {"blocking", ShadingMode::blocking},
+                 {"beer_lambert", ShadingMode::beer_lambert},
+                 {"crown_profile", ShadingMode::crown_profile}},
+             "shading rule: blocking (paper 002 Fig 2), beer_lambert (through the leaf area of "
+             "every taller crown) or crown_profile (through the leaf area above the plant's "
+             "mid-crown, each crown's spread over its depth), docs/ecosystem.md s4"),
          choice<E>("growth", &E::growth,
                    std::vector<std::pair<std::string, GrowthModel>>{
                        {"light_and_turnover", GrowthModel::light_and_turnover},
                        {"paper002", GrowthModel::paper002}},
-                   "plant growth model: paper002 (the shade preference, no tissue turnover, paper "
-                   "002 s3) or light_and_turnover (experimental, not calibrated: production "
-                   "saturating in the light on the crown, leaves and fine roots rebuilt as they "
-                   "turn over, water demand following the crown's light), docs/ecosystem.md s3"),
+                   "plant growth model: light_and_turnover (production saturating in the light on "
+                   "the crown, leaves and fine roots rebuilt as they turn over, sapwood "
+                   "respiration, suppressed plants starve below their light compensation point, "
+                   "water demand following the crown's light; the shipped forests calibrated to "
+                   "stand figures, docs/validation.md s2c) or paper002 (the shade preference, no "
+                   "tissue turnover, growth-efficiency suppression, paper 002 s3), "
+                   "docs/ecosystem.md s3"),
          number<E>("extinction_coefficient", &E::extinction, "1", 0.01, 5,
                    "Beer-Lambert extinction coefficient k"),
          choice<E>("light_only_radius", &E::light_only_radius,
@@ -270,6 +277,10 @@ Methods scene_methods(const EcoScene& sc) {
     }
     if (sc.shading == ShadingMode::beer_lambert)
         m.push_back({"shading", "Beer-Lambert light extinction (Monsi & Saeki 1953)"});
+    else if (sc.shading == ShadingMode::crown_profile)
+        m.push_back({"shading", "Beer-Lambert light extinction (Monsi & Saeki 1953) through the "
+                                "leaf area above mid-crown, crowns of ForestGALES depth (Gardiner "
+                                "et al. 2000)"});
     else
         m.push_back({"shading", "blocking crowns, Goodin, Hudson et al. 2024 (paper 002) Fig 2"});
     if (ground)

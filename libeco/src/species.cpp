@@ -87,6 +87,9 @@ void apply_life_form_defaults(Species& s) {
         s.maturity_age_yr = s.life_form == LifeForm::shrub ? std::min(3.0, 0.2 * s.max_age_yr)
                                                            : std::min(15.0, 0.2 * s.max_age_yr);
     if (defaulted("leaf_lifespan_yr")) s.leaf_lifespan_yr = s.evergreen ? 2.0 : 1.0;
+    if (defaulted("sapwood_respiration_kg_per_m2_leaf_per_m_per_yr"))
+        s.sapwood_respiration_kg_per_m2_leaf_per_m_per_yr =
+            s.respiration_kg_per_m2_leaf_per_m_per_yr;
     if (defaulted("leaf_mass_per_area_kg_per_m2"))
         s.leaf_mass_per_area_kg_per_m2 = leaf_mass_per_area_from_longevity(leaf_longevity_yr(s));
     if (s.life_form == LifeForm::shrub && defaulted("max_crown_radius_m"))
@@ -509,6 +512,12 @@ const ParamCatalog<Species>& physiology_catalog() {
             number<S>("respiration_kg_per_m2_leaf_per_m_per_yr",
                       &S::respiration_kg_per_m2_leaf_per_m_per_yr, "kg/(m3 yr)", 0, 10,
                       "maintenance respiration at 20 degC per m2 of leaf and m of height"),
+            number<S>("sapwood_respiration_kg_per_m2_leaf_per_m_per_yr",
+                      &S::sapwood_respiration_kg_per_m2_leaf_per_m_per_yr, "kg/(m3 yr)", 0, 10,
+                      "maintenance respiration of the sapwood at 20 degC per m2 of leaf and m of "
+                      "height (vegetation.growth = light_and_turnover, whose tissue cost carries "
+                      "leaves and fine roots)")
+                .with_note("respiration_kg_per_m2_leaf_per_m_per_yr"),
             number<S>("reserve_capacity_kg_per_m2_leaf", &S::reserve_capacity_kg_per_m2_leaf,
                       "kg/m2", kTiny, 100, "carbohydrate reserve a plant holds per m2 of leaf"),
             number<S>("initial_reserve_fraction", &S::initial_reserve_fraction, "1", kTiny, 1,

@@ -442,3 +442,15 @@ TEST_CASE("stem lists: life_form and stem_diameter_cm are read, bad values named
                                           "1,2,shrub,0,-3\n")),
                       Catch::Contains("stem_diameter_cm"));
 }
+
+TEST_CASE("species files: the sapwood respiration takes paper 002's coefficient unless given",
+          "[eco][species]") {
+    json j = read_json(mavs_dir() / "american_southeast_forest.json");
+    j["Species"][0]["physiology"]["respiration_kg_per_m2_leaf_per_m_per_yr"] = 0.021;
+    j["Species"][1]["physiology"]["respiration_kg_per_m2_leaf_per_m_per_yr"] = 0.021;
+    j["Species"][1]["physiology"]["sapwood_respiration_kg_per_m2_leaf_per_m_per_yr"] = 0.004;
+    const auto d = parse_ecosystem(j, "se.json");
+    CHECK(d.species[0].sapwood_respiration_kg_per_m2_leaf_per_m_per_yr == 0.021);
+    CHECK(d.species[1].sapwood_respiration_kg_per_m2_leaf_per_m_per_yr == 0.004);
+    CHECK(d.species[1].respiration_kg_per_m2_leaf_per_m_per_yr == 0.021);
+}

@@ -5,11 +5,13 @@
 #include "ecoterra/eco/growth.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/random.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 using namespace ecoterra;
 using namespace ecoterra::eco;
@@ -52,6 +54,93 @@ TEST_CASE("shading: the paper's Fig 2 (A has one of four cells under taller B)",
     const auto b =
         compute_shading(g, c, {5.0, 12.0}, {4.0, 4.0}, ShadingMode::beer_lambert, 0.5, nullptr);
     CHECK(b[0] == Approx(0.25 * (1 - std::exp(-0.5 * 4.0))).epsilon(1e-12));
+}
+
+TEST_CASE("shading, crown_profile: leaf area above mid-crown, each crown's spread over its depth",
+          "[eco][canopy]") {
+    const auto g = grid(4);
+    CrownSet c;
+    c.clear();
+    add_cells(c, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}); // A, 2x2
+    add_cells(c, {{1, 1}, {2, 1}, {1, 2}, {2, 2}}); // B, 2x2, shares (1,1)
+    const double k = 0.5;
+    RasterD ground;
+    // A 10 m tall with crown 6-10 m, mid-crown 8 m; B 12 m with crown 8-12 m holds all its LAI 4
+    // above 8 m, and A's crown top (10 m) is above B's mid-crown (10 m) by nothing.
+    const auto s = compute_shading(g, c, {10.0, 12.0}, {4.0, 4.0}, ShadingMode::crown_profile, k,
+                                   &ground, {4.0, 4.0});
+    CHECK(s[0] == Approx(0.25 * (1 - std::exp(-k * 4.0))).epsilon(1e-12));
+    CHECK(s[1] == 0.0);
+    CHECK(ground(1, 1) == Approx(1 - std::exp(-k * 8.0)));
+    CHECK(ground(0, 0) == Approx(1 - std::exp(-k * 4.0)));
+    CHECK(ground(3, 3) == 0.0);
+    // B 11 m: only its leaves above A's mid-crown, 4 (11 - 8) / 4 = 3, shade A; A's leaves above
+    // B's mid-crown (9 m), 4 (10 - 9) / 4 = 1, shade B.
+    const auto t = compute_shading(g, c, {10.0, 11.0}, {4.0, 4.0}, ShadingMode::crown_profile, k,
+                                   nullptr, {4.0, 4.0});
+    CHECK(t[0] == Approx(0.25 * (1 - std::exp(-k * 3.0))).epsilon(1e-12));
+    CHECK(t[1] == Approx(0.25 * (1 - std::exp(-k * 1.0))).epsilon(1e-12));
+    // Equal codominants shade each other with their upper halves, alike.
+    const auto eq = compute_shading(g, c, {10.0, 10.0}, {4.0, 4.0}, ShadingMode::crown_profile, k,
+                                    nullptr, {4.0, 4.0});
+    CHECK(eq[0] == Approx(0.25 * (1 - std::exp(-k * 2.0))).epsilon(1e-12));
+    CHECK(eq[1] == eq[0]);
+    // Without the depths it cannot run, and says so.
+    CHECK_THROWS_WITH(
+        compute_shading(g, c, {10.0, 12.0}, {4.0, 4.0}, ShadingMode::crown_profile, k, nullptr),
+        Catch::Contains("crown depth per plant"));
+}
+
+TEST_CASE("shading, crown_profile: equals a direct sum over crowns on random stands, and "
+          "Beer-Lambert when crowns have no depth",
+          "[eco][canopy]") {
+    const auto g = grid(40);
+    Rng rng(2024, "crown_profile");
+    for (int stand = 0; stand < 12; ++stand) {
+        const int n = 5 + static_cast<int>(rng.uniform() * 60);
+        CrownSet c;
+        c.clear();
+        std::vector<double> h(n), lai(n), depth(n), x(n), y(n), r(n);
+        for (int p = 0; p < n; ++p) {
+            x[p] = 40 * rng.uniform(), y[p] = 40 * rng.uniform(), r[p] = 0.5 + 6 * rng.uniform();
+            // Quantised heights so that ties occur.
+            h[p] = 2 + std::round(20 * rng.uniform()) * 0.5;
+            lai[p] = 1 + 4 * rng.uniform();
+            depth[p] = (0.1 + 0.8 * rng.uniform()) * h[p];
+            c.add(g, x[p], y[p], r[p]);
+        }
+        const double k = 0.3 + rng.uniform();
+        RasterD ground;
+        const auto s = compute_shading(g, c, h, lai, ShadingMode::crown_profile, k, &ground, depth);
+        // Direct: per plant, per cell, every other crown covering the cell.
+        std::vector<std::vector<int>> owners(static_cast<std::size_t>(g.size()));
+        for (int p = 0; p < n; ++p)
+            for (auto q = c.offset[p]; q < c.offset[p + 1]; ++q)
+                for (int i = c.spans[q].x0; i <= c.spans[q].x1; ++i)
+                    owners[static_cast<std::size_t>(c.spans[q].row * g.nx + i)].push_back(p);
+        for (int p = 0; p < n; ++p) {
+            const double z = h[p] - 0.5 * depth[p];
+            double light = 0;
+            for (auto q = c.offset[p]; q < c.offset[p + 1]; ++q)
+                for (int i = c.spans[q].x0; i <= c.spans[q].x1; ++i) {
+                    double l = 0;
+                    for (int o : owners[static_cast<std::size_t>(c.spans[q].row * g.nx + i)])
+                        if (o != p && h[o] > z) l += lai[o] * std::min(1.0, (h[o] - z) / depth[o]);
+                    light += std::exp(-k * l);
+                }
+            CHECK(s[p] == Approx(1 - light / c.cells[p]).margin(1e-12));
+        }
+        for (std::int64_t cell = 0; cell < g.size(); ++cell) {
+            double l = 0;
+            for (int o : owners[static_cast<std::size_t>(cell)]) l += lai[o];
+            CHECK(ground.data()[cell] == Approx(1 - std::exp(-k * l)).margin(1e-12));
+        }
+        // Crowns of no depth hold their leaves at the top: Beer-Lambert through taller crowns.
+        const auto flat = compute_shading(g, c, h, lai, ShadingMode::crown_profile, k, nullptr,
+                                          std::vector<double>(n, 0.0));
+        const auto bl = compute_shading(g, c, h, lai, ShadingMode::beer_lambert, k, nullptr);
+        for (int p = 0; p < n; ++p) CHECK(flat[p] == Approx(bl[p]).margin(1e-12));
+    }
 }
 
 TEST_CASE("crowns cover the cells whose centres lie within the radius, and the stem cell",
@@ -204,8 +293,28 @@ TEST_CASE("suppression: a slow grower's running efficiency sets its death probab
     CHECK(suppression_mortality(s, -0.5) == 0.3); // capped at mu_max
     // A vigorous plant and a species without the rule never die of it.
     CHECK(suppression_mortality(s, 0.25) == 0.0);
+    // Under light_and_turnover a suppressed plant starves instead (growth.hpp).
+    CHECK(suppression_mortality(s, -1.0, GrowthModel::light_and_turnover) == 0.0);
     s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.0;
     CHECK(suppression_mortality(s, -1.0) == 0.0);
+}
+
+TEST_CASE("maintenance: paper 002's coefficient or, under light_and_turnover, the sapwood's",
+          "[eco][growth]") {
+    Species s;
+    s.respiration_kg_per_m2_leaf_per_m_per_yr = 0.015;
+    s.sapwood_respiration_kg_per_m2_leaf_per_m_per_yr = 0.006;
+    CHECK(maintenance_coefficient(s, GrowthModel::paper002) == 0.015);
+    CHECK(maintenance_coefficient(s, GrowthModel::light_and_turnover) == 0.006);
+    Plant p;
+    p.dbh_m = 0.2;
+    allometry::apply(s, p);
+    for (const double rm : {0.015, 0.006}) {
+        CarbonPools pools{1.0, 1.0, 0.0};
+        const auto c =
+            carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, 0.0, 1.0, 1.0, 1.0, 0.0, rm);
+        CHECK(c.maintenance_kg == Approx(rm / kDaysPerYear * p.leaf_area_m2 * p.height_m));
+    }
 }
 
 TEST_CASE("growth factors and allometry", "[eco][growth]") {
@@ -414,8 +523,8 @@ TEST_CASE("tissue turnover: leaf mass from longevity (Reich et al. 1997) and its
     p.reserve_kg = 1.0;
     CarbonPools pools{p.reserve_kg, p.wood_kg, 0.0};
     const double cost = tissue_cost_kg_per_day(s, p.leaf_area_m2);
-    const auto c =
-        carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, 0.0, 1.0, 1.0, 1.0, cost);
+    const auto c = carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, 0.0, 1.0, 1.0, 1.0,
+                              cost, s.respiration_kg_per_m2_leaf_per_m_per_yr);
     CHECK(c.growth_respiration_kg == Approx(0.25 * cost));
     CHECK(c.litter_kg == Approx(0.75 * cost));
     CHECK(1.0 - pools.reserve_kg == Approx(c.maintenance_kg + cost));
@@ -437,8 +546,9 @@ TEST_CASE("tissue turnover: the light compensation point is where production mee
         const double cost = tissue_cost_kg_per_day(s, p.leaf_area_m2);
         auto net = [&](double light) {
             CarbonPools pools{1.0, 1.0, 0.0};
-            const auto c = carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools,
-                                      light_factor(k, light), 1.0, 1.0, 1.0, cost);
+            const auto c =
+                carbon_day(s, p.leaf_area_m2, p.height_m, p.dbh_m, pools, light_factor(k, light),
+                           1.0, 1.0, 1.0, cost, s.respiration_kg_per_m2_leaf_per_m_per_yr);
             return c.production_kg - c.maintenance_kg - cost;
         };
         double lo = 0, hi = 1;

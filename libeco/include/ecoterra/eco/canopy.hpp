@@ -9,6 +9,14 @@
 //                 one of its four cells under a taller crown is 1/4 shaded)
 //   beer_lambert  shade_p = 1 - mean over cells of exp(-k L(c))       (Monsi & Saeki 1953; k = 0.5,
 //                 iLand and 3-PG)
+//   crown_profile shade_p = 1 - mean over cells of exp(-k L_p(c)), L_p(c) the leaf area index of
+//                 the other crowns over cell c above p's mid-crown z_p = H_p - d_p / 2, each crown
+//                 q holding its leaf area evenly over its depth d_q (wind::crown_depth_m, the
+//                 ForestGALES crown depth): L_p(c) = sum_q LAI_q clamp((H_q - z_p) / d_q, 0, 1).
+//                 Light through a layered canopy, as SORTIE-ND's light through crowns (Canham et
+//                 al. 1994) and iLand's light influence patterns (Seidl et al. 2012) see it: a
+//                 codominant of nearly the same height shades a plant with its upper crown only,
+//                 and each of two equal crowns shades the other.
 // The ground shade raster is 1 where any crown covers a cell (blocking) or 1 - exp(-k L_total).
 #include "ecoterra/raster.hpp"
 
@@ -37,13 +45,15 @@ struct CrownSet {
     std::size_t size() const { return cells.size(); }
 };
 
-enum class ShadingMode { blocking, beer_lambert };
+enum class ShadingMode { blocking, beer_lambert, crown_profile };
 
 /// Shade fraction per plant (in the order of `crowns`) and the ground shade raster.
-/// `height_m` and `lai` (leaf area per crown area) are per plant.
+/// `height_m` and `lai` (leaf area per crown area) are per plant; `crown_depth_m` (per plant, m)
+/// is read by crown_profile only and may be empty for the other modes.
 std::vector<double> compute_shading(const GridSpec& g, const CrownSet& crowns,
                                     const std::vector<double>& height_m,
                                     const std::vector<double>& lai, ShadingMode mode,
-                                    double extinction, RasterD* ground_shade);
+                                    double extinction, RasterD* ground_shade,
+                                    const std::vector<double>& crown_depth_m = {});
 
 } // namespace ecoterra::eco

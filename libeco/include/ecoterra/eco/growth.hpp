@@ -28,7 +28,9 @@
 //   maintenance  R = r_m / 365 LA H Q10^((T - 20)/10)     pipe model: sapwood ~ LA x H (Shinozaki
 //                                                         et al. 1964); Q10 = 2 (Ryan 1991)
 //   with p_max = max_production_kg_per_m2_leaf_per_day, r_m =
-//   respiration_kg_per_m2_leaf_per_m_per_yr, T_b = temperature_base_c, T_o = temperature_optimum_c
+//   respiration_kg_per_m2_leaf_per_m_per_yr (paper 002's model: all maintenance) or
+//   sapwood_respiration_kg_per_m2_leaf_per_m_per_yr (light_and_turnover, where the tissue cost
+//   carries the leaves and fine roots), T_b = temperature_base_c, T_o = temperature_optimum_c
 //   and T the day's mean air temperature (degC).
 //   A surplus P - R - Q fills the reserve up to C_max = reserve_capacity_kg_per_m2_leaf x LA; of the
 //   rest the share w(D) builds wood after growth respiration (the fraction kGrowthRespiration of
@@ -36,12 +38,15 @@
 //   w(D) = clamp((D_max - D) / (0.1 D_max), 0, 1), D_max = max_stem_diameter_m (1 when 0): full
 //   allocation to wood below 0.9 D_max, none at D_max, as the diameter growth of the JABOWA and
 //   FORET gap models ends at D_max (Botkin et al. 1972). A deficit drains the reserve; an empty
-//   reserve kills the plant (starvation).
+//   reserve kills the plant (starvation) on that day (its reserve overdrawn by that day's deficit,
+//   which the carbon budget counts as the dead plant's).
 // Growth suppression (yearly, after LPJ-GUESS's greff_min): the growth efficiency
 //   e = (wood + reserve - their value a year ago + turnover) / LA  (kg m-2 yr-1) enters a running mean
 //   e_bar <- e_bar + (e - e_bar)/3; the death probability is mu_max clamp(1 - e_bar/e_min, 0, 1)
 //   with e_min = suppression_growth_efficiency_kg_per_m2_leaf_per_yr and
-//   mu_max = suppression_mortality_per_yr.
+//   mu_max = suppression_mortality_per_yr. Paper 002's model only: under light_and_turnover a
+//   plant below its light compensation point loses carbon and dies when its reserve is spent
+//   (starvation), which is the suppression death of that model.
 // clang-format on
 #include "ecoterra/eco/plant.hpp"
 #include "ecoterra/hydro/weather.hpp"
@@ -98,10 +103,14 @@ struct CarbonPools {
 /// `height_m` and diameter `dbh_m`, with the day's temperature responses precomputed (`f_temp` =
 /// f_T(T) of the species, `q10_factor` = Q10^((T - 20)/10)); updates `pools`.
 /// `tissue_kg` is the day's cost of rebuilding leaves and fine roots (tissue_cost_kg_per_day; 0
-/// in paper 002's model), paid before the reserve and wood.
+/// in paper 002's model), paid before the reserve and wood; `r_m` the maintenance coefficient
+/// (maintenance_coefficient), kg per m2 of leaf per m of height per year at 20 degC.
 CarbonDay carbon_day(const Species& s, double leaf_area_m2, double height_m, double dbh_m,
                      CarbonPools& pools, double growth, double phen, double f_temp,
-                     double q10_factor, double tissue_kg = 0);
+                     double q10_factor, double tissue_kg, double r_m);
+/// The maintenance coefficient r_m the growth model uses: respiration_kg_per_m2_leaf_per_m_per_yr
+/// (paper 002) or sapwood_respiration_kg_per_m2_leaf_per_m_per_yr (light_and_turnover).
+double maintenance_coefficient(const Species& s, GrowthModel model);
 /// Carbohydrate a plant of this leaf area spends a day rebuilding the leaves and fine roots that
 /// turn over (vegetation.growth = light_and_turnover), growth respiration included, kg/day.
 double tissue_cost_kg_per_day(const Species& s, double leaf_area_m2);
@@ -127,7 +136,9 @@ double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_a
                                 double& mean_efficiency);
 double update_growth_efficiency(Plant& p);
 /// Yearly growth-suppression death probability mu_max * clamp(1 - mean e / e_min, 0, 1) (0 when
-/// the species' threshold e_min is 0).
-double suppression_mortality(const Species& s, double mean_efficiency);
+/// the species' threshold e_min is 0, and under light_and_turnover, whose suppressed plants
+/// starve).
+double suppression_mortality(const Species& s, double mean_efficiency,
+                             GrowthModel model = GrowthModel::paper002);
 
 } // namespace ecoterra::eco

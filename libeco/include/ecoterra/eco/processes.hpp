@@ -163,11 +163,13 @@ struct Seedbed {
     bool establishes(const Species& s, double x, double y, Rng& rng) const;
 };
 
-/// Ageing, the growth-efficiency update and death by age, background and suppression (one draw of
+/// Ageing, the growth-efficiency update and death by age, background and suppression (paper 002's
+/// growth model only: suppression_mortality) (one draw of
 /// `rng` per plant, dead or alive); returns per plant its DeathCause (deadwood.hpp) as a char, 0
 /// for the living (starved plants are not counted again).
 std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Species>& species,
-                                       Rng& rng, PlantSums& sums);
+                                       Rng& rng, PlantSums& sums,
+                                       GrowthModel model = GrowthModel::paper002);
 
 /// Seeds of the mature survivors, dispersed (Poisson count, kernel distance, uniform direction)
 /// and established; seeds landing outside the plant grid are lost (with one draw, to keep the

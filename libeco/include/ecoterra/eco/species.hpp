@@ -88,6 +88,9 @@ struct Species {
     double max_production_kg_per_m2_leaf_per_day = 0.004;   ///< carbohydrate, full conditions
     double respiration_kg_per_m2_leaf_per_m_per_yr = 0.015; ///< maintenance at 20 degC, per m2
                                                             ///< leaf per m of height
+    /// light_and_turnover's maintenance (of the sapwood alone: the tissue cost carries leaves and
+    /// fine roots), same units; default respiration_kg_per_m2_leaf_per_m_per_yr.
+    double sapwood_respiration_kg_per_m2_leaf_per_m_per_yr = 0.015;
     double reserve_capacity_kg_per_m2_leaf = 0.4;
     double initial_reserve_fraction = 0.5; ///< of capacity, for recruits
     double temperature_base_c = 5.0;       ///< production starts above it

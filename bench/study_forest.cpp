@@ -18,10 +18,12 @@
 //     the last 20 years (mature): evapotranspiration / rain, transpiration / evapotranspiration,
 //     interception / rain, soil evaporation / rain, and runoff + drainage / rain; then the basal
 //     area at the end and the largest species' share of it. --paper002 runs it with paper 002's
-//     soil water (evapotranspiration, drainage and interception as the paper prescribes). A
+//     soil water (evapotranspiration, drainage and interception as the paper prescribes) and its
+//     growth and shading (vegetation.growth = paper002, vegetation.shading = blocking). A
 //     second table gives the stand's dynamics from the same runs (struct Dynamics below:
-//     composition by age, mortality of trees >= 5 cm, increments of dominant and suppressed
-//     trees; docs/validation.md s2c).
+//     composition by age, mortality of trees >= 5 cm, increments of the tallest and shortest
+//     quarters and of the crown classes by light, dominant and suppressed; docs/validation.md
+//     s2c).
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
 //                     [--only-central | --only-thinning | --only-water] [--set key=value ...]
@@ -355,6 +357,7 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
     std::printf(" | %9s %7s %7s %7s %6s\n", "mortality", "all", "top", "bottom", "ratio");
     std::vector<std::vector<Mean>> mean_share;
     Mean mort, all, dom, sup, ratio;
+    Mean open, overtopped, crown_ratio; // crown classes by the light at mid-crown
     for (std::size_t r = 0; r < runs.size(); ++r) {
         const auto& d = runs[r];
         mean_share.resize(d.share.size(), std::vector<Mean>(names.size()));
@@ -379,6 +382,12 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
         dom.add(d.dominant_mm);
         sup.add(d.suppressed_mm);
         ratio.add(d.dominant_mm / std::max(d.suppressed_mm, 1e-3));
+        if (d.by_shade_n[0] > 0 && d.by_shade_n[3] > 0) {
+            open.add(d.by_shade_mm[0] / d.by_shade_n[0]);
+            overtopped.add(d.by_shade_mm[3] / d.by_shade_n[3]);
+            crown_ratio.add((d.by_shade_mm[0] / d.by_shade_n[0]) /
+                            std::max(d.by_shade_mm[3] / d.by_shade_n[3], 1e-3));
+        }
     }
     std::printf("mean share of basal area over %zu seeds (sd):\n", runs.size());
     for (std::size_t a = 0; a < mean_share.size(); ++a) {
@@ -393,6 +402,12 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
         "%.2f, shortest %.2f, ratio %.1f (sd %.1f)\n\n",
         100 * mort.mean(), 100 * mort.sd(), all.mean(), dom.mean(), sup.mean(), ratio.mean(),
         ratio.sd());
+    // Crown classes as foresters define them, by the light a crown receives: open-grown or
+    // dominant (shade fraction < 0.2 at the start of the period) against overtopped (>= 0.8).
+    std::printf("crown classes by light (shade at the start, s0 < 0.2, s3 >= 0.8), over %d of %zu "
+                "seeds with both: dominant %.2f mm/yr, suppressed %.2f, ratio %.1f (sd %.1f)\n\n",
+                open.n, runs.size(), open.mean(), overtopped.mean(), crown_ratio.mean(),
+                crown_ratio.sd());
 }
 
 void water_and_stand(const json& base, const std::filesystem::path& dir, int seeds, int years,
@@ -413,6 +428,8 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         q["simulation"]["seed"] = seed;
         q["terrain"]["generate"]["seed"] = 100 + seed;
         if (paper) {
+            q["vegetation"]["growth"] = "paper002";
+            q["vegetation"]["shading"] = "blocking";
             q["hydrology"]["evapotranspiration"] = "paper002";
             q["hydrology"]["drainage"] = "none";
             q["hydrology"]["interception"] = "none";

@@ -488,8 +488,17 @@ TEST_CASE("a run names the published methods its options chose, in its provenanc
                          Catch::Contains("Allen, Pereira, Raes & Smith (1998)") &&
                          Catch::Contains("O'Callaghan & Mark (1984)") &&
                          Catch::Contains("Rawls, Brakensiek & Saxton (1982)") &&
-                         Catch::Contains("blocking crowns") && !Catch::Contains("Deussen") &&
+                         Catch::Contains("leaf area above mid-crown") &&
+                         Catch::Contains("Pacala et al. 1996") &&
+                         !Catch::Contains("blocking crowns") && !Catch::Contains("Deussen") &&
                          !Catch::Contains("CVODE") && !Catch::Contains("TR-55"));
+    // Paper 002's own growth and shading name themselves.
+    j["vegetation"]["growth"] = "paper002";
+    j["vegetation"]["shading"] = "blocking";
+    CHECK_THAT(cited(load(j)), Catch::Contains("blocking crowns") &&
+                                   Catch::Contains("shade preference, paper 002 s3") &&
+                                   !Catch::Contains("SORTIE-ND, Pacala"));
+    j["vegetation"]["growth"] = "light_and_turnover";
     j["vegetation"]["competition"] = "light_only";
     j["vegetation"]["shading"] = "beer_lambert";
     j["hydrology"]["runoff"] = "curve_number";

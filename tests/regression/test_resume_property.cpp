@@ -304,6 +304,12 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     j["vegetation"]["deadwood"]["enabled"] = false;
     // ... and without storms (the stream had not begun).
     j["vegetation"]["windthrow"]["enabled"] = false;
+    // ... and with paper 002's growth and shading and the species values of then (a copy of the
+    // ecosystem file as it was before the forest calibration of issue 27).
+    j["vegetation"]["growth"] = "paper002";
+    j["vegetation"]["shading"] = "blocking";
+    j["vegetation"]["ecosystem"] =
+        std::string(ECOTERRA_TESTS_DIR) + "/data/checkpoints/humid_subtropical_broadleaf_v6.json";
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     std::ifstream in(std::string(ECOTERRA_TESTS_DIR) + "/data/checkpoints/quickstart_v6_year1.bin",
                      std::ios::binary);

@@ -39,8 +39,8 @@ struct EcoScene {
     hydro::HydroScene hydro;
     EcosystemDef ecosystem;
     Competition competition = Competition::coupled;
-    ShadingMode shading = ShadingMode::blocking;
-    GrowthModel growth = GrowthModel::paper002;
+    ShadingMode shading = ShadingMode::crown_profile;
+    GrowthModel growth = GrowthModel::light_and_turnover;
     DeadWoodOptions deadwood;
     ManagementOptions management; ///< vegetation.management (management.hpp)
     WindthrowOptions windthrow;   ///< vegetation.windthrow (windthrow.hpp)

@@ -183,9 +183,12 @@ void Ecosystem::refresh_canopy() {
     if (m_scene.competition == Competition::coupled) count_starved();
     take_dead(nullptr);
     remove_dead(m_pop, m_sum);
+    // The crowns' leaf plasticity belongs to the coupled light_and_turnover model.
+    const GrowthModel growth =
+        m_scene.competition == Competition::coupled ? m_scene.growth : GrowthModel::paper002;
     if (m_scene.competition == Competition::coupled)
-        refresh_structure(m_pop, m_scene.ecosystem.species);
-    m_canopy.refresh(m_pop, m_scene.ecosystem.species, m_scene.shading, m_scene.extinction);
+        refresh_structure(m_pop, m_scene.ecosystem.species, growth);
+    m_canopy.refresh(m_pop, m_scene.ecosystem.species, m_scene.shading, m_scene.extinction, growth);
 }
 
 const hydro::DayWeather& Ecosystem::next_weather() {

@@ -47,6 +47,12 @@ double light_factor(double half_saturation, double light) {
     return i * (1.0 + half_saturation) / (i + half_saturation);
 }
 
+double crown_leaf_factor(const Species& s, GrowthModel model, double shade_fraction) {
+    if (model == GrowthModel::paper002 || s.shaded_crown_leaf_fraction >= 1.0) return 1.0;
+    const double f = s.shaded_crown_leaf_fraction;
+    return f + (1.0 - f) * std::clamp(1.0 - shade_fraction, 0.0, 1.0);
+}
+
 double water_factor(const Preference& p, double x) {
     return x >= p.desired ? 1.0 : gauss(p.desired - x, p.tolerance);
 }

@@ -156,7 +156,7 @@ void ground_environment(const std::vector<double>& cell_shade, const SoilWater& 
     }
 }
 
-void refresh_structure(Population& pop, const std::vector<Species>& species) {
+void refresh_structure(Population& pop, const std::vector<Species>& species, GrowthModel model) {
     const auto n = static_cast<std::int64_t>(pop.size());
 #pragma omp parallel for schedule(static) if (n >= parallel_min_items())
     for (std::int64_t q = 0; q < n; ++q) {
@@ -168,7 +168,7 @@ void refresh_structure(Population& pop, const std::vector<Species>& species) {
         pop.dbh_m[k] = z.dbh_m;
         pop.height_m[k] = z.height_m;
         pop.crown_radius_m[k] = z.crown_radius_m;
-        pop.leaf_area_m2[k] = z.leaf_area_m2;
+        pop.leaf_area_m2[k] = z.leaf_area_m2 * crown_leaf_factor(s, model, pop.shade_fraction[k]);
     }
 }
 
@@ -180,13 +180,16 @@ void Canopy::rebuild(const Population& pop) {
 }
 
 void Canopy::refresh(Population& pop, const std::vector<Species>& species, ShadingMode mode,
-                     double extinction) {
+                     double extinction, GrowthModel model) {
     rebuild(pop);
     std::vector<double> lai(pop.size()), depth;
     if (mode == ShadingMode::crown_profile) depth.resize(pop.size());
     for (std::size_t k = 0; k < pop.size(); ++k) {
         const Species& s = species[pop.species[k]];
-        lai[k] = s.life_form == LifeForm::object ? 0.0 : s.leaf_area_per_crown_area;
+        lai[k] =
+            s.life_form == LifeForm::object
+                ? 0.0
+                : s.leaf_area_per_crown_area * crown_leaf_factor(s, model, pop.shade_fraction[k]);
         if (!depth.empty()) depth[k] = wind::crown_depth_m(s, pop.height_m[k]);
     }
     pop.shade_fraction = compute_shading(plant_grid, crowns, pop.height_m, lai, mode, extinction,

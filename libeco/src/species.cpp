@@ -506,6 +506,10 @@ const ParamCatalog<Species>& physiology_catalog() {
                       "dry wood mass per fresh volume"),
             number<S>("leaf_area_per_crown_area", &S::leaf_area_per_crown_area, "m2/m2", 0.05, 20,
                       "leaf area index of the crown"),
+            number<S>("shaded_crown_leaf_fraction", &S::shaded_crown_leaf_fraction, "1", 0.01, 1,
+                      "leaf area index of a crown in full shade as a fraction of "
+                      "leaf_area_per_crown_area (vegetation.growth = light_and_turnover: the "
+                      "crown's LAI is LAI (f + (1 - f) I) at light I; 1 = fixed)"),
             number<S>("max_production_kg_per_m2_leaf_per_day",
                       &S::max_production_kg_per_m2_leaf_per_day, "kg/(m2 d)", kTiny, 1,
                       "carbohydrate production per m2 of leaf in full light, water and warmth"),

@@ -261,8 +261,7 @@ TEST_CASE("dead wood in the engine: the living stand is the same, the dead wood'
         const auto& decay = t.column("deadwood_decay_kg");
         const auto& dead = t.column("dead_carbon_kg");
         const auto& starved = t.column("deaths_starvation");
-        double previous = 0;
-        int checked = 0;
+        double previous = 0, total_input = 0, total_dead = 0;
         for (std::size_t y = 0; y < t.rows(); ++y) {
             CAPTURE(y);
             CHECK(stock[y] == Approx(previous + input[y] - decay[y]).margin(1e-9 * (1 + stock[y])));
@@ -270,10 +269,11 @@ TEST_CASE("dead wood in the engine: the living stand is the same, the dead wood'
             // and reserve) in years without starvation; a starved tree's reserve is overdrawn by
             // its last day's deficit, which its dead carbon counts.
             if (mode == "coupled" && starved[y] == 0) CHECK(input[y] <= dead[y] + 1e-9);
-            if (mode == "coupled" && starved[y] == 0) ++checked;
+            total_input += input[y], total_dead += dead[y];
             previous = stock[y];
         }
-        if (mode == "coupled") CHECK(checked >= 5);
+        // Over the run the overdrafts are small beside the dead trees' carbon.
+        if (mode == "coupled") CHECK(total_input <= total_dead);
         // Every piece is a tree that died at or above the smallest DBH, inside the terrain.
         const auto& g = a.plant_grid();
         for (const auto& d : a.dead_wood().pieces()) {

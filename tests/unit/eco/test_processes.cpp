@@ -3,6 +3,7 @@
 #include "ecoterra/eco/canopy.hpp"
 #include "ecoterra/eco/dispersal.hpp"
 #include "ecoterra/eco/growth.hpp"
+#include "ecoterra/eco/processes.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/random.hpp"
@@ -297,6 +298,48 @@ TEST_CASE("suppression: a slow grower's running efficiency sets its death probab
     CHECK(suppression_mortality(s, -1.0, GrowthModel::light_and_turnover) == 0.0);
     s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr = 0.0;
     CHECK(suppression_mortality(s, -1.0) == 0.0);
+}
+
+TEST_CASE("crown leaves: a shaded crown holds fewer under light_and_turnover, none change under "
+          "paper 002's model",
+          "[eco][growth][canopy]") {
+    Species s;
+    s.shaded_crown_leaf_fraction = 0.25;
+    const auto lt = GrowthModel::light_and_turnover;
+    CHECK(crown_leaf_factor(s, lt, 0.0) == 1.0);
+    CHECK(crown_leaf_factor(s, lt, 1.0) == 0.25);
+    CHECK(crown_leaf_factor(s, lt, 0.6) == Approx(0.25 + 0.75 * 0.4));
+    CHECK(crown_leaf_factor(s, GrowthModel::paper002, 1.0) == 1.0);
+    s.shaded_crown_leaf_fraction = 1.0;
+    CHECK(crown_leaf_factor(s, lt, 1.0) == 1.0);
+    // In the engine's kernels: a small tree under a large one, both with the trait.
+    s.shaded_crown_leaf_fraction = 0.25;
+    const std::vector<Species> species{s};
+    Population pop;
+    for (const auto& [x, d] : {std::pair{10.0, 0.5}, std::pair{10.5, 0.05}}) {
+        Plant p;
+        p.x_m = x, p.y_m = 10.0, p.dbh_m = d;
+        allometry::apply(s, p);
+        p.wood_kg = allometry::stem_mass_kg(s, d);
+        pop.push(p);
+    }
+    Canopy canopy;
+    canopy.plant_grid = grid(20);
+    canopy.map = CellMap{1, 20};
+    for (int pass = 0; pass < 2; ++pass) {
+        refresh_structure(pop, species, lt);
+        canopy.refresh(pop, species, ShadingMode::crown_profile, 0.5, lt);
+    }
+    const double shade = pop.shade_fraction[1];
+    REQUIRE(shade > 0.5);
+    CHECK(pop.shade_fraction[0] == 0.0);
+    refresh_structure(pop, species, lt);
+    CHECK(pop.leaf_area_m2[1] ==
+          Approx(allometry::size(s, pop.dbh_m[1]).leaf_area_m2 * (0.25 + 0.75 * (1 - shade))));
+    CHECK(pop.leaf_area_m2[0] == Approx(allometry::size(s, pop.dbh_m[0]).leaf_area_m2));
+    // Under paper 002's model the same stand keeps its allometric leaves.
+    refresh_structure(pop, species, GrowthModel::paper002);
+    CHECK(pop.leaf_area_m2[1] == allometry::size(s, pop.dbh_m[1]).leaf_area_m2);
 }
 
 TEST_CASE("maintenance: paper 002's coefficient or, under light_and_turnover, the sapwood's",

@@ -71,6 +71,11 @@ inline double light_or_shade_factor(const Species& s, GrowthModel model, double 
                ? shade_factor(s.shade, shade_fraction)
                : light_factor(s.light_half_saturation, 1.0 - shade_fraction);
 }
+/// The crown's leaf area as a fraction of its full-light allometric leaf area: under
+/// light_and_turnover f + (1 - f) I, f = shaded_crown_leaf_fraction and I = 1 - shade_fraction
+/// (a shaded crown holds a monolayer of leaves, a sunlit one several: Horn 1971), 1 under
+/// paper 002's model.
+double crown_leaf_factor(const Species& s, GrowthModel model, double shade_fraction);
 double water_factor(const Preference& p, double supply_fraction);
 double ph_factor(const Preference& p, double ph);
 double texture_factor(hydro::Texture desired, double tolerance_pct, double sand_pct,

@@ -107,8 +107,10 @@ void ground_environment(const std::vector<double>& cell_shade, const SoilWater& 
 // --- canopy ------------------------------------------------------------------------------------
 
 /// Coupled mode: each plant's diameter from its wood (the inverse of the stem mass), then its
-/// height, crown and leaf area. Objects keep their size.
-void refresh_structure(Population& pop, const std::vector<Species>& species);
+/// height, crown and leaf area (times crown_leaf_factor of its last shade fraction under
+/// light_and_turnover). Objects keep their size.
+void refresh_structure(Population& pop, const std::vector<Species>& species,
+                       GrowthModel model = GrowthModel::paper002);
 
 /// The crowns on the plant grid and what is derived from them: roots per hydrology cell, each
 /// plant's shade fraction, the ground shade and the crowns' shade per hydrology cell.
@@ -123,9 +125,10 @@ struct Canopy {
     /// Crowns and roots from the population's positions and crown radii.
     void rebuild(const Population& pop);
     /// rebuild(), then shading (canopy.hpp) into pop.shade_fraction and the ground shade, then
-    /// the cell shade.
+    /// the cell shade. Each crown's leaf area index is its species' times crown_leaf_factor of
+    /// its last shade fraction under `model`.
     void refresh(Population& pop, const std::vector<Species>& species, ShadingMode mode,
-                 double extinction);
+                 double extinction, GrowthModel model = GrowthModel::paper002);
     /// The mean ground shade of each hydrology cell's plant cells.
     void shade_per_cell();
     /// Canopy cover per hydrology cell for the runoff and surface ET: the crowns' cover, and with

@@ -78,6 +78,9 @@ struct Species {
     double max_stem_diameter_m = 0.0;
     double wood_density_kg_per_m3 = 600.0; ///< dry wood mass per fresh volume
     double leaf_area_per_crown_area = 4.0; ///< leaf area index of the crown, m2/m2
+    /// light_and_turnover: the leaf area index of a crown in full shade as a fraction of
+    /// leaf_area_per_crown_area (1: every crown keeps it; growth.hpp's crown_leaf_factor).
+    double shaded_crown_leaf_fraction = 1.0;
     /// Outline of the crown in scene exports (geometry only; growth uses the crown radius).
     CrownShape crown_shape = CrownShape::ellipsoid;
     LifeForm life_form = LifeForm::tree;

@@ -472,6 +472,7 @@ void Ecosystem::record_year(const CarbonStocks& c) {
     row.windthrow_broken = m_storm.broken;
     row.windthrow_basal_area_m2_per_ha = m_storm.basal_area_m2_per_ha;
     row.root_plates_per_ha = dm.root_plates_per_ha;
+    row.storm_severe = m_storm.severe ? 1 : 0;
     m_yearly.push(row, yearly_columns());
     yearly_water_from_daily(m_daily, m_yearly, m_yearly.rows() - 1);
 }

@@ -74,7 +74,11 @@ std::vector<Column<YearRow>> dead_wood_columns() {
             column("windthrow_basal_area_m2_per_ha", &R::windthrow_basal_area_m2_per_ha, "m2/ha",
                    "basal area of the trees the year's storm felled"),
             column("root_plates_per_ha", &R::root_plates_per_ha, "1/ha",
-                   "root plates of uprooted trees standing at year end")};
+                   "root plates of uprooted trees standing at year end"),
+            column("storm_severe", &R::storm_severe, "1",
+                   "1 when the year's storm was a drawn severe convective storm (downburst), 0 "
+                   "otherwise",
+                   ColumnType::int64)};
 }
 } // namespace
 

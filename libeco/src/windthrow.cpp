@@ -64,7 +64,20 @@ const ParamCatalog<WindthrowOptions>& windthrow_catalog() {
                    "trees at least this tall are exposed (iLand: 4 m)"),
          flag<W>("open_surroundings", &W::open_surroundings,
                  "the area is an island of forest in the open (its upwind border is an edge); "
-                 "false: the stand continues past the border")});
+                 "false: the stand continues past the border"),
+         flag<W>("severe_storms", &W::severe_storms,
+                 "severe convective storms (downbursts, derechos) strike as a Poisson process "
+                 "besides the wind climate's gales (with random_storms)"),
+         number<W>("severe_return_period_yr", &W::severe_return_period_yr, "yr", 1, 1e7,
+                   "mean years between severe storms at a site (Canham & Loucks 1984: "
+                   "catastrophic windthrow every 1210 years in presettlement Wisconsin)"),
+         number<W>("severe_gust_min_m_per_s", &W::severe_gust_min_m_per_s, "m/s", 10, kMaxWind,
+                   "a severe storm's 3-s gust is at least this (large forest damage needs about "
+                   "40 m/s, Gregow et al. 2017)"),
+         number<W>("severe_gust_max_m_per_s", &W::severe_gust_max_m_per_s, "m/s", 10, kMaxWind,
+                   "and at most this (severe windstorms average 30-50 m/s, Xi & Peet)"),
+         number<W>("gust_factor", &W::gust_factor, "1", 1, 3,
+                   "3-s gust over the hourly mean wind (ASCE 7-95 commentary, Durst: 1.53)")});
     return c;
 }
 
@@ -72,6 +85,10 @@ WindthrowOptions read_windthrow(const json& j, int years) {
     const std::string where = "vegetation.windthrow";
     if (!j.is_object()) throw InputError(where + " must be an object, got " + j.dump());
     WindthrowOptions w = windthrow_catalog().read(j, WindthrowOptions{}, {"storms"});
+    if (w.severe_gust_max_m_per_s < w.severe_gust_min_m_per_s)
+        throw InputError(where + ".severe_gust_max_m_per_s = " +
+                         format_number(w.severe_gust_max_m_per_s) + " is below " + where +
+                         ".severe_gust_min_m_per_s = " + format_number(w.severe_gust_min_m_per_s));
     if (!j.contains("storms")) return w;
     const json& st = j.at("storms");
     if (!st.is_array()) throw InputError(where + ".storms must be an array, got " + st.dump());
@@ -137,6 +154,19 @@ double annual_maximum(double p, double a, double k) {
     const auto [mode, disp] = gumbel_u2(a, k);
     p = std::clamp(p, 1e-300, 1 - 1e-16);
     return std::sqrt(std::max(0.0, mode - disp * std::log(-std::log(p))));
+}
+
+SevereDraw severe_storm(const WindthrowOptions& o, std::uint64_t seed, int year) {
+    Rng r(seed, "eco.wind.severe", static_cast<std::uint64_t>(year));
+    const double p = r.uniform(), s = r.uniform(), d = r.uniform();
+    SevereDraw out;
+    out.from_deg = 360 * d;
+    if (o.severe_storms && p < 1 / o.severe_return_period_yr) {
+        const double gust =
+            o.severe_gust_min_m_per_s + (o.severe_gust_max_m_per_s - o.severe_gust_min_m_per_s) * s;
+        out.wind_m_per_s = gust / o.gust_factor;
+    }
+    return out;
 }
 
 double edge_gap_factor(double spacing, double h, double dist_edge, double gap) {
@@ -319,7 +349,7 @@ std::pair<double, double> upwind_edge(const RasterD& top, double x, double y, do
 } // namespace
 
 Windthrow::Windthrow(const WindthrowOptions& options, std::uint64_t seed)
-    : m_opt(options), m_rng(seed, "eco.wind") {}
+    : m_opt(options), m_seed(seed), m_rng(seed, "eco.wind") {}
 
 void Windthrow::thinned(double spacing_before_m, int year) {
     if (!(spacing_before_m > 0)) return;
@@ -364,9 +394,18 @@ StormResult Windthrow::strike(const Population& pop, const std::vector<Species>&
     double from = m_opt.storm_from_deg ? *m_opt.storm_from_deg : 360 * q;
     if (m_opt.random_storms && m_opt.weibull_scale_m_per_s)
         r.wind_m_per_s = wind::annual_maximum(p, *m_opt.weibull_scale_m_per_s, m_opt.weibull_shape);
+    if (m_opt.random_storms) {
+        const wind::SevereDraw sv = wind::severe_storm(m_opt, m_seed, year);
+        if (sv.wind_m_per_s > r.wind_m_per_s) {
+            r.wind_m_per_s = sv.wind_m_per_s;
+            r.severe = true;
+            if (!m_opt.storm_from_deg) from = sv.from_deg;
+        }
+    }
     for (const auto& s : m_opt.storms)
         if (s.year == year) {
             r.wind_m_per_s = s.wind_m_per_s;
+            r.severe = false;
             if (s.from_deg) from = *s.from_deg;
         }
     r.to_azimuth_rad = from_deg_to_azimuth(from);

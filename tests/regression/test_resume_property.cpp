@@ -168,11 +168,13 @@ TEST_CASE("resume: storms that fell trees, a thinning between them, split at eve
           "[eco][resume][property][windthrow]") {
     // Windthrow's state (the storm stream, the last thinning for the turning-moment ratio) and
     // its pieces (logs downwind, root plates, snapped snags falling later), in both modes; the
-    // drawn storms of a windy climate as well as the listed ones.
+    // drawn storms of a windy climate and severe storms every third year as well as the listed
+    // ones.
     for (const std::string mode : {"coupled", "light_only"}) {
         CAPTURE(mode);
         auto j = test::small_scene(8, mode);
         j["vegetation"]["windthrow"] = {{"weibull_scale_m_per_s", 6.0},
+                                        {"severe_return_period_yr", 3.0},
                                         {"storms",
                                          {{{"year", 3}, {"wind_m_per_s", 24}, {"from_deg", 90}},
                                           {{"year", 6}, {"wind_m_per_s", 28}}}}};

@@ -90,6 +90,86 @@ TEST_CASE("windthrow: the drawn annual maxima follow ForestGALES' Gumbel law of 
         }
 }
 
+TEST_CASE("windthrow: severe convective storms strike as a Poisson process at the return period, "
+          "with gusts uniform in their band turned into hourly means by the gust factor",
+          "[eco][windthrow][statistics]") {
+    for (const double period : {20.0, 1210.0})
+        for (const std::uint64_t seed : {1ULL, 99ULL}) {
+            CAPTURE(period, seed);
+            WindthrowOptions o;
+            o.severe_return_period_yr = period;
+            const int years = 200000;
+            double n = 0, sum = 0, sum_sq = 0, east = 0;
+            const double lo = o.severe_gust_min_m_per_s / o.gust_factor;
+            const double hi = o.severe_gust_max_m_per_s / o.gust_factor;
+            for (int y = 1; y <= years; ++y) {
+                const wind::SevereDraw d = wind::severe_storm(o, seed, y);
+                REQUIRE(d.from_deg >= 0);
+                REQUIRE(d.from_deg < 360);
+                if (d.wind_m_per_s == 0) continue;
+                REQUIRE(d.wind_m_per_s >= lo);
+                REQUIRE(d.wind_m_per_s <= hi);
+                n += 1;
+                sum += d.wind_m_per_s;
+                sum_sq += d.wind_m_per_s * d.wind_m_per_s;
+                east += d.from_deg < 180;
+            }
+            // The count within 4 binomial sigmas of years / period.
+            const double p = 1 / period;
+            CHECK(std::abs(n - years * p) < 4 * std::sqrt(years * p * (1 - p)));
+            // The speeds' mean and variance those of the uniform band (4 sigmas of the mean).
+            const double mean = sum / n, sd = (hi - lo) / std::sqrt(12.0);
+            CHECK(std::abs(mean - (lo + hi) / 2) < 4 * sd / std::sqrt(n));
+            CHECK(std::sqrt(sum_sq / n - mean * mean) == Approx(sd).epsilon(0.15));
+            // Directions uniform: half from the eastern half of the compass (4 sigmas).
+            CHECK(std::abs(east / n - 0.5) < 4 * 0.5 / std::sqrt(n));
+            // Stateless: a year's draw is the same whenever it is asked for.
+            CHECK(wind::severe_storm(o, seed, 777).wind_m_per_s ==
+                  wind::severe_storm(o, seed, 777).wind_m_per_s);
+            // Turned off, no year has one.
+            o.severe_storms = false;
+            bool any = false;
+            for (int y = 1; y <= 2000; ++y)
+                any = any || wind::severe_storm(o, seed, y).wind_m_per_s;
+            CHECK_FALSE(any);
+        }
+}
+
+TEST_CASE("windthrow: a year's storm is the stronger of the gale and the severe storm, and a "
+          "listed storm replaces both",
+          "[eco][windthrow]") {
+    const Population pop = stand(5);
+    const std::vector<Species> sp = one_species();
+    WindthrowOptions o;
+    o.weibull_scale_m_per_s = 3.0;
+    o.severe_return_period_yr = 1; // a severe storm every year
+    o.storms.push_back({4, 12.0, 90.0});
+    Windthrow w(o, 11);
+    int severe = 0;
+    for (int y = 1; y <= 6; ++y) {
+        std::vector<char> dead(pop.size(), 0);
+        const StormResult r = w.strike(pop, sp, kArea, y, dead, 1, 2);
+        CAPTURE(y);
+        const wind::SevereDraw d = wind::severe_storm(o, 11, y);
+        if (y == 4) {
+            CHECK(r.wind_m_per_s == 12);
+            CHECK_FALSE(r.severe);
+        } else {
+            CHECK(r.severe);
+            CHECK(r.wind_m_per_s == d.wind_m_per_s);
+            // A 26 m/s storm and more: the stand's 10-50 cm trees mostly fall.
+            CHECK(r.uprooted + r.broken > 0.5 * static_cast<double>(pop.size()));
+            ++severe;
+        }
+    }
+    CHECK(severe == 5);
+    // Without random storms, neither gales nor severe storms are drawn.
+    o.random_storms = false;
+    Windthrow quiet(o, 11);
+    std::vector<char> dead(pop.size(), 0);
+    CHECK(quiet.strike(pop, sp, kArea, 2, dead, 1, 2).wind_m_per_s == 0);
+}
+
 TEST_CASE("windthrow: the climate's mean wind at 2 m becomes a Weibull scale whose mean is the "
           "wind at 10 m",
           "[eco][windthrow]") {
@@ -349,5 +429,10 @@ TEST_CASE("windthrow: bad storms and keys are refused, naming the key and the va
     refuse({{"weibull_shape", 0.2}}, "vegetation.windthrow.weibull_shape = 0.2");
     refuse({{"weibull_scale_m_per_s", -1}}, "vegetation.windthrow.weibull_scale_m_per_s = -1");
     refuse({{"gusts", true}}, "gusts");
+    refuse({{"severe_return_period_yr", 0}}, "vegetation.windthrow.severe_return_period_yr = 0");
+    refuse({{"severe_gust_min_m_per_s", 45}, {"severe_gust_max_m_per_s", 42}},
+           "vegetation.windthrow.severe_gust_max_m_per_s = 42 is below "
+           "vegetation.windthrow.severe_gust_min_m_per_s = 45");
+    refuse({{"gust_factor", 0.5}}, "vegetation.windthrow.gust_factor = 0.5");
     refuse(json::array(), "vegetation.windthrow must be an object");
 }

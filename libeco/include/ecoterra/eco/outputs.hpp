@@ -36,7 +36,7 @@ struct YearRow {
     double harvested_stems = 0, harvested_basal_area_m2_per_ha = 0, harvested_wood_kg = 0;
     // The year's storm (windthrow.hpp) and the root plates at year end.
     double storm_wind_m_per_s = 0, windthrow_uprooted = 0, windthrow_broken = 0,
-           windthrow_basal_area_m2_per_ha = 0, root_plates_per_ha = 0;
+           windthrow_basal_area_m2_per_ha = 0, root_plates_per_ha = 0, storm_severe = 0;
     // The year's water budget: the daily series summed over the year's days, mm.
     double rain_mm = 0, evaporation_mm = 0, transpiration_mm = 0, interception_mm = 0,
            runoff_out_mm = 0, drainage_out_mm = 0, groundwater_out_mm = 0, recharge_mm = 0;

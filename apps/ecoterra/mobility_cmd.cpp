@@ -84,6 +84,7 @@ StandInput read_stand_input(const MobilityArgs& a) {
     }
     source["deadwood_included"] = a.run.empty() ? !a.deadwood.empty() : !a.no_deadwood;
     stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+    mobility::carve_pits(dem, dead.pits); // the root plates' pits are ground the vehicle meets
     return in;
 }
 
@@ -491,9 +492,10 @@ void run_season_map(const MapArgs& a, const mobility::Vehicle& v) {
         a.in.run, a.year,
         [&](const run::SeasonStand& s) {
             stand = s;
-            if (!a.in.no_deadwood)
+            if (!a.in.no_deadwood) {
                 stand.stems.insert(stand.stems.end(), s.dead.snags.begin(), s.dead.snags.end());
-            else
+                mobility::carve_pits(stand.dem, s.dead.pits);
+            } else
                 stand.dead = {};
             // The stand is the year's start's all year: its lanes are laid out once.
             Stopwatch t;

@@ -97,7 +97,9 @@ void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::St
     stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
     auto lines = opt.lines_options();
     if (opt.soil && ground) lines.smg.ground = ground->maps();
-    const auto r = mobility::analyse_stand(v, stems, dem, lines, dead.logs);
+    RasterD ground_dem = dem;
+    mobility::carve_pits(ground_dem, dead.pits);
+    const auto r = mobility::analyse_stand(v, stems, ground_dem, lines, dead.logs);
     json j = analyses::mobility_json(r, v);
     j["seed"] = opt.seed;
     io::write_text_atomic(stage / "mobility.json", j.dump(1) + "\n");
@@ -116,8 +118,10 @@ void analyse_mobility_map(const Manifest& m, const json& a, const fs::path& run_
     stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
     std::optional<run::SnapshotGround> ground;
     if (opt.soil) ground = run::read_snapshot_ground(run_file, -1, dem.grid());
+    RasterD ground_dem = dem;
+    mobility::carve_pits(ground_dem, dead.pits);
     const auto map =
-        mobility::mobility_map(v, dem, stems, dead.logs,
+        mobility::mobility_map(v, ground_dem, stems, dead.logs,
                                ground ? ground->maps() : mobility::GroundMaps{}, opt.map_options());
     io::create_folder(stage / "mobility_map", "the member's map folder");
     terrain::io::write_geotiff(map.speed_mean_m_per_s,

@@ -147,29 +147,6 @@ void add_water_layers(const Scene& s, std::vector<Layer>& layers) {
                           cut(run::read_snapshot_raster(s.run, s.snapshot, name, full))});
 }
 
-/// The pits of the snapshot's root plates (docs/ecosystem.md s13): each a disc of the plate's
-/// diameter just windward of the plate (its centre a thickness and a radius from the stem base,
-/// upwind), half the plate's thickness deep; a cell takes the deepest pit over its centre.
-RasterD pit_depths(const Scene& s, const std::vector<run::DeadWoodRecord>& pieces) {
-    const GridSpec& g = s.terrain.grid();
-    RasterD depth(g, 0.0);
-    for (const auto& p : pieces) {
-        if (p.piece != static_cast<int>(eco::PieceKind::root_plate)) continue;
-        const double r = 0.5 * p.height_m, t = p.length_m; // the plate's radius and thickness
-        const double cx = p.x_m + (t + r) * std::cos(p.azimuth_rad) - s.frame.origin_x_m;
-        const double cy = p.y_m + (t + r) * std::sin(p.azimuth_rad) - s.frame.origin_y_m;
-        const int i0 = std::max(0, static_cast<int>(std::floor(g.col_of(cx - r))));
-        const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil(g.col_of(cx + r))));
-        const int j0 = std::max(0, static_cast<int>(std::floor(g.row_of(cy - r))));
-        const int j1 = std::min(g.ny - 1, static_cast<int>(std::ceil(g.row_of(cy + r))));
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i)
-                if (std::hypot(g.x_of(i) - cx, g.y_of(j) - cy) <= r)
-                    depth(i, j) = std::max(depth(i, j), 0.5 * t);
-    }
-    return depth;
-}
-
 /// The snapshot's dead wood (none in runs without it): its volume per ha of each cell, logs and
 /// slash spread along their length, snags and stumps at their base; and the highest top of a
 /// lying piece or stump in the cell (what a wheel meets).
@@ -213,7 +190,8 @@ void add_deadwood_layers(const Scene& s, std::vector<Layer>& layers) {
     layers.push_back({"windthrow_pit_depth_m.tif", "m",
                       "depth of the pit an uprooted tree's root plate left (0: none): a disc as "
                       "wide as the plate, windward of it, half the plate's thickness deep",
-                      pit_depths(s, pieces)});
+                      mobility::pit_depths(s.terrain.grid(), run::stand_deadwood(pieces).pits,
+                                           s.frame.origin_x_m, s.frame.origin_y_m)});
 }
 
 void write_layers_readme(const Scene& s, OutputFolder& folder, const std::string& table) {

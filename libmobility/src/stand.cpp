@@ -77,6 +77,35 @@ void StandDeadWood::add(int piece, bool standing, Point base, Point end, double 
         snags.push_back({base.x_m, base.y_m, dbh_m, height_m, StemKind::snag});
     else // a log; a root plate (piece 4) a wall as wide as it is high
         logs.push_back({base, end, height_m, end_height_m, piece == 4 ? height_m : dbh_m});
+    if (piece != 4 || standing) return;
+    // The plate's diameter is its height on edge; it lies from the base to `end`, its thickness
+    // windward; the pit is the disc beyond it.
+    const double t = std::hypot(end.x_m - base.x_m, end.y_m - base.y_m), r = 0.5 * height_m;
+    if (!(t > 0) || !(r > 0)) return;
+    const double ux = (end.x_m - base.x_m) / t, uy = (end.y_m - base.y_m) / t;
+    pits.push_back({base.x_m + (t + r) * ux, base.y_m + (t + r) * uy, r, 0.5 * t});
+}
+
+RasterD pit_depths(const GridSpec& g, const std::vector<Pit>& pits, double ox, double oy) {
+    RasterD depth(g, 0.0);
+    for (const auto& p : pits) {
+        const double cx = p.x_m - ox, cy = p.y_m - oy, r = p.radius_m;
+        const int i0 = std::max(0, static_cast<int>(std::floor(g.col_of(cx - r))));
+        const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil(g.col_of(cx + r))));
+        const int j0 = std::max(0, static_cast<int>(std::floor(g.row_of(cy - r))));
+        const int j1 = std::min(g.ny - 1, static_cast<int>(std::ceil(g.row_of(cy + r))));
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i)
+                if (std::hypot(g.x_of(i) - cx, g.y_of(j) - cy) <= r)
+                    depth(i, j) = std::max(depth(i, j), p.depth_m);
+    }
+    return depth;
+}
+
+void carve_pits(RasterD& dem, const std::vector<Pit>& pits) {
+    if (pits.empty()) return;
+    const RasterD d = pit_depths(dem.grid(), pits);
+    for (std::int64_t k = 0; k < dem.size(); ++k) dem.data()[k] -= d.data()[k];
 }
 
 StandDeadWood read_deadwood_csv(const std::filesystem::path& path) {

@@ -321,3 +321,48 @@ TEST_CASE("stand effects: the lines meet only the stems overridden, or only thos
         CHECK(all.smg_mean_m_per_s <= avoided.smg_mean_m_per_s);
     }
 }
+
+TEST_CASE("pits: an uprooted tree's pit lies windward of its plate, is cut into the ground, and "
+          "slows a line across it",
+          "[mobility][logs][pits]") {
+    StandDeadWood d;
+    // A root plate 3 m across and 0.5 m thick, standing on edge from (50, -3) toward +y.
+    d.add(4, false, {50, -3}, {50, -2.5}, 0.25, 3.0, 3.0);
+    // A stem, a stump, a top and a snapped snag leave no pit.
+    d.add(0, false, {10, 5}, {20, 5}, 0.3, 0.3, 0.1);
+    d.add(1, false, {12, 5}, {12, 5}, 0.3, 0.3, 0.3);
+    d.add(2, false, {14, 5}, {18, 5}, 0.1, 0.1, 0.05);
+    d.add(3, true, {16, 5}, {16, 5}, 0.3, 4.0, 4.0);
+    REQUIRE(d.pits.size() == 1);
+    const Pit& p = d.pits[0];
+    CHECK(p.x_m == Approx(50));
+    CHECK(p.y_m == Approx(-1)); // a thickness and a radius windward of the base
+    CHECK(p.radius_m == Approx(1.5));
+    CHECK(p.depth_m == Approx(0.25)); // half the thickness
+    // Cut into the ground: every cell centre within the radius lowered by the depth, no other.
+    const GridSpec g{200, 40, 0.5, 0.0, -10.0};
+    const RasterD flat(g, 2.0);
+    RasterD dem = flat;
+    carve_pits(dem, d.pits);
+    int inside = 0;
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            const bool in = std::hypot(g.x_of(i) - 50, g.y_of(j) + 1) <= 1.5;
+            inside += in;
+            CHECK(dem(i, j) == (in ? 1.75 : 2.0));
+        }
+    CHECK(inside == Approx(std::numbers::pi * 1.5 * 1.5 / 0.25).epsilon(0.15));
+    // The layer's form with an origin: the same depths, moved.
+    const RasterD moved = pit_depths(g, {{60, 4, 1.5, 0.25}}, 10, 5);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) CHECK(moved(i, j) == 2.0 - dem(i, j));
+    // A line through the pit is slower than over the flat ground; one beside it is not.
+    const Vehicle v = mrzr();
+    auto line = [&](const RasterD& z, double y) {
+        return drive_line(v, StemIndex({}, 2.0), LogIndex({}, 2.0), &z, {1, y}, {99, y});
+    };
+    const LineResult over = line(dem, -1), plain = line(flat, -1), beside = line(dem, 6);
+    CHECK(plain.smg_m_per_s == Approx(steady_speed_m_per_s(v, 0)));
+    CHECK((over.nogo || over.time_s > plain.time_s * 1.001));
+    CHECK(beside.time_s == Approx(plain.time_s));
+}

@@ -37,11 +37,19 @@ struct StandStem {
 /// values are InputErrors naming the file, the line, the column and the value.
 std::vector<StandStem> read_stem_csv(const std::filesystem::path& path);
 
+/// The pit an uprooted tree left (docs/ecosystem.md s13): a disc of the root plate's diameter
+/// just windward of the plate standing on edge, half the plate's thickness deep.
+struct Pit {
+    double x_m = 0, y_m = 0, radius_m = 0, depth_m = 0;
+};
+
 /// A stand's dead wood as mobility sees it: snags (StemKind::snag, height_m the tree's height at
-/// death for the taper) and logs.
+/// death for the taper), logs, and the pits of the root plates (cut into the terrain by
+/// carve_pits).
 struct StandDeadWood {
     std::vector<StandStem> snags;
     std::vector<Log> logs;
+    std::vector<Pit> pits;
     /// One piece of the dead-wood table (its `piece` kind, whether it stands, base and far end,
     /// DBH and heights above the ground at both ends) as the vehicle meets it: a stump is a step
     /// as high as it is at a point, a standing piece a snag as tall as it stands, a root plate a
@@ -49,6 +57,14 @@ struct StandDeadWood {
     void add(int piece, bool standing, Point base, Point end, double dbh_m, double height_m,
              double end_height_m);
 };
+
+/// The depth of the deepest pit over each cell centre of `g`, m (0: none); the pits' coordinates
+/// are shifted by -origin first (a scene moved to a local frame).
+RasterD pit_depths(const GridSpec& g, const std::vector<Pit>& pits, double origin_x_m = 0,
+                   double origin_y_m = 0);
+/// Lowers `dem` by the pits' depths (pit_depths on its grid): the ground lines, maps and seasons
+/// drive over.
+void carve_pits(RasterD& dem, const std::vector<Pit>& pits);
 
 /// Reads a dead-wood list: the CSV of `ecoterra export deadwood` (docs/formats.md), by its header:
 /// standing, x_m, y_m, end_x_m, end_y_m, dbh_m, tree_height_m, length_m, height_m and

@@ -86,8 +86,10 @@ int main(int argc, char** argv) {
         report("1 ha, no dead wood, no storms", mode, 100, b);
         const Result d = grow(eco::load_eco_scene(busy, data / "scenes"), 100);
         report("1 ha, dead wood, storms, 2 thinnings", mode, 100, d);
-        std::printf("%-34s %-10s dead wood, storms and thinnings / neither: %.2f x the time\n", "",
-                    mode, d.seconds / b.seconds);
+        std::printf("%-34s %-10s dead wood, storms and thinnings / neither: %.2f x the time, "
+                    "%.2f x per plant-year\n",
+                    "", mode, d.seconds / b.seconds,
+                    (d.seconds / d.plant_years) / (b.seconds / b.plant_years));
     }
     if (skip_1km) return 0;
     json k = q;

@@ -51,15 +51,21 @@ int main(int argc, char** argv) {
         paper.interception = InterceptionMethod::none;
         HydrologyModel mp(dem, soil, RasterD(dem.grid(), 0.5), paper,
                           climate_preset("humid_subtropical"));
-        for (HydrologyModel* model : {&m, &mp}) {
+        // The default without the critical layer (docs/hydrology.md s4, step 9): its cost.
+        HydrologyOptions no_layer;
+        no_layer.critical_layer_depth_m = 0;
+        HydrologyModel mn(dem, soil, RasterD(dem.grid(), 0.5), no_layer,
+                          climate_preset("humid_subtropical"));
+        for (HydrologyModel* model : {&m, &mn, &mp}) {
             WeatherGenerator wg(climate_preset("humid_subtropical"), 5);
             const int days = 365;
             const auto t0 = std::chrono::steady_clock::now();
             for (int d = 0; d < days; ++d) model->step(wg.next());
             const double s = seconds_since(t0);
             std::printf("%-44s %5d x %-5d %8d %9.2f s %10.3e cell-days/s\n",
-                        model == &m ? "daily update, no groundwater"
-                                    : "  the same, paper 002's soil water",
+                        model == &m    ? "daily update, no groundwater"
+                        : model == &mn ? "  the same without the critical layer"
+                                       : "  the same, paper 002's soil water",
                         n, n, days, s, double(n) * n * days / s);
         }
     }

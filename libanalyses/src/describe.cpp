@@ -246,14 +246,15 @@ std::string text(const std::vector<Section>& sections) {
 
 /// The rating cone index's coefficients by texture class, with its value at three soil waters.
 Section soil_strength_section() {
-    Section s{"Soil strength: rating cone index by texture",
-              "RCI = exp(a + b ln(mc)) psi, mc = 100 theta / bulk density the gravimetric water "
-              "in per cent (Sullivan & Anderson 2000, ERDC, as the WLDAS_RCI script applies it to "
-              "the STATSGO texture classes; bulk densities of Morris & Lowery 1988). Snapshots "
-              "store it per cell at the root-zone water as rating_cone_index_kpa (docs/mobility.md "
-              "s7).",
-              {"texture", "a", "b", "bulk density g/cm3", "RCI psi at theta 0.2 / 0.3 / 0.4"},
-              {}};
+    Section s{
+        "Soil strength: rating cone index by texture",
+        "RCI = exp(a + b ln(mc)) psi, mc = 100 theta / bulk density the gravimetric water "
+        "in per cent (Sullivan & Anderson 2000, ERDC, as the WLDAS_RCI script applies it to "
+        "the STATSGO texture classes; bulk densities of Morris & Lowery 1988). Snapshots "
+        "store it per cell at the water of the critical layer (hydrology.critical_layer_depth_m) "
+        "as rating_cone_index_kpa (docs/mobility.md s9).",
+        {"texture", "a", "b", "bulk density g/cm3", "RCI psi at theta 0.2 / 0.3 / 0.4"},
+        {}};
     for (int t = 0; t < hydro::kTextureCount; ++t) {
         const auto tex = static_cast<hydro::Texture>(t);
         const auto c = hydro::cone_index_coefficients(tex);

@@ -179,6 +179,9 @@ const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
                    "none (paper 002)"),
          number<O>("surface_layer_depth_m", &O::surface_layer_depth_m, "m", 0.05, 0.25,
                    "depth Ze of the evaporating surface layer (FAO-56 eq. 73: 0.10-0.15)"),
+         number<O>("critical_layer_depth_m", &O::critical_layer_depth_m, "m", 0, 5,
+                   "top of the root zone whose water sets the soil's strength for vehicles "
+                   "(6-12 in, Priddy & Willoughby 2004); 0: none, the root zone's water"),
          number<O>("kc_max", &O::kc_max, "1", 1.0, 1.4,
                    "upper limit of the crop and evaporation coefficients, Kcb + Ke (FAO-56 eq. "
                    "72)"),
@@ -202,6 +205,14 @@ void HydrologyOptions::validate() const {
                          format_number(initial_water_table_depth_m) +
                          " is below the aquifer base (aquifer_thickness_m = " +
                          format_number(aquifer_thickness_m) + ")");
+    if (critical_layer_depth_m != 0 && !(critical_layer_depth_m >= 0.01))
+        throw InputError(
+            "hydrology.critical_layer_depth_m = " + format_number(critical_layer_depth_m) +
+            " is too thin: give at least 0.01 m, or 0 for none");
+    if (!(critical_layer_depth_m < root_zone_depth_m))
+        throw InputError(
+            "hydrology.critical_layer_depth_m = " + format_number(critical_layer_depth_m) +
+            " must be less than hydrology.root_zone_depth_m = " + format_number(root_zone_depth_m));
     if (!(budget_tolerance >= 0 && budget_tolerance <= 1))
         throw InputError("hydrology budget_tolerance = " + format_number(budget_tolerance) +
                          " is outside [0, 1]");
@@ -231,6 +242,7 @@ HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const Ra
         const double wp = soil.wilting_point.data()[k], fc = soil.field_capacity.data()[k];
         m_theta.data()[k] = wp + opt.initial_saturation * (fc - wp);
     }
+    m_top_theta = m_theta;
     set_vegetation_density(veg);
     m_order = upstream_first_order(dem);
     m_runoff.assign(static_cast<std::size_t>(dem.size()), 0.0);
@@ -372,6 +384,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
                            fao ? m_de.data() : nullptr};
     std::vector<double>* recharge = m_gw ? &m_recharge : nullptr; // m3 per cell
     if (recharge) std::fill(recharge->begin(), recharge->end(), 0.0);
+    const bool layer = m_opt.critical_layer_depth_m > 0;
+    if (layer) m_theta_start.assign(m_theta.data(), m_theta.data() + cells);
     if (fao || gash) leaves_of_the_day(lai, cover);
     if (fao) {
         // FAO-56 eq. 74 takes the surface layer's depletion at the end of the previous day.
@@ -398,6 +412,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
     m_catch.equilibrate();
+    if (layer) m_theta_wet.assign(m_theta.data(), m_theta.data() + cells);
     // Today's interception (its energy is not the leaves' to transpire); none on a dry day.
     const double* intercepted = gash && rain_m > 0 ? m_intercepted.data() : nullptr;
     soil_losses(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr, intercepted, recharge);
@@ -406,8 +421,34 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
             blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) { sum[0] += m_recharge[k]; })[0];
         f.groundwater_out = groundwater_exchange(*m_gw, m_catch, m_recharge, m_day, w.year, w.doy);
     }
+    if (layer) update_critical_layer();
     close_budget(f, w, soil0, surf0, gw0, lost0);
     return f;
+}
+
+void HydrologyModel::update_critical_layer() {
+    const std::int64_t cells = m_dem.grid().size();
+    const double depth = m_opt.root_zone_depth_m;
+    const bool gravity = m_opt.drainage == DrainageMethod::gravity;
+    const double* th = m_theta.data();
+#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
+    for (std::int64_t k = 0; k < cells; ++k) {
+        const auto u = static_cast<std::size_t>(k);
+        CriticalLayerCell c;
+        c.depth_m = m_opt.critical_layer_depth_m;
+        c.root_depth_m = depth;
+        c.ceiling = gravity ? m_soil.porosity.data()[k] : m_soil.field_capacity.data()[k];
+        c.wilting_point = m_soil.wilting_point.data()[k];
+        c.porosity = m_soil.porosity.data()[k];
+        c.exponent = m_drain_exponent[u];
+        c.ksat_m_per_s = m_soil.ksat_m_per_s.data()[k];
+        const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
+        const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
+        const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
+        const double evaporation_m = std::max(0.0, et_m - transpiration_m);
+        m_top_theta.data()[k] = critical_layer_day(c, m_top_theta.data()[k], inflow_m,
+                                                   evaporation_m, transpiration_m, th[k], 86400.0);
+    }
 }
 
 void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
@@ -432,6 +473,7 @@ void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double
         evapotranspiration_fao56(m_catch, soil, cells, day, request_mm, m_transp_supplied.data(),
                                  f.transpiration, f.evaporation);
     }
+    if (m_opt.critical_layer_depth_m > 0) m_theta_et.assign(m_theta.data(), m_theta.data() + cells);
     if (m_opt.drainage == DrainageMethod::gravity)
         gravity_drainage(soil, m_soil.porosity.data(), m_drain_exponent.data(), cells, 86400.0,
                          recharge, f.drainage_out);
@@ -471,7 +513,8 @@ void HydrologyModel::save_state(ArchiveWriter& a) const {
     a.put(m_cum_residual);
     a.put(m_cum_throughput);
     a.put(m_day);
-    a.put_raster(m_de); // state version 2
+    a.put_raster(m_de);        // state version 2
+    a.put_raster(m_top_theta); // state version 3
 }
 
 void HydrologyModel::load_state(ArchiveReader& a, std::uint32_t version) {
@@ -503,6 +546,14 @@ void HydrologyModel::load_state(ArchiveReader& a, std::uint32_t version) {
             const double s = std::clamp((m_theta.data()[k] - wp) / (fc - wp), 0.0, 1.0);
             m_de.data()[k] = m_tew[static_cast<std::size_t>(k)] * (1.0 - s);
         }
+    }
+    if (version >= 3) {
+        auto top = a.get_raster<double>();
+        if (!(top.grid() == m_dem.grid()))
+            throw CheckpointError("hydrology checkpoint: its grid differs from the terrain's");
+        m_top_theta = std::move(top);
+    } else {
+        m_top_theta = m_theta; // older checkpoints: the critical layer as wet as the root zone
     }
 }
 

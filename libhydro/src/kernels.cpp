@@ -252,6 +252,26 @@ double drained_theta(double theta0, double porosity, double exponent, double ksa
     return theta0 - u0 * porosity * fraction_drained(r, 1.0 / m);
 }
 
+double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
+                          double evaporation_m, double transpiration_m, double column_theta,
+                          double dt_s) {
+    const double z = c.depth_m, below = c.root_depth_m - c.depth_m;
+    double w = std::min(theta0 * z + std::max(0.0, inflow_m), c.ceiling * z);
+    // Gravity drains the layer at K(theta), but no drier than the root zone it drains into (a
+    // draining profile tends to a uniform one; only evaporation and roots dry the top further).
+    if (c.porosity > 0 && c.exponent > 1 && w > column_theta * z) { // else the floor holds
+        const double drained =
+            drained_theta(w / z, c.porosity, c.exponent, c.ksat_m_per_s, z, dt_s);
+        w = std::max(drained, std::min(w / z, column_theta)) * z;
+    }
+    w -= std::min(std::max(0.0, evaporation_m), std::max(0.0, w - 0.5 * c.wilting_point * z));
+    w -= std::min(std::max(0.0, transpiration_m) * z / c.root_depth_m,
+                  std::max(0.0, w - c.wilting_point * z));
+    const double total = column_theta * c.root_depth_m;
+    const double lo = std::max(0.0, total - c.ceiling * below), hi = std::min(c.ceiling * z, total);
+    return std::clamp(w, lo, std::max(lo, hi)) / z;
+}
+
 void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
                       std::int64_t cells, double dt_s, std::vector<double>* recharge,
                       double& drained_m3) {

@@ -334,6 +334,11 @@ const std::vector<RasterLayer<HydrologyModel>>& water_state_layers() {
         raster_layer<H>("soil_moisture", "m3/m3", "float32",
                         "volumetric soil water in the root zone",
                         [](const H& h) -> const RasterD& { return h.soil_moisture(); }),
+        raster_layer<H>("critical_layer_moisture", "m3/m3", "float32",
+                        "volumetric soil water in the critical layer, the top "
+                        "hydrology.critical_layer_depth_m of the root zone (what vehicles bear "
+                        "on)",
+                        [](const H& h) -> const RasterD& { return h.critical_layer_moisture(); }),
         raster_layer<H>("surface_water_depth_m", "m", "float32", "standing water depth",
                         [](const H& h) { return h.surface_water_depth(); }),
         raster_layer<H>("catchment_id", "1", "int32", "catchment holding the cell, 0 = dry",

@@ -83,10 +83,12 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
     write_records(h5, g + "/deadwood", dead, deadwood_columns());
     const auto& hy = eco.hydrology();
     write_layers(h5, g, hydro::water_state_layers(), hy);
-    h5.raster(g + "/rating_cone_index_kpa",
-              hydro::rating_cone_index_map_kpa(eco.scene().hydro.soil, hy.soil_moisture()), "kPa",
-              "rating cone index of the soil at its root-zone water (Sullivan & Anderson 2000 by "
-              "texture class; docs/mobility.md s7)");
+    h5.raster(
+        g + "/rating_cone_index_kpa",
+        hydro::rating_cone_index_map_kpa(eco.scene().hydro.soil, hy.critical_layer_moisture()),
+        "kPa",
+        "rating cone index of the soil at its critical layer's water (Sullivan & Anderson "
+        "2000 by texture class; docs/mobility.md s7)");
     h5.raster(g + "/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
     h5.raster(g + "/ground_cover", eco.ground_cover(), "1",

@@ -80,7 +80,7 @@ void replay_season(const fs::path& run, int year,
     while (!closed) {
         closed = eco.step_day();
         const auto& hy = eco.hydrology();
-        rci = hydro::rating_cone_index_map_kpa(sc.hydro.soil, hy.soil_moisture());
+        rci = hydro::rating_cone_index_map_kpa(sc.hydro.soil, hy.critical_layer_moisture());
         SeasonDay d;
         d.day_of_year = eco.last_weather().doy;
         d.rci_kpa = &rci;

@@ -386,10 +386,11 @@ TEST_CASE("every output column is written and read back") {
     std::snprintf(name, sizeof name, "/snapshots/%04d", info.snapshots - 1);
     const std::string s = name;
     check_layer(s + "/soil_moisture", "m3/m3", "float32", hy.soil_moisture());
+    check_layer(s + "/critical_layer_moisture", "m3/m3", "float32", hy.critical_layer_moisture());
     check_layer(s + "/surface_water_depth_m", "m", "float32", hy.surface_water_depth());
     check_layer(s + "/catchment_id", "1", "int32", hy.catchment_ids());
     check_layer(s + "/water_table_depth_m", "m", "float32", hy.water_table_depth());
-    CHECK(hydro::water_state_layers().size() == 4);
+    CHECK(hydro::water_state_layers().size() == 5);
     // The stem CSV: the catalogue's header and one row per plant.
     const std::string csv = run::stem_csv(snap.plants, {"a", "b", "c", "d", "e", "f"});
     std::string header;

@@ -210,14 +210,21 @@ TEST_CASE("mobility: a windthrown stand is slower than the same stand before the
     for (const char* k : {"snags", "logs"}) CHECK(c[k] == after[k]);
 }
 
-TEST_CASE("soil strength: a snapshot holds the rating cone index of its soil water",
+TEST_CASE("soil strength: a snapshot holds the rating cone index of its critical layer's water",
           "[mobility][soil][cli]") {
     test::TempDir dir;
     std::ofstream(dir / "scene.json") << test::small_scene(2).dump(2);
     REQUIRE(test::run(dir, "run scene.json -o run.h5 --no-pictures").code == 0);
     const RasterD terrain = run::read_run_terrain(dir / "run.h5");
     const RasterD theta =
+        run::read_snapshot_raster(dir / "run.h5", -1, "critical_layer_moisture", terrain.grid());
+    // The critical layer is not the root zone: after two years they differ somewhere.
+    const RasterD root =
         run::read_snapshot_raster(dir / "run.h5", -1, "soil_moisture", terrain.grid());
+    double most = 0;
+    for (std::int64_t k = 0; k < root.size(); ++k)
+        most = std::max(most, std::abs(root.data()[k] - theta.data()[k]));
+    CHECK(most > 1e-3);
     const RasterD rci =
         run::read_snapshot_raster(dir / "run.h5", -1, "rating_cone_index_kpa", terrain.grid());
     // The small scene's uniform soil: 15 % sand, 70 % silt, 15 % clay, a silt loam.

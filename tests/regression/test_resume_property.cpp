@@ -51,6 +51,20 @@ std::vector<std::uint8_t> before_diagnosis(std::vector<std::uint8_t> b) {
     return b;
 }
 
+/// The checkpoint with the critical layer's water (the hydrology's last raster before the
+/// vegetation density; a format-6 checkpoint has none and starts it as the root zone's) zeroed:
+/// its bytes are the last place in the checkpoint that holds the engine's critical layer.
+std::vector<std::uint8_t> without_critical_layer(std::vector<std::uint8_t> b,
+                                                 const eco::Ecosystem& e) {
+    const RasterD& top = e.hydrology().critical_layer_moisture();
+    const auto* p = reinterpret_cast<const std::uint8_t*>(top.data());
+    const auto n = static_cast<std::size_t>(top.size()) * sizeof(double);
+    const auto at = std::find_end(b.begin(), b.end(), p, p + n);
+    REQUIRE(at != b.end());
+    std::fill(at, at + static_cast<std::ptrdiff_t>(n), std::uint8_t{0});
+    return b;
+}
+
 /// Names the first part of the state that differs between two engines (for the failure message).
 std::string first_different_part(const eco::Ecosystem& a, const eco::Ecosystem& b) {
     if (a.days_done() != b.days_done()) return "days done";
@@ -333,14 +347,18 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
 #else
     constexpr bool kFixtureCompiler = false;
 #endif
-    // The year-1 state read from format 6 is the year-1 state of today's engine.
+    // The year-1 state read from format 6 is the year-1 state of today's engine, but for the
+    // critical layer, which format 6 lacks (it starts as the root zone's water, and only the
+    // soil strength reads it).
     if (kFixtureCompiler)
-        CHECK(first_difference(before_diagnosis(saved), before_diagnosis(checkpoint(straight))) ==
-              -1);
+        CHECK(first_difference(
+                  without_critical_layer(before_diagnosis(saved), resumed),
+                  without_critical_layer(before_diagnosis(checkpoint(straight)), straight)) == -1);
     for (int y = 0; y < 2; ++y) straight.run_year(), resumed.run_year();
     if (kFixtureCompiler)
-        CHECK(first_difference(before_diagnosis(checkpoint(resumed)),
-                               before_diagnosis(checkpoint(straight))) == -1);
+        CHECK(first_difference(
+                  without_critical_layer(before_diagnosis(checkpoint(resumed)), resumed),
+                  without_critical_layer(before_diagnosis(checkpoint(straight)), straight)) == -1);
     CHECK(resumed.stand().basal_area_m2_per_ha ==
           Approx(straight.stand().basal_area_m2_per_ha).epsilon(1e-9));
     CHECK(resumed.plants().size() == straight.plants().size());

@@ -2,10 +2,12 @@
 // day against pyfao56, an independent implementation), gravity drainage at K(theta) (against a
 // numerical integration of its ODE), Gash interception (against a storm integrated in time), and
 // the whole day's budget with all of them on.
+#include "ecoterra/archive.hpp"
 #include "ecoterra/hydro/hydrology.hpp"
 #include "ecoterra/hydro/kernels.hpp"
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/hydro/weather.hpp"
+#include "ecoterra/random.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -279,4 +281,132 @@ TEST_CASE("Gravity drainage refuses a soil it cannot drain, naming the cell and 
                           Catch::Contains("hydrology.drainage = none"));
     opt.drainage = DrainageMethod::none; // paper 002's soil water does not need the porosity
     CHECK_NOTHROW(HydrologyModel(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, c));
+}
+
+TEST_CASE("The critical layer: rain enters it first, gravity drains it no drier than the root "
+          "zone, evaporation takes from it first, and it never holds water the root zone lacks",
+          "[hydrology][critical_layer][property]") {
+    CriticalLayerCell c;
+    c.depth_m = 0.3;
+    c.root_depth_m = 1.0;
+    c.ceiling = 0.45;
+    c.wilting_point = 0.12;
+    c.porosity = 0.45;
+    c.exponent = 11;
+    c.ksat_m_per_s = 4e-6;
+    const double day = 86400;
+    // Hand cases. No fluxes and no drainage (exponent 0): nothing moves.
+    CriticalLayerCell still = c;
+    still.exponent = 0;
+    CHECK(critical_layer_day(still, 0.25, 0, 0, 0, 0.25, day) == 0.25);
+    // 30 mm into a dry top over a dry root zone: +0.1 m3/m3 in the layer (none drains below the
+    // root zone's content... which the inflow raised by 0.03).
+    CHECK(critical_layer_day(still, 0.15, 0.03, 0, 0, 0.18, day) == Approx(0.25));
+    // Evaporation of 6 mm takes 0.02 from the layer; 60 mm stops at half the wilting point.
+    CHECK(critical_layer_day(still, 0.25, 0, 0.006, 0, 0.244, day) == Approx(0.23));
+    CHECK(critical_layer_day(still, 0.25, 0, 0.06, 0, 0.19, day) == Approx(0.06));
+    // Transpiration of 10 mm takes the layer's depth share, 3 mm (0.01).
+    CHECK(critical_layer_day(still, 0.25, 0, 0, 0.01, 0.24, day) == Approx(0.24));
+    // A saturated top over a dry root zone drains as drained_theta over its depth; over a wet
+    // root zone it stays as wet as the root zone.
+    const double drained = drained_theta(0.45, 0.45, 11, 4e-6, 0.3, day);
+    CHECK(drained < 0.40);
+    CHECK(critical_layer_day(c, 0.45, 0, 0, 0, 0.20, day) == Approx(drained));
+    CHECK(critical_layer_day(c, 0.45, 0, 0, 0, 0.43, day) == Approx(0.43));
+    // Random cells: the layer stays within what the root zone holds and can hold.
+    Rng rng(5, "test.critical_layer");
+    for (int k = 0; k < 20000; ++k) {
+        CriticalLayerCell r = c;
+        r.depth_m = rng.uniform(0.05, 0.5);
+        r.root_depth_m = r.depth_m + rng.uniform(0.05, 2.0);
+        r.wilting_point = rng.uniform(0.03, 0.25);
+        r.ceiling = r.wilting_point + rng.uniform(0.1, 0.35);
+        r.porosity = r.ceiling;
+        r.exponent = rng.uniform(0, 1) < 0.2 ? 0 : rng.uniform(5, 25);
+        r.ksat_m_per_s = std::exp(rng.uniform(std::log(1e-8), std::log(1e-4)));
+        const double top0 = rng.uniform(0, r.ceiling);
+        const double column = rng.uniform(0.5 * r.wilting_point, r.ceiling);
+        const double inflow = rng.uniform(0, 1) < 0.5 ? 0 : rng.uniform(0, 0.1);
+        const double evap = rng.uniform(0, 0.008), transp = rng.uniform(0, 0.008);
+        CAPTURE(k, r.depth_m, r.root_depth_m, top0, column, inflow, evap, transp);
+        const double top = critical_layer_day(r, top0, inflow, evap, transp, column, day);
+        const double total = column * r.root_depth_m;
+        const double below = (total - top * r.depth_m) / (r.root_depth_m - r.depth_m);
+        REQUIRE(top >= 0);
+        REQUIRE(top <= r.ceiling * (1 + 1e-12));
+        REQUIRE(below >= -1e-12);
+        REQUIRE(below <= r.ceiling * (1 + 1e-12));
+        REQUIRE(top * r.depth_m <= total * (1 + 1e-12));
+    }
+}
+
+TEST_CASE("The critical layer wets before the root zone in a storm and dries before it after, "
+          "and resumes as it was saved",
+          "[hydrology][critical_layer]") {
+    const GridSpec g{6, 6, 2.0, 0, 0};
+    const SoilMap soil = uniform_soil(g, SoilComposition{40, 40, 20, 6.5, {}}); // loam
+    HydrologyOptions opt;
+    opt.initial_saturation = 0.3;
+    const Climate climate = climate_preset("humid_subtropical");
+    HydrologyModel m(RasterD(g, 5.0), soil, RasterD(g, 0.0), opt, climate);
+    auto day = [&](int doy, double rain) {
+        DayWeather w;
+        w.year = 1;
+        w.doy = doy;
+        w.tmin_c = 16;
+        w.tmax_c = 30;
+        w.rain_mm = rain;
+        w.tdew_c = 14;
+        w.u2_m_per_s = 2;
+        w.rs_mj = 22;
+        m.step(w);
+    };
+    // Dry weeks: the top dries below the root zone (evaporation takes from it first).
+    for (int d = 1; d <= 20; ++d) day(d, 0);
+    CHECK(m.critical_layer_moisture()(2, 2) < m.soil_moisture()(2, 2) - 0.01);
+    // A 40 mm storm: the top is wetter than the root zone.
+    day(21, 40);
+    CHECK(m.critical_layer_moisture()(2, 2) > m.soil_moisture()(2, 2) + 0.01);
+    const double top_wet = m.critical_layer_moisture()(2, 2), root_wet = m.soil_moisture()(2, 2);
+    // Saved and restored, the layer is the same; a fresh model restored from the state steps on
+    // bit for bit.
+    ArchiveWriter a;
+    m.save_state(a);
+    const std::vector<std::uint8_t> bytes = a.bytes();
+    HydrologyModel r(RasterD(g, 5.0), soil, RasterD(g, 0.0), opt, climate);
+    ArchiveReader in(bytes.data(), bytes.size(), "test");
+    r.load_state(in);
+    CHECK(in.at_end());
+    for (int d = 22; d <= 40; ++d) {
+        day(d, 0);
+        DayWeather w;
+        w.year = 1;
+        w.doy = d;
+        w.tmin_c = 16;
+        w.tmax_c = 30;
+        w.tdew_c = 14;
+        w.u2_m_per_s = 2;
+        w.rs_mj = 22;
+        r.step(w);
+    }
+    CHECK(r.critical_layer_moisture()(2, 2) == m.critical_layer_moisture()(2, 2));
+    // Nineteen dry days later the top has lost more than the root zone's mean (the storm wetted
+    // only the top 0.3 m or so, and evaporation takes from the top).
+    CHECK(top_wet - m.critical_layer_moisture()(2, 2) > root_wet - m.soil_moisture()(2, 2));
+    // Read as a checkpoint from before the layer (state version 2), the same bytes start it as
+    // the root zone's water.
+    HydrologyModel old(RasterD(g, 5.0), soil, RasterD(g, 0.0), opt, climate);
+    ArchiveReader in2(bytes.data(), bytes.size(), "test v2");
+    old.load_state(in2, 2);
+    CHECK_FALSE(in2.at_end()); // the version-3 raster is left unread
+    CHECK(old.critical_layer_moisture()(2, 2) == old.soil_moisture()(2, 2));
+    // Without the layer (depth 0) the soil's strength reads the root zone; a sliver is refused.
+    HydrologyOptions none = opt;
+    none.critical_layer_depth_m = 0;
+    HydrologyModel n(RasterD(g, 5.0), soil, RasterD(g, 0.0), none, climate);
+    CHECK(&n.critical_layer_moisture() == &n.soil_moisture());
+    none.critical_layer_depth_m = 0.001;
+    CHECK_THROWS_WITH(none.validate(), Catch::Contains("critical_layer_depth_m = 0.001"));
+    none.critical_layer_depth_m = 1.0;
+    CHECK_THROWS_WITH(none.validate(), Catch::Contains("must be less than"));
 }

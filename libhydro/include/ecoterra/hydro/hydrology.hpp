@@ -67,8 +67,12 @@ struct HydrologyOptions {
     DrainageMethod drainage = DrainageMethod::gravity;
     InterceptionMethod interception = InterceptionMethod::gash;
     double surface_layer_depth_m = 0.10; ///< Ze, FAO-56 eq. 73 (0.10-0.15 m)
-    double kc_max = 1.2;                 ///< FAO-56 eq. 72 at the standard climate
-    double depletion_fraction = 0.5;     ///< p, FAO-56 Table 22 (trees 0.5-0.7)
+    /// The top of the root zone whose water sets the soil's strength for vehicles (the critical
+    /// layer: 6-12 in, Priddy & Willoughby 2004; 0-6 in for light vehicles); 0: none (the soil's
+    /// strength reads the root zone's water, and the hydrology skips the layer's update).
+    double critical_layer_depth_m = 0.30;
+    double kc_max = 1.2;             ///< FAO-56 eq. 72 at the standard climate
+    double depletion_fraction = 0.5; ///< p, FAO-56 Table 22 (trees 0.5-0.7)
     double canopy_storage_per_lai_mm = 0.2;
     double wet_canopy_evaporation_ratio = 0.05; ///< Gash E/R, medfate's default
     double canopy_extinction = 0.5; ///< cover = 1 - exp(-k LAI), hydrology without plants
@@ -118,6 +122,12 @@ public:
 
     const SoilMap& soil() const { return m_soil; }
     const RasterD& soil_moisture() const { return m_theta; }
+    /// Water content of the critical layer (the top critical_layer_depth_m of the root zone),
+    /// m3/m3: what the soil's strength for vehicles is read from (the root zone's water with
+    /// critical_layer_depth_m = 0).
+    const RasterD& critical_layer_moisture() const {
+        return m_opt.critical_layer_depth_m > 0 ? m_top_theta : m_theta;
+    }
     RasterD surface_water_depth() const { return m_catch.depth_map(); }
     Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }
     /// Depth of the water table below the surface, m (NaN without groundwater).
@@ -139,9 +149,10 @@ public:
     /// Checkpoint of the evolving state (soil water, catchments, groundwater, budget totals).
     /// load_state() expects a model built from the same terrain, soil and options.
     void save_state(ArchiveWriter& a) const;
-    /// `version` 1 (before the surface layer) derives the surface layer's depletion from theta.
+    /// `version` 1 (before the surface layer) derives the surface layer's depletion from theta;
+    /// before version 3 the critical layer starts as wet as the root zone.
     void load_state(ArchiveReader& a, std::uint32_t version = kStateVersion);
-    static constexpr std::uint32_t kStateVersion = 2;
+    static constexpr std::uint32_t kStateVersion = 3;
     /// Depletion of the evaporating surface layer, mm (FAO-56 De; zero under paper 002).
     const RasterD& surface_depletion_mm() const { return m_de; }
 
@@ -155,6 +166,9 @@ private:
     void soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
                      const et::DailyWeather& dw, const double* request_mm,
                      const double* intercepted_m, std::vector<double>* recharge);
+    /// Step 9: the critical layer follows the day (m_theta_start: the root zone's water at the
+    /// day's start, m_theta_wet: after the rain, m_theta_et: after evapotranspiration).
+    void update_critical_layer();
     /// Step 8: storage changes, the residual and the cumulative check.
     void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
                       double lost0);
@@ -166,9 +180,11 @@ private:
     Catchments m_catch;
     RunoffTable m_table;
     RasterD m_theta, m_slope, m_coef, m_transp_supplied;
-    std::vector<std::int64_t> m_order;                 ///< every cell after its higher neighbours
-    std::vector<double> m_runoff, m_recharge;          ///< per-cell scratch of a step, m3
-    RasterD m_de;                                      ///< surface-layer depletion, mm
+    std::vector<std::int64_t> m_order;        ///< every cell after its higher neighbours
+    std::vector<double> m_runoff, m_recharge; ///< per-cell scratch of a step, m3
+    RasterD m_de;                             ///< surface-layer depletion, mm
+    RasterD m_top_theta;                      ///< the critical layer's water content, m3/m3
+    std::vector<double> m_theta_start, m_theta_wet, m_theta_et; ///< the day's stages, m3/m3
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves

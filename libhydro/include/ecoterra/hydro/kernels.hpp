@@ -20,6 +20,9 @@
 //   7. groundwater_exchange      the water table moves; where it reaches the surface it seeps out
 //                                into the standing water, which settles again
 //   8. close_budget       storage changes and the residual, checked against the tolerance
+//   9. critical_layer_day the top layer vehicles bear on (0-0.3 m) follows the day's fluxes
+//                         within the root zone's water (it moves water between the top and the
+//                         rest of the root zone, never into or out of the soil)
 //
 // Kernels that accumulate a flux add to an accumulator passed by reference, so that the sums are
 // taken in one fixed order whatever the composition.
@@ -164,6 +167,30 @@ void gravity_drainage(const SoilColumns& soil, const float* porosity, const floa
 /// theta after `dt_s` of gravity drainage from `theta0` (the exact solution above).
 double drained_theta(double theta0, double porosity, double exponent, double ksat_m_per_s,
                      double depth_m, double dt_s);
+
+/// A cell's critical layer: the top `depth_m` of the root zone (`root_depth_m` deep), whose water
+/// decides the soil's strength under a vehicle (docs/hydrology.md s5b).
+struct CriticalLayerCell {
+    double depth_m = 0.3, root_depth_m = 1.0;
+    double ceiling = 0;       ///< the most the soil holds, m3/m3 (SoilColumns::ceiling_at)
+    double wilting_point = 0; ///< m3/m3
+    double porosity = 0, exponent = 0, ksat_m_per_s = 0; ///< gravity drainage (drained_theta)
+};
+
+/// 9. The critical layer's water content at the day's end from `theta0` at its start, m3/m3.
+///    The day's water into the soil (`inflow_m`, m) enters it first; it drains into the layer
+///    below at K(theta) by gravity (drained_theta over its own depth), but not below the root
+///    zone's water content at the day's end (a draining profile tends to a uniform one, so a wet
+///    root zone keeps its top wet); the soil evaporation
+///    (`evaporation_m`) leaves it first, down to half the wilting point (FAO-56's air-dry surface
+///    layer); the transpiration (`transpiration_m`) leaves both layers in proportion to their
+///    depth, down to the wilting point; what it cannot give or hold is the layer below's. Then
+///    the layer's water is kept within what the root zone holds at the day's end
+///    (`column_theta`): at most all of it and the layer's ceiling, at least what the layer below
+///    cannot hold. The root zone's water is unchanged.
+double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
+                          double evaporation_m, double transpiration_m, double column_theta,
+                          double dt_s);
 
 /// 7. One day of groundwater flow with the day's `recharge` (m3 per cell): the outflow through
 ///    fixed-head edges (m3) is returned; water table above the surface seeps into the standing

@@ -349,7 +349,7 @@ TEST_CASE("The critical layer wets before the root zone in a storm and dries bef
     opt.initial_saturation = 0.3;
     const Climate climate = climate_preset("humid_subtropical");
     HydrologyModel m(RasterD(g, 5.0), soil, RasterD(g, 0.0), opt, climate);
-    auto day = [&](int doy, double rain) {
+    auto weather = [](int doy, double rain) {
         DayWeather w;
         w.year = 1;
         w.doy = doy;
@@ -359,8 +359,9 @@ TEST_CASE("The critical layer wets before the root zone in a storm and dries bef
         w.tdew_c = 14;
         w.u2_m_per_s = 2;
         w.rs_mj = 22;
-        m.step(w);
+        return w;
     };
+    auto day = [&](int doy, double rain) { m.step(weather(doy, rain)); };
     // Dry weeks: the top dries below the root zone (evaporation takes from it first).
     for (int d = 1; d <= 20; ++d) day(d, 0);
     CHECK(m.critical_layer_moisture()(2, 2) < m.soil_moisture()(2, 2) - 0.01);
@@ -379,15 +380,7 @@ TEST_CASE("The critical layer wets before the root zone in a storm and dries bef
     CHECK(in.at_end());
     for (int d = 22; d <= 40; ++d) {
         day(d, 0);
-        DayWeather w;
-        w.year = 1;
-        w.doy = d;
-        w.tmin_c = 16;
-        w.tmax_c = 30;
-        w.tdew_c = 14;
-        w.u2_m_per_s = 2;
-        w.rs_mj = 22;
-        r.step(w);
+        r.step(weather(d, 0));
     }
     CHECK(r.critical_layer_moisture()(2, 2) == m.critical_layer_moisture()(2, 2));
     // Nineteen dry days later the top has lost more than the root zone's mean (the storm wetted

@@ -384,7 +384,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
                            fao ? m_de.data() : nullptr};
     std::vector<double>* recharge = m_gw ? &m_recharge : nullptr; // m3 per cell
     if (recharge) std::fill(recharge->begin(), recharge->end(), 0.0);
-    const bool layer = m_opt.critical_layer_depth_m > 0;
+    const bool layer = has_critical_layer();
     if (layer) m_theta_start.assign(m_theta.data(), m_theta.data() + cells);
     if (fao || gash) leaves_of_the_day(lai, cover);
     if (fao) {
@@ -473,7 +473,7 @@ void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double
         evapotranspiration_fao56(m_catch, soil, cells, day, request_mm, m_transp_supplied.data(),
                                  f.transpiration, f.evaporation);
     }
-    if (m_opt.critical_layer_depth_m > 0) m_theta_et.assign(m_theta.data(), m_theta.data() + cells);
+    if (has_critical_layer()) m_theta_et.assign(m_theta.data(), m_theta.data() + cells);
     if (m_opt.drainage == DrainageMethod::gravity)
         gravity_drainage(soil, m_soil.porosity.data(), m_drain_exponent.data(), cells, 86400.0,
                          recharge, f.drainage_out);

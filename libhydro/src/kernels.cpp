@@ -262,7 +262,7 @@ double critical_layer_day(const CriticalLayerCell& c, double theta0, double infl
     if (c.porosity > 0 && c.exponent > 1 && w > column_theta * z) { // else the floor holds
         const double drained =
             drained_theta(w / z, c.porosity, c.exponent, c.ksat_m_per_s, z, dt_s);
-        w = std::max(drained, std::min(w / z, column_theta)) * z;
+        w = std::max(drained, column_theta) * z;
     }
     w -= std::min(std::max(0.0, evaporation_m), std::max(0.0, w - 0.5 * c.wilting_point * z));
     w -= std::min(std::max(0.0, transpiration_m) * z / c.root_depth_m,

@@ -88,17 +88,9 @@ void StandDeadWood::add(int piece, bool standing, Point base, Point end, double 
 
 RasterD pit_depths(const GridSpec& g, const std::vector<Pit>& pits, double ox, double oy) {
     RasterD depth(g, 0.0);
-    for (const auto& p : pits) {
-        const double cx = p.x_m - ox, cy = p.y_m - oy, r = p.radius_m;
-        const int i0 = std::max(0, static_cast<int>(std::floor(g.col_of(cx - r))));
-        const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil(g.col_of(cx + r))));
-        const int j0 = std::max(0, static_cast<int>(std::floor(g.row_of(cy - r))));
-        const int j1 = std::min(g.ny - 1, static_cast<int>(std::ceil(g.row_of(cy + r))));
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i)
-                if (std::hypot(g.x_of(i) - cx, g.y_of(j) - cy) <= r)
-                    depth(i, j) = std::max(depth(i, j), p.depth_m);
-    }
+    for (const auto& p : pits)
+        cells_within(g, p.x_m - ox, p.y_m - oy, p.radius_m,
+                     [&](int i, int j) { depth(i, j) = std::max(depth(i, j), p.depth_m); });
     return depth;
 }
 

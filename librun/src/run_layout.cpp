@@ -88,7 +88,7 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
         hydro::rating_cone_index_map_kpa(eco.scene().hydro.soil, hy.critical_layer_moisture()),
         "kPa",
         "rating cone index of the soil at its critical layer's water (Sullivan & Anderson "
-        "2000 by texture class; docs/mobility.md s7)");
+        "2000 by texture class; docs/mobility.md s9)");
     h5.raster(g + "/shade_fraction", eco.ground_shade(), "1",
               "light intercepted by crowns above the ground (plant grid)");
     h5.raster(g + "/ground_cover", eco.ground_cover(), "1",

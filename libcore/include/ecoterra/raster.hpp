@@ -69,6 +69,18 @@ struct GridSpec {
     void validate(const std::string& what) const;
 };
 
+/// Calls f(i, j) for every cell of `g` whose centre lies within `radius` of (x, y).
+template <class F>
+void cells_within(const GridSpec& g, double x, double y, double radius, F&& f) {
+    const int i0 = std::max(0, static_cast<int>(std::ceil(g.col_of(x - radius))));
+    const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor(g.col_of(x + radius))));
+    const int j0 = std::max(0, static_cast<int>(std::ceil(g.row_of(y - radius))));
+    const int j1 = std::min(g.ny - 1, static_cast<int>(std::floor(g.row_of(y + radius))));
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i)
+            if (std::hypot(g.x_of(i) - x, g.y_of(j) - y) <= radius) f(i, j);
+}
+
 /// Refuses (InputError) before allocating `bytes_per_cell * cells` bytes if that is more than this
 /// machine can hold (MemAvailable from /proc/meminfo, or 1 TiB when unknown), naming `what`.
 void ensure_fits_in_memory(std::int64_t cells, double bytes_per_cell, const std::string& what);

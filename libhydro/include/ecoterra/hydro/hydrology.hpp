@@ -126,8 +126,9 @@ public:
     /// m3/m3: what the soil's strength for vehicles is read from (the root zone's water with
     /// critical_layer_depth_m = 0).
     const RasterD& critical_layer_moisture() const {
-        return m_opt.critical_layer_depth_m > 0 ? m_top_theta : m_theta;
+        return has_critical_layer() ? m_top_theta : m_theta;
     }
+    bool has_critical_layer() const { return m_opt.critical_layer_depth_m > 0; }
     RasterD surface_water_depth() const { return m_catch.depth_map(); }
     Raster<std::int32_t> catchment_ids() const { return m_catch.id_map(); }
     /// Depth of the water table below the surface, m (NaN without groundwater).

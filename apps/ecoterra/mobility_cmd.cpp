@@ -693,7 +693,7 @@ void add_map_command(CLI::App* mobility_cmd) {
 
 struct TraverseArgs {
     std::string dem, vehicle, missions, json_out, pictures;
-    bool no_pictures = false, force = false;
+    bool no_pictures = false, force = false, allow_fewer = false;
     // Defaults of the traverse analysis's catalogue (analyses.hpp), as an ensemble's.
     double speed = analyses::TraverseAnalysis{}.speed_m_per_s;
     int count = analyses::TraverseAnalysis{}.missions;
@@ -721,11 +721,13 @@ void run_traverse(const TraverseArgs& a) {
         terrain::MissionOptions mo;
         mo.count = a.count;
         mo.seed = static_cast<std::uint64_t>(a.seed);
+        mo.allow_fewer = a.allow_fewer;
         for (const auto& m : terrain::plan_missions(dem, terrain::AnalysisOptions{}, mo))
             missions.push_back({m.id, m.start_x_m, m.start_y_m, m.goal_x_m, m.goal_y_m});
     }
     mobility::TraverseOptions opt;
     opt.speed_m_per_s = a.speed;
+    opt.allow_no_missions = a.allow_fewer && a.missions.empty();
     Stopwatch sw;
     const auto rep = with_context(a.missions.empty() ? a.dem : a.missions, [&] {
         return mobility::traverse_missions(v, dem, missions, opt);
@@ -770,6 +772,8 @@ void add_mobility_command(CLI::App& app) {
     tr->add_option("--count", t->count, "missions to plan without --missions")
         ->capture_default_str();
     tr->add_option("--seed", t->seed, "seed of the planned missions")->capture_default_str();
+    tr->add_flag("--allow-fewer", t->allow_fewer,
+                 "planned missions: drive those found when the terrain has room for fewer");
     tr->add_option("--speed", t->speed, "driving speed, m/s (default: the vehicle's top speed)");
     tr->add_option("--json", t->json_out, "write the figures and every mission as JSON");
     tr->add_option("--pictures", t->pictures,

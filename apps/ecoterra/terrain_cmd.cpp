@@ -414,6 +414,9 @@ void add_missions(CLI::App* terrain) {
     mi->add_option("--count", m->m.count, "number of missions")->capture_default_str();
     mi->add_option("--length", m->m.length_m, "start-to-goal distance, m")->capture_default_str();
     mi->add_option("--seed", m->m.seed, "random seed")->capture_default_str();
+    mi->add_flag("--allow-fewer", m->m.allow_fewer,
+                 "return the missions found when the terrain has room for fewer (none without a "
+                 "low cell) instead of failing");
     add_analysis_options(mi, m->opt);
     mi->add_option("-o,--output", m->output, "CSV file (or .json)");
     mi->add_option("--json", m->json_out, "also write JSON here");

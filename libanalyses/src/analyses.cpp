@@ -359,12 +359,14 @@ terrain::MissionOptions TraverseAnalysis::mission_options() const {
     o.count = missions;
     o.length_m = length_m;
     o.seed = seed;
+    o.allow_fewer = allow_fewer;
     return o;
 }
 
 mobility::TraverseOptions TraverseAnalysis::traverse_options() const {
     mobility::TraverseOptions o;
     o.speed_m_per_s = speed_m_per_s;
+    o.allow_no_missions = allow_fewer;
     return o;
 }
 
@@ -378,7 +380,11 @@ const ParamCatalog<TraverseAnalysis>& traverse_catalog() {
          integer<T>("seed", &T::seed, "1", 0, 4.611686018427388e18,
                     "seed of the missions (an ensemble derives one per member)"),
          number<T>("speed_m_per_s", &T::speed_m_per_s, "m/s", 0, 100,
-                   "driving speed; 0: the vehicle's top speed")});
+                   "driving speed; 0: the vehicle's top speed"),
+         flag<T>("allow_fewer", &T::allow_fewer,
+                 "drive the missions found when the terrain has room for fewer than `missions` "
+                 "(none without a low cell); traverse.missions says how many (default: the member "
+                 "fails)")});
     return c;
 }
 

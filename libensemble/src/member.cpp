@@ -151,6 +151,7 @@ void analyse_traverse(const Manifest& m, const json& a, const RasterD& z, const 
     const auto r = mobility::traverse_missions(v, z, missions, opt.traverse_options());
     json j = analyses::traverse_json(r, v);
     j["seed"] = mo.seed;
+    j["missions_requested"] = mo.count;
     io::write_text_atomic(stage / "traverse.json", j.dump(1) + "\n");
     analyses::add_values(out, "traverse", analyses::traverse_metrics(), r);
 }

@@ -285,8 +285,15 @@ TraverseResult traverse(const Vehicle& v, const RasterD& dem, const MissionLine&
 TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
                                  const std::vector<MissionLine>& missions,
                                  const TraverseOptions& opt) {
-    if (missions.empty()) throw InputError("no missions to drive");
     TraverseReport rep;
+    if (missions.empty()) {
+        if (!opt.allow_no_missions) throw InputError("no missions to drive");
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        rep.success_rate = rep.median_rms_vertical_acceleration_m_per_s2 = nan;
+        rep.median_rms_pitch_rate_deg_per_s = rep.median_rms_roll_rate_deg_per_s = nan;
+        rep.median_time_s = nan;
+        return rep;
+    }
     rep.missions = missions;
     std::vector<double> az, pr, rr, tt;
     for (const auto& m : missions) {

@@ -41,7 +41,7 @@ std::vector<std::int64_t> mission_starts(const RasterU8& closed, const MissionOp
                 x <= x1 && y >= y0 && y <= y1)
                 starts.push_back(static_cast<std::int64_t>(j) * g.nx + i);
         }
-    if (starts.empty())
+    if (starts.empty() && !opt.allow_fewer)
         throw InputError("missions: no low-roughness cell lies inside the " +
                          format_number(opt.border_m) + " m border");
     if (opt.length_m > std::hypot(x1 - x0, y1 - y0))
@@ -90,16 +90,19 @@ std::vector<Mission> plan_missions(const RasterU8& closed, const RasterU8& class
     const std::vector<std::int64_t> starts = mission_starts(closed, opt);
     Rng rng(opt.seed, "terrain.missions");
     std::vector<Mission> out;
+    if (starts.empty()) return out; // allow_fewer: no low cell to start from
     const std::int64_t max_attempts =
         static_cast<std::int64_t>(opt.max_attempts_per_mission) * opt.count;
     std::int64_t attempts = 0;
     while (static_cast<int>(out.size()) < opt.count) {
-        if (++attempts > max_attempts)
+        if (++attempts > max_attempts) {
+            if (opt.allow_fewer) break;
             throw InputError("missions: found only " + std::to_string(out.size()) + " of " +
                              std::to_string(opt.count) + " missions in " +
                              std::to_string(max_attempts) +
                              " attempts; the terrain has too little low/semi area for this "
                              "length and border");
+        }
         const std::int64_t s = starts[rng.below(starts.size())];
         const int si = static_cast<int>(s % g.nx), sj = static_cast<int>(s / g.nx);
         const double heading = rng.uniform(0.0, 360.0);

@@ -502,6 +502,33 @@ TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli]") {
         0);
     REQUIRE(test::run(d, "terrain convert s.h5 s.asc").code == 0);
     CHECK(io::read_text(d / "s.asc") == io::read_text(d / "m.asc"));
+    // A terrain too rough for any mission (no low cell): the member fails, unless the traverse
+    // may drive fewer; then it keeps its class areas and reports no mission.
+    json rough = {
+        {"name", "rough"},
+        {"base", {{"terrain", {{"preset", "majhor2023"}, {"size", 401}}}}},
+        {"set", {{"params.relief_m", 5000.0}}},
+        {"analyses",
+         {{"terrain", json::object()},
+          {"traverse",
+           {{"vehicle", data + "/vehicles/husky_a200.json"}, {"missions", 4}, {"length_m", 6}}}}}};
+    write(d / "rough.json", rough);
+    const auto failed = test::run(d, "ensemble rough.json -o rough");
+    CHECK(failed.code != 0);
+    CHECK_THAT(io::read_text(d / "rough/members/000000/member.json"),
+               Catch::Contains("no low-roughness"));
+    rough["analyses"]["traverse"]["allow_fewer"] = true;
+    write(d / "fewer.json", rough);
+    const auto fewer = test::run(d, "ensemble fewer.json -o fewer");
+    INFO(fewer.out);
+    REQUIRE(fewer.code == 0);
+    const json f = record(d.path() / "fewer", 0);
+    CHECK(f["metrics"]["traverse.missions"] == 0);
+    CHECK(f["metrics"]["traverse.success_rate"].is_null());
+    CHECK(f["metrics"]["terrain.closed_low_pct"] == 0); // where missions start
+    CHECK(f["metrics"]["terrain.high_pct"].get<double>() > 90);
+    CHECK(json::parse(
+              io::read_text(d / "fewer/members/000000/traverse.json"))["missions_requested"] == 4);
     // A stand given as a stem list over a DEM, driven by two vehicles.
     REQUIRE(
         test::run(d, "run " + data + "/scenes/quickstart.json -o run.h5 --years 15 --no-pictures")

@@ -177,6 +177,43 @@ TEST_CASE("Missions start low, end low or semi, and keep their length and border
                                       "its 5 m border"));
 }
 
+TEST_CASE("With allow_fewer, a terrain short of room gets the missions found, the same draws",
+          "[missions]") {
+    const GridSpec g{400, 400, 0.125, 0, 0}; // 50 m square
+    RasterU8 raw(g, 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) raw(i, j) = ((i / 40 + j / 40) % 3 == 0) ? 2 : 0;
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        MissionOptions opt;
+        opt.count = 30;
+        opt.seed = seed;
+        const auto all = plan_missions(raw, raw, opt);
+        opt.max_attempts_per_mission = 1; // 30 draws: some miss the border or a high goal
+        CHECK_THROWS_WITH(plan_missions(raw, raw, opt), Catch::Contains("found only"));
+        opt.allow_fewer = true;
+        const auto few = plan_missions(raw, raw, opt);
+        CHECK(few.size() > 0);
+        CHECK(few.size() < all.size());
+        for (std::size_t k = 0; k < few.size(); ++k) { // the first draws of the full plan
+            CHECK(few[k].id == all[k].id);
+            CHECK(few[k].start_x_m == all[k].start_x_m);
+            CHECK(few[k].goal_y_m == all[k].goal_y_m);
+        }
+    }
+    // Only a low patch in the middle: every 35 m line from it leaves the 5 m border.
+    RasterU8 centre(g, 2);
+    for (int j = 190; j < 210; ++j)
+        for (int i = 190; i < 210; ++i) centre(i, j) = 0;
+    MissionOptions opt;
+    CHECK_THROWS_WITH(plan_missions(centre, centre, opt), Catch::Contains("found only 0 of 20"));
+    opt.allow_fewer = true;
+    CHECK(plan_missions(centre, centre, opt).empty());
+    RasterU8 rough(g, 2);
+    CHECK(plan_missions(rough, rough, opt).empty());
+    opt.length_m = 80; // a mission that cannot fit is still an error
+    CHECK_THROWS_WITH(plan_missions(centre, centre, opt), Catch::Contains("does not fit"));
+}
+
 namespace {
 /// Valid cells of a class map inside a border of b cells.
 std::int64_t valid_inside(const RasterU8& c, int b) {

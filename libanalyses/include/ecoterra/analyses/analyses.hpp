@@ -106,6 +106,7 @@ struct TraverseAnalysis {
     double length_m = terrain::MissionOptions{}.length_m;
     std::uint64_t seed = 1;
     double speed_m_per_s = 0; ///< 0: the vehicle's top speed
+    bool allow_fewer = false; ///< drive the missions found when the terrain has room for fewer
     terrain::MissionOptions mission_options() const;
     mobility::TraverseOptions traverse_options() const;
 };

@@ -37,6 +37,9 @@ struct TraverseOptions {
     double speed_m_per_s = 0;       ///< 0: the vehicle's top speed
     double tip_over_limit_deg = 75; ///< the paper's criterion, besides the vehicle's own
     GroundMaps ground; ///< soil strength and standing water (ground.hpp); empty: firm and dry
+    /// No mission is a report with no figures (NaN) rather than an error (a terrain planned with
+    /// MissionOptions::allow_fewer that had no room).
+    bool allow_no_missions = false;
 };
 
 struct TraverseResult {
@@ -66,7 +69,7 @@ struct TraverseReport {
     double median_rms_pitch_rate_deg_per_s = 0, median_rms_roll_rate_deg_per_s = 0;
     double median_time_s = 0;
 };
-/// Drives every mission (InputError when there is none).
+/// Drives every mission (InputError when there is none, unless opt.allow_no_missions).
 TraverseReport traverse_missions(const Vehicle& v, const RasterD& dem,
                                  const std::vector<MissionLine>& missions,
                                  const TraverseOptions& opt = {});

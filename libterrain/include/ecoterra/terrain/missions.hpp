@@ -2,7 +2,9 @@
 // Random straight-line A-to-B missions (Majhor & Bos s2.3): the start is a random cell of the low
 // class, the heading uniform in [0, 360) degrees (counter-clockwise from east, +x), the goal lies
 // `length_m` away along it; both must be at least `border_m` from the map edge and the goal must be
-// low or semi, all on the closed class map. Draws are retried until `count` missions are found.
+// low or semi, all on the closed class map. Draws are retried until `count` missions are found;
+// a terrain with too little room for them is an error, or, with `allow_fewer`, gets the missions
+// found within the attempts (none when it has no low cell inside the border).
 #include "ecoterra/raster.hpp"
 
 #include <cstdint>
@@ -17,6 +19,7 @@ struct MissionOptions {
     double border_m = 5.0;
     std::uint64_t seed = 1;
     int max_attempts_per_mission = 10000;
+    bool allow_fewer = false; ///< return the missions found instead of failing
     void validate() const;
 };
 

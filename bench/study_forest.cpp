@@ -26,8 +26,11 @@
 //     s2c).
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
-//                     [--only-central | --only-thinning | --only-water] [--set key=value ...]
-// --set changes a key of the quickstart scene for every run (as `ecoterra run --set`).
+//                     [--only-central | --only-thinning | --only-water] [--scene FILE]
+//                     [--set key=value ...]
+// --scene runs another scene instead of the quickstart (e.g. data/scenes/southeastern_pine.json:
+// its own ecosystem and soil, with the study's seeds); --set changes a key of the scene for every
+// run (as `ecoterra run --set`).
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
 #include "ecoterra/io/atomic_file.hpp"
@@ -503,13 +506,16 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::filesystem::path data = ECOTERRA_DATA_DIR;
-    json q = json::parse(io::read_text(data / "scenes/quickstart.json"));
+    std::filesystem::path scene = data / "scenes/quickstart.json";
+    for (int i = 1; i + 1 < argc; ++i)
+        if (std::strcmp(argv[i], "--scene") == 0) scene = argv[++i];
+    json q = json::parse(io::read_text(scene));
     std::vector<std::string> overrides;
     for (int i = 1; i + 1 < argc; ++i)
         if (std::strcmp(argv[i], "--set") == 0) overrides.emplace_back(argv[++i]);
     apply_overrides(q, overrides);
-    if (central) central_result(q, data / "scenes", seeds);
-    if (thinning) self_thinning(q, data / "scenes", seeds, years, density);
-    if (water) water_and_stand(q, data / "scenes", seeds, century, paper);
+    if (central) central_result(q, scene.parent_path(), seeds);
+    if (thinning) self_thinning(q, scene.parent_path(), seeds, years, density);
+    if (water) water_and_stand(q, scene.parent_path(), seeds, century, paper);
     return 0;
 }

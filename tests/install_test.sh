@@ -35,4 +35,22 @@ if env -u ECOTERRA_DATA "$work/alone/ecoterra" hydro run "$data/scenes/hydro_qui
 fi
 grep -q "cannot find ecoterra's data folder" "$work/alone.log" || { cat "$work/alone.log"; exit 1; }
 grep -q "ECOTERRA_DATA" "$work/alone.log" || { cat "$work/alone.log"; exit 1; }
+# The Python module from the prefix alone: its package and its data are the prefix's.
+pkg=$(find "$work/prefix" -type d -path "*dist-packages/ecoterra" | head -1)
+if [ -n "$pkg" ]; then
+  env -u ECOTERRA_DATA PYTHONPATH="$(dirname "$pkg")" /usr/bin/python3 -c "
+import ecoterra, sys
+prefix = sys.argv[1]
+assert ecoterra.__file__.startswith(prefix), ecoterra.__file__
+assert ecoterra.data_dir().startswith(prefix), ecoterra.data_dir()
+run = ecoterra.Run(ecoterra.Scene(ecoterra.data_dir() + '/scenes/quickstart.json'))
+run.step_year()
+assert run.years_done == 1
+" "$work/prefix" || { echo "FAIL: the installed Python module"; exit 1; }
+  for p in "$source" "$build"; do
+    if grep -rqF "$(realpath "$p")" "$pkg"; then
+      echo "FAIL: the installed Python package carries the path $p"; exit 1
+    fi
+  done
+fi
 echo "installed ecoterra ran from $work/prefix without the source tree"

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 namespace ecoterra::eco {
 
@@ -381,6 +382,14 @@ void Ecosystem::harvest(std::vector<char>& dead, bool allometric_mass) {
     if (mark_harvest(m_scene.management, m_pop, species, area_m2, m_years_done + 1, dead,
                      static_cast<char>(DeathCause::harvest)) > 0)
         m_wind.thinned(spacing, m_years_done + 1);
+    count_harvest(before, dead, allometric_mass);
+}
+
+void Ecosystem::count_harvest(const std::vector<char>& before, const std::vector<char>& dead,
+                              bool allometric_mass) {
+    const auto& species = m_scene.ecosystem.species;
+    const auto& pg = plant_grid();
+    const double area_m2 = pg.width_m() * pg.height_m();
     for (std::size_t k = 0; k < m_pop.size(); ++k) {
         if (dead[k] == before[k]) continue;
         const Species& s = species[m_pop.species[k]];
@@ -389,6 +398,38 @@ void Ecosystem::harvest(std::vector<char>& dead, bool allometric_mass) {
         m_harvest.basal_area_m2_per_ha += std::numbers::pi * d * d / 4 * 1e4 / area_m2;
         m_harvest.wood_kg += allometric_mass ? allometry::stem_mass_kg(s, d) : m_pop.wood_kg[k];
     }
+}
+
+std::size_t Ecosystem::remove_plants(const std::vector<std::int64_t>& ids) {
+    std::unordered_map<std::int64_t, std::size_t> index;
+    for (std::size_t k = 0; k < m_pop.size(); ++k)
+        if (m_pop.alive[k]) index.emplace(m_pop.id[k], k);
+    const std::vector<char> none(m_pop.size(), 0);
+    std::vector<char> dead = none;
+    for (const std::int64_t id : ids) {
+        const auto it = index.find(id);
+        if (it == index.end())
+            throw InputError("remove_plants: no living plant has id " + std::to_string(id) +
+                             " (nothing was removed)");
+        dead[it->second] = static_cast<char>(DeathCause::harvest);
+    }
+    const bool coupled = m_scene.competition == Competition::coupled;
+    if (coupled) count_starved(); // as at a year end: the starved are counted before the cut
+    count_harvest(none, dead, !coupled);
+    count_deaths(dead);
+    take_dead(&dead);
+    const auto removed = static_cast<std::size_t>(
+        std::count_if(dead.begin(), dead.end(), [](char c) { return c != 0; }));
+    if (coupled) { // the carbon of the cut leaves the stand as at a year end
+        for (std::size_t k = 0; k < m_pop.size(); ++k)
+            if (dead[k]) m_pop.alive[k] = 0;
+        remove_dead(m_pop, m_sum);
+    } else { // the light-only year end keeps the others, as here
+        for (char& d : dead) d = !d;
+        m_pop.keep_if(dead);
+    }
+    refresh_canopy();
+    return removed;
 }
 
 void Ecosystem::take_dead(const std::vector<char>* causes) {

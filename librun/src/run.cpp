@@ -359,6 +359,48 @@ RunSummary RunJob::run(const EcoScene* scene) {
 
 } // namespace
 
+std::unique_ptr<Ecosystem> load_run_engine(const fs::path& run) {
+    const RunInfo info = read_run_info(run);
+    if (!info.provenance.contains("scene"))
+        throw InputError(run.string() + ": /provenance lacks the scene");
+    const EcoScene sc = load_eco_scene(info.provenance["scene"], "/");
+    check_scene_memory(sc);
+    auto eco = std::make_unique<Ecosystem>(sc);
+    const std::vector<std::uint8_t> bytes = read_run_checkpoint(run, sc).bytes;
+    ArchiveReader r(bytes.data(), bytes.size(), run.string());
+    with_context(run.string() + ": /checkpoint", [&] { eco->load_state(r); });
+    return eco;
+}
+
+void write_run_file(const Ecosystem& eco, const fs::path& out, const json& provenance,
+                    bool replace) {
+    const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    if (!fs::is_directory(parent))
+        throw IoError(out.string() + ": the folder " + parent.string() + " does not exist");
+    const io::FileLock lock(out);
+    if (!replace && fs::exists(out))
+        throw InputError(out.string() + ": the file exists; give replace (force) to replace it "
+                                        "(nothing was written)");
+    remove_leftovers(parent, out);
+    json prov = provenance;
+    prov["scene"] = eco.scene().resolved;
+    prov["scene"]["simulation"]["years"] = std::max(1, eco.years_done());
+    prov["methods"] = methods_json(scene_methods(eco.scene()));
+    const fs::path work = replacing_path(out);
+    const fs::path snap_dir = parent / snapshot_dir_name(work);
+    std::error_code ec;
+    fs::remove_all(snap_dir, ec);
+    io::create_folder(snap_dir, "the snapshot folder");
+    try {
+        const fs::path file = snap_dir / snapshot_file_name(0);
+        write_snapshot(eco, file, 0);
+        replace_run(eco, out, work, snap_dir, prov, {file_checksum(file)});
+    } catch (...) {
+        fs::remove_all(snap_dir, ec);
+        throw;
+    }
+}
+
 RunSummary run_ecosystem(const EcoScene* scene, const RunOptions& opt,
                          const std::function<void(const RunProgress&)>& progress) {
     return RunJob(opt, progress).run(scene);

@@ -259,6 +259,46 @@ TEST_CASE("management in the engine: stumps equal the cut trees, the series reco
     }
 }
 
+TEST_CASE("remove_plants cuts the plants named mid-year as a thinning cuts them: stumps, harvest "
+          "sums, budgets",
+          "[eco][management][engine]") {
+    for (const std::string mode : {"coupled", "light_only"}) {
+        CAPTURE(mode);
+        const EcoScene sc = load_eco_scene(test::small_scene(8, mode), test::data_dir() / "scenes");
+        Ecosystem e(sc);
+        for (int y = 0; y < 5; ++y) e.run_year();
+        for (int d = 0; d < 100; ++d) e.step_day(); // mid-year
+        std::vector<std::int64_t> ids, kept;
+        for (std::size_t k = 0; k < e.plants().size(); ++k)
+            (k % 3 == 0 ? ids : kept).push_back(e.plants().id[k]);
+        REQUIRE(ids.size() > 3);
+        // An id that is not a living plant: refused, naming it, nothing removed.
+        std::vector<std::int64_t> bad = ids;
+        bad.push_back(987654321);
+        const std::size_t n0 = e.plants().size();
+        CHECK_THROWS_WITH(e.remove_plants(bad), Catch::Contains("987654321"));
+        CHECK(e.plants().size() == n0);
+        CHECK(e.remove_plants(ids) == ids.size());
+        std::vector<std::int64_t> left(e.plants().id.begin(), e.plants().id.end());
+        for (const auto id : ids) CHECK(std::find(left.begin(), left.end(), id) == left.end());
+        for (const auto id : kept) // the others stay, unless they starved in the meantime
+            if (std::find(left.begin(), left.end(), id) == left.end()) CHECK(mode == "coupled");
+        std::int64_t stumps = 0;
+        for (const auto& d : e.dead_wood().pieces())
+            if (d.piece == static_cast<std::uint8_t>(PieceKind::stump) &&
+                d.cause == static_cast<std::uint8_t>(DeathCause::harvest))
+                ++stumps;
+        // Every cut tree (a tree at breast height) leaves a stump; seedlings leave none.
+        CHECK(stumps > 0);
+        CHECK(stumps <= static_cast<std::int64_t>(ids.size()));
+        e.run_year();
+        CHECK(e.yearly().column("harvested_stems").back() == static_cast<double>(ids.size()));
+        CHECK(e.carbon_residual_relative() < 1e-9);
+        CHECK(std::abs(e.hydrology().cumulative_residual_m3()) <=
+              1e-9 * e.hydrology().cumulative_throughput_m3());
+    }
+}
+
 TEST_CASE("management: impossible operations are refused, naming the key and the value",
           "[eco][management][input]") {
     auto refuse = [](const json& op, const std::string& what) {

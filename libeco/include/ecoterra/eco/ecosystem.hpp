@@ -42,6 +42,11 @@ public:
     bool step_day();
     /// Steps to the end of the current year.
     void run_year();
+    /// Cuts the plants with these ids now, as a thinning cuts them at a year end: each leaves its
+    /// stump and slash to the dead wood and counts in the year's harvest; the canopy is refreshed.
+    /// InputError (naming the id) for an id that is not a living plant, with nothing removed.
+    /// Returns the number of plants removed.
+    std::size_t remove_plants(const std::vector<std::int64_t>& ids);
 
     int years_done() const { return m_years_done; }
     int days_done() const { return m_days_done; }
@@ -95,6 +100,9 @@ private:
     /// The year's management operations: marks the trees they cut in `dead` (DeathCause::harvest)
     /// and sums them into m_harvest.
     void harvest(std::vector<char>& dead, bool allometric_mass);
+    /// Adds the plants cut (dead but not in `before`) to the year's harvest sums.
+    void count_harvest(const std::vector<char>& before, const std::vector<char>& dead,
+                       bool allometric_mass);
     /// The year's storm: marks the trees it fells in `dead` (windthrow.hpp) into m_storm.
     void storm(std::vector<char>& dead);
     /// Removes the dead, refreshes the structure (coupled) and the canopy.

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 
 namespace ecoterra::run {
@@ -49,6 +50,18 @@ struct RunSummary {
     Methods methods;          ///< the published methods the run used (also in its provenance)
     eco::Diagnosis diagnosis; ///< why the stand is what it is (also in /diagnosis of the run)
 };
+
+/// The engine of the run file `run` at its last checkpoint, built from the scene the run stores,
+/// as `ecoterra run --resume` starts it (the same checks: the checksum, the terrain): for a
+/// library caller that steps it further itself (the Python module).
+std::unique_ptr<eco::Ecosystem> load_run_engine(const std::filesystem::path& run);
+
+/// Writes the engine as it stands into the run file `run`: one snapshot of its present state and
+/// the checkpoint, so that `ecoterra stand`, `export`, `mobility` and `run --resume` read it as
+/// any run. An existing file is refused unless `replace`; then it is replaced atomically (a
+/// failure keeps it). The run's total years become the years done.
+void write_run_file(const eco::Ecosystem& eco, const std::filesystem::path& run,
+                    const nlohmann::json& provenance, bool replace);
 
 /// Runs a scene from its start (opt.resume false) or continues the run in opt.output.
 RunSummary run_ecosystem(const eco::EcoScene* scene, const RunOptions& opt,

@@ -1,0 +1,92 @@
+// The analyses of a run file from Python (docs/python.md): mobility lines and scene exports, with
+// the options and messages of `ecoterra mobility`, `ecoterra export scene` and the ensembles.
+#include "bindings.hpp"
+
+#include "ecoterra/analyses/analyses.hpp"
+#include "ecoterra/error.hpp"
+#include "ecoterra/export/formats.hpp"
+#include "ecoterra/export/scene.hpp"
+#include "ecoterra/io/staging.hpp"
+#include "ecoterra/mobility/stand.hpp"
+#include "ecoterra/run/run_reader.hpp"
+
+#include <pybind11/stl.h>
+
+namespace ecoterra::python {
+
+namespace {
+
+/// Speed made good along random lines through snapshot `snapshot` of the run file, as the
+/// ensembles' `mobility` analysis drives them; `options` are its keys (docs/parameters.md,
+/// analyses.mobility: vehicle, lines, length_m, seed, soil, deadwood, effects, ...).
+py::object mobility(const std::filesystem::path& run_file, int snapshot,
+                    const py::kwargs& options) {
+    nlohmann::json a = nlohmann::json::object();
+    for (const auto& [k, v] : options) a[py::cast<std::string>(k)] = to_json(v, "mobility");
+    const auto opt =
+        with_context("mobility", [&] { return analyses::mobility_catalog().read(a, {}); });
+    nlohmann::json out;
+    {
+        py::gil_scoped_release free;
+        const auto v = mobility::load_vehicle(opt.vehicle);
+        const RasterD dem = run::read_run_terrain(run_file);
+        auto stems = run::stand_stems(run::read_snapshot_plants(run_file, snapshot).plants);
+        mobility::StandDeadWood dead;
+        if (opt.deadwood)
+            dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, snapshot).pieces);
+        stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+        auto lines = opt.lines_options();
+        std::optional<run::SnapshotGround> ground;
+        if (opt.soil) {
+            ground = run::read_snapshot_ground(run_file, snapshot, dem.grid());
+            lines.smg.ground = ground->maps();
+        }
+        RasterD ground_dem = dem;
+        mobility::carve_pits(ground_dem, dead.pits);
+        const auto r = mobility::analyse_stand(v, stems, ground_dem, lines, dead.logs);
+        out = analyses::mobility_json(r, v);
+        out["seed"] = opt.seed;
+    }
+    return from_json(out);
+}
+
+/// `ecoterra export scene`: snapshot `snapshot` of the run file as scenes for simulators, one
+/// folder per format under `output` (scene_gltf/, scene_mavs/, ...); the folders written.
+std::vector<std::string> export_scene(const std::filesystem::path& run_file,
+                                      const std::filesystem::path& output,
+                                      const std::vector<std::string>& formats, int snapshot,
+                                      bool force) {
+    namespace ex = ecoterra::exporter;
+    if (formats.empty()) throw InputError("export_scene: give at least one format");
+    std::vector<ex::SceneFormat> fs;
+    for (const auto& f : formats) fs.push_back(ex::scene_format_from_name(f));
+    std::vector<std::string> written;
+    py::gil_scoped_release free;
+    const ex::Scene s = ex::in_local_frame(ex::load_scene(run_file, snapshot));
+    std::filesystem::create_directories(output);
+    for (std::size_t k = 0; k < fs.size(); ++k) {
+        const std::filesystem::path dir = output / ("scene_" + formats[k]);
+        io::OutputFolder folder(dir, force);
+        ex::ExportOptions opt;
+        opt.final_dir = dir;
+        ex::write_scene(s, fs[k], folder, opt);
+        folder.commit();
+        written.push_back(dir.string());
+    }
+    return written;
+}
+
+} // namespace
+
+void register_analyses(py::module_& m) {
+    m.def("mobility", &mobility, py::arg("run_file"), py::arg("snapshot") = -1,
+          "speed made good of a vehicle along random lines through a run's snapshot, as the "
+          "ensembles' mobility analysis (keys as keywords: vehicle=..., lines=200, ...); the "
+          "figures as `ecoterra mobility --json` writes them");
+    m.def("export_scene", &export_scene, py::arg("run_file"), py::arg("output"),
+          py::arg("formats") = std::vector<std::string>{"gltf"}, py::arg("snapshot") = -1,
+          py::arg("force") = false,
+          "`ecoterra export scene`: formats among gltf, mavs, gazebo, unreal; the folders written");
+}
+
+} // namespace ecoterra::python

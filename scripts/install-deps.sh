@@ -10,6 +10,7 @@ packages=(
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
   libsdformat-dev gdal-bin
   libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev python3-numpy
 )
 if [ "${1:-}" = "--sanitize" ]; then
   packages+=(clang libclang-rt-14-dev libomp-14-dev)

@@ -10,6 +10,8 @@
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/parallel.hpp"
+#include "ecoterra/run/run.hpp"
+#include "ecoterra/run/run_reader.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -423,4 +425,33 @@ TEST_CASE("resume: checkpoint sections are checked one by one, naming the sectio
                           return b;
                       }()),
                       Catch::Contains("section 'dead_wood'") && Catch::Contains("does not know"));
+}
+
+TEST_CASE("write_run_file: an engine written at any day and read back continues bit for bit",
+          "[resume][run]") {
+    // The library path of the Python module's Run.write and Run.from_run_file: split points at
+    // year ends and mid-year, and a replaced file.
+    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+    json j = json::parse(f);
+    j["terrain"]["generate"]["size"] = 20;
+    j["simulation"]["years"] = 3;
+    const eco::EcoScene sc = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    eco::Ecosystem whole(sc);
+    for (int y = 0; y < 3; ++y) whole.run_year();
+    const auto end = checkpoint(whole);
+    test::TempDir dir;
+    for (const int split_day : {0, 200, 365, 500, 730, 1000}) {
+        CAPTURE(split_day);
+        eco::Ecosystem e(sc);
+        for (int d = 0; d < split_day; ++d) e.step_day();
+        const auto path = dir / "w.h5";
+        run::write_run_file(e, path, json::object(), true); // the second on replaces the first
+        auto r = run::load_run_engine(path);
+        CHECK(first_difference(checkpoint(*r), checkpoint(e)) == -1);
+        while (r->days_done() < 3 * 365) r->step_day();
+        CHECK(first_difference(checkpoint(*r), end) == -1);
+        CHECK(run::read_run_info(path).snapshots == 1);
+    }
+    CHECK_THROWS_WITH(run::write_run_file(whole, dir / "w.h5", json::object(), false),
+                      Catch::Contains("exists"));
 }

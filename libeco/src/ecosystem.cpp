@@ -201,6 +201,10 @@ const hydro::DayWeather& Ecosystem::next_weather() {
         m_weather = m_gen.next();
     }
     ++m_days_done;
+    if (m_next_rain_mm) {
+        m_weather.rain_mm = *m_next_rain_mm;
+        m_next_rain_mm.reset();
+    }
     return m_weather;
 }
 
@@ -398,6 +402,13 @@ void Ecosystem::count_harvest(const std::vector<char>& before, const std::vector
         m_harvest.basal_area_m2_per_ha += std::numbers::pi * d * d / 4 * 1e4 / area_m2;
         m_harvest.wood_kg += allometric_mass ? allometry::stem_mass_kg(s, d) : m_pop.wood_kg[k];
     }
+}
+
+void Ecosystem::set_next_rain_mm(double rain_mm) {
+    if (!(rain_mm >= 0) || !std::isfinite(rain_mm))
+        throw InputError("rain: the next day's rain must be a finite amount >= 0 mm, got " +
+                         std::to_string(rain_mm));
+    m_next_rain_mm = rain_mm;
 }
 
 std::size_t Ecosystem::remove_plants(const std::vector<std::int64_t>& ids) {

@@ -28,6 +28,7 @@ if not _os.environ.get("ECOTERRA_DATA"):
         _os.environ["ECOTERRA_DATA"] = _d
 
 from ._ecoterra import (  # noqa: E402
+    Bmi,
     CheckpointError,
     Error,
     InputError,
@@ -36,6 +37,9 @@ from ._ecoterra import (  # noqa: E402
     Scene,
     Terrain,
     __version__,
+    ensemble_members,
+    ensemble_summary,
+    run_ensemble_member,
     export_scene,
     generate_terrain,
     mobility,
@@ -67,6 +71,6 @@ def table_frame(columns):
 
 
 __all__ = [
-    "CheckpointError", "Error", "InputError", "IoError", "Run", "Scene", "Terrain",
-    "data_dir", "export_scene", "generate_terrain", "mobility", "plants_frame", "read_terrain", "run", "table_frame",
+    "Bmi", "CheckpointError", "Error", "InputError", "IoError", "Run", "Scene", "Terrain",
+    "data_dir", "ensemble_members", "ensemble_summary", "export_scene", "run_ensemble_member", "generate_terrain", "mobility", "plants_frame", "read_terrain", "run", "table_frame",
 ]

@@ -65,5 +65,7 @@ void register_scene(py::module_& m);
 void register_run(py::module_& m);
 void register_terrain(py::module_& m);
 void register_analyses(py::module_& m);
+void register_bmi(py::module_& m);
+void register_ensemble(py::module_& m);
 
 } // namespace ecoterra::python

@@ -143,4 +143,6 @@ PYBIND11_MODULE(_ecoterra, m) {
     ecoterra::python::register_run(m);
     ecoterra::python::register_terrain(m);
     ecoterra::python::register_analyses(m);
+    ecoterra::python::register_bmi(m);
+    ecoterra::python::register_ensemble(m);
 }

@@ -5,6 +5,7 @@ Each check compares the module with the program (bit for bit where the program w
 thing), or asserts behaviour: views that do not copy, errors with the program's messages, a cut
 that keeps the budgets.
 """
+import json
 import shutil
 import subprocess
 import sys
@@ -159,8 +160,6 @@ back = ecoterra.read_terrain(work / "t.asc")
 check(np.allclose(back.z, t.z, atol=1e-6) and back.grid == t.grid, "write and read a raster")
 a = t.analyze()
 cli("terrain", "analyze", work / "t.h5", "--json", work / "a.json", "--force")
-import json  # noqa: E402
-
 b = json.loads((work / "a.json").read_text())
 check(abs(a["rms_m"] - b["rms_m"]) < 1e-6 * max(1, abs(b["rms_m"])),
       "analyze() gives the program's RMS")
@@ -170,6 +169,25 @@ check(flat.grid["nx"] == 30 and flat.grid["ny"] == 20 and flat.z[5, 3] == 5,
       "from_array keeps (ny, nx) and row order")
 ok, msg = raises(ecoterra.InputError, lambda: ecoterra.generate_terrain(method="nope"), "nope")
 check(ok, f"an unknown method names it ({msg})")
+
+# 6. Ensembles: one member from Python is the program's member; the summary reads in pandas.
+man = data / "studies/example.json"
+check(ecoterra.ensemble_members(man) == 6, "ensemble_members")
+for i in (0, 4):
+    rec = ecoterra.run_ensemble_member(man, work / "ens_py", i)
+    cli("ensemble", man, "-o", work / "ens_cli", "--member", i)
+    theirs = json.loads(next((work / "ens_cli/members").glob(f"{i:06d}*/member.json")).read_text())
+    check(rec["status"] == "ok" and rec["metrics"] == theirs["metrics"]
+          and rec["seeds"] == theirs["seeds"], f"member {i} from Python == the program's")
+summ = ecoterra.ensemble_summary(work / "ens_py")
+check(summ["ok"] == 2 and summ["missing"] == 4, "the summary counts the members run")
+import pandas as pd  # noqa: E402
+
+members = pd.read_csv(work / "ens_py/summary/members.csv")
+check(len(members) == 2 and list(members.member) == [0, 4], "members.csv in pandas: the members run")
+ok, msg = raises(ecoterra.InputError, lambda: ecoterra.run_ensemble_member(man, work / "e", 6),
+                 "member 6", "[0, 6)")
+check(ok, f"a member outside the ensemble ({msg})")
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

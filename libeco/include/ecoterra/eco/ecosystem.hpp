@@ -30,6 +30,7 @@
 #include "ecoterra/random.hpp"
 
 #include <memory>
+#include <optional>
 
 namespace ecoterra::eco {
 
@@ -47,6 +48,11 @@ public:
     /// InputError (naming the id) for an id that is not a living plant, with nothing removed.
     /// Returns the number of plants removed.
     std::size_t remove_plants(const std::vector<std::int64_t>& ids);
+    /// Replaces the rain of the next day stepped, mm, once: a coupled model's rain (the BMI's
+    /// precipitation input). The day's weather is drawn as always and only its rain replaced, so
+    /// the other variables and the later days are unchanged. Not part of the checkpoint.
+    /// InputError for a negative or non-finite amount.
+    void set_next_rain_mm(double rain_mm);
 
     int years_done() const { return m_years_done; }
     int days_done() const { return m_days_done; }
@@ -131,6 +137,7 @@ private:
     void load_version6(ArchiveReader& a);
 
     EcoScene m_scene;
+    std::optional<double> m_next_rain_mm; ///< set_next_rain_mm(), for the next day only
     double m_hydro_cell_area = 1;
     std::unique_ptr<hydro::HydrologyModel> m_hydro;
     hydro::WeatherGenerator m_gen;

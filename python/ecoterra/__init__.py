@@ -43,6 +43,7 @@ from ._ecoterra import (  # noqa: E402
     export_scene,
     generate_terrain,
     mobility,
+    mobility_map,
     read_terrain,
     run,
 )
@@ -72,5 +73,5 @@ def table_frame(columns):
 
 __all__ = [
     "Bmi", "CheckpointError", "Error", "InputError", "IoError", "Run", "Scene", "Terrain",
-    "data_dir", "ensemble_members", "ensemble_summary", "export_scene", "run_ensemble_member", "generate_terrain", "mobility", "plants_frame", "read_terrain", "run", "table_frame",
+    "data_dir", "ensemble_members", "ensemble_summary", "export_scene", "run_ensemble_member", "generate_terrain", "mobility", "mobility_map", "plants_frame", "read_terrain", "run", "table_frame",
 ]

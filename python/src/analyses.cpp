@@ -7,6 +7,7 @@
 #include "ecoterra/export/formats.hpp"
 #include "ecoterra/export/scene.hpp"
 #include "ecoterra/io/staging.hpp"
+#include "ecoterra/mobility/map.hpp"
 #include "ecoterra/mobility/stand.hpp"
 #include "ecoterra/run/run_reader.hpp"
 
@@ -50,6 +51,41 @@ py::object mobility(const std::filesystem::path& run_file, int snapshot,
     return from_json(out);
 }
 
+/// The mobility map of snapshot `snapshot` of the run file, as the ensembles' `mobility_map`
+/// analysis makes it (`options`: its keys: vehicle, cell_m, headings, soil, deadwood, ...): the
+/// summary as `ecoterra mobility map` writes it, with the mean speed (m/s), the GO share (1) and
+/// the limiting factor per cell as numpy arrays (ny, nx).
+py::object mobility_map(const std::filesystem::path& run_file, int snapshot,
+                        const py::kwargs& options) {
+    nlohmann::json a = nlohmann::json::object();
+    for (const auto& [k, v] : options) a[py::cast<std::string>(k)] = to_json(v, "mobility_map");
+    const auto opt =
+        with_context("mobility_map", [&] { return analyses::mobility_map_catalog().read(a, {}); });
+    std::optional<mobility::MobilityMap> map;
+    {
+        py::gil_scoped_release free;
+        const auto v = mobility::load_vehicle(opt.vehicle);
+        const RasterD dem = run::read_run_terrain(run_file);
+        auto stems = run::stand_stems(run::read_snapshot_plants(run_file, snapshot).plants);
+        mobility::StandDeadWood dead;
+        if (opt.deadwood)
+            dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, snapshot).pieces);
+        stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+        std::optional<run::SnapshotGround> ground;
+        if (opt.soil) ground = run::read_snapshot_ground(run_file, snapshot, dem.grid());
+        RasterD ground_dem = dem;
+        mobility::carve_pits(ground_dem, dead.pits);
+        map = mobility::mobility_map(v, ground_dem, stems, dead.logs,
+                                     ground ? ground->maps() : mobility::GroundMaps{},
+                                     opt.map_options());
+    }
+    py::dict d = from_json(mobility::to_json(*map));
+    d["speed_mean_m_per_s"] = raster_copy(map->speed_mean_m_per_s);
+    d["go_fraction"] = raster_copy(map->go_fraction);
+    d["limiting"] = raster_copy(map->limiting);
+    return d;
+}
+
 /// `ecoterra export scene`: snapshot `snapshot` of the run file as scenes for simulators, one
 /// folder per format under `output` (scene_gltf/, scene_mavs/, ...); the folders written.
 std::vector<std::string> export_scene(const std::filesystem::path& run_file,
@@ -83,6 +119,9 @@ void register_analyses(py::module_& m) {
           "speed made good of a vehicle along random lines through a run's snapshot, as the "
           "ensembles' mobility analysis (keys as keywords: vehicle=..., lines=200, ...); the "
           "figures as `ecoterra mobility --json` writes them");
+    m.def("mobility_map", &mobility_map, py::arg("run_file"), py::arg("snapshot") = -1,
+          "the mobility map of a run's snapshot, as the ensembles' mobility_map analysis (keys as "
+          "keywords: vehicle=..., cell_m=..., headings=8, ...): its summary and its rasters");
     m.def("export_scene", &export_scene, py::arg("run_file"), py::arg("output"),
           py::arg("formats") = std::vector<std::string>{"gltf"}, py::arg("snapshot") = -1,
           py::arg("force") = false,

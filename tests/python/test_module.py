@@ -170,7 +170,30 @@ check(flat.grid["nx"] == 30 and flat.grid["ny"] == 20 and flat.z[5, 3] == 5,
 ok, msg = raises(ecoterra.InputError, lambda: ecoterra.generate_terrain(method="nope"), "nope")
 check(ok, f"an unknown method names it ({msg})")
 
-# 6. Ensembles: one member from Python is the program's member; the summary reads in pandas.
+# 6. A run written from Python is read by the program; mobility and maps equal the program's.
+w = ecoterra.Run(scene)
+w.step_year(4)
+w.write(work / "w.h5")
+check(checkpoint(work / "w.h5") == w.state(), "Run.write stores the checkpoint")
+cli("stand", work / "w.h5", "--json", work / "w_stand.json")
+stand = json.loads((work / "w_stand.json").read_text())
+check(stand["stems"] == w.stand()["stems"], "ecoterra stand reads a file Run.write wrote")
+mrzr = str(data / "vehicles/mrzr4.json")
+ours = ecoterra.mobility(work / "w.h5", vehicle=mrzr, lines=20, seed=5)
+cli("mobility", work / "w.h5", "--vehicle", mrzr, "--lines", 20, "--seed", 5, "--json",
+    work / "mob.json", "--no-pictures")
+theirs = json.loads((work / "mob.json").read_text())
+check(ours["smg_mean_m_per_s"] == theirs["smg_mean_m_per_s"], "mobility() == ecoterra mobility")
+mp = ecoterra.mobility_map(work / "w.h5", vehicle=mrzr)
+cli("mobility", "map", work / "w.h5", "--vehicle", mrzr, "-o", work / "map", "--no-pictures")
+theirs = json.loads((work / "map/summary.json").read_text())
+check(mp["mean_speed_m_per_s"] == theirs["mean_speed_m_per_s"]
+      and mp["speed_mean_m_per_s"].shape == (g["ny"], g["nx"]),
+      "mobility_map() == ecoterra mobility map")
+ok, msg = raises(ecoterra.InputError, lambda: w.write(work / "w.h5"), "exists")
+check(ok, f"Run.write does not overwrite without force ({msg})")
+
+# 7. Ensembles: one member from Python is the program's member; the summary reads in pandas.
 man = data / "studies/example.json"
 check(ecoterra.ensemble_members(man) == 6, "ensemble_members")
 for i in (0, 4):

@@ -116,7 +116,7 @@ TEST_CASE("BMI: grids, variables and time agree with each other as the specifica
     CHECK_THROWS_WITH(m.Update(), Catch::Contains("not initialized"));
 }
 
-TEST_CASE("BMI: updates are the engine's days bit for bit; rain set through BMI is the day's rain "
+TEST_CASE("BMI: updates are the engine's days bit for bit, rain set through BMI is the day's rain "
           "and the budget closes",
           "[bmi]") {
     test::TempDir dir;

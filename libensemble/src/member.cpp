@@ -109,20 +109,13 @@ void analyse_mobility(const Manifest& m, const json& a, std::vector<mobility::St
 /// The member's mobility map (its snapshot's stand and ground): mobility_map.json and the layers
 /// the ensemble's stochastic map adds up (mobility_map/speed_mean_m_per_s.tif, go_fraction.tif).
 void analyse_mobility_map(const Manifest& m, const json& a, const fs::path& run_file,
-                          const RasterD& dem, const fs::path& stage, Metrics& out) {
+                          const fs::path& stage, Metrics& out) {
     const auto opt = analyses::mobility_map_catalog().read(a, {});
     const auto v = mobility::load_vehicle(manifest_path(m, opt.vehicle));
-    auto stems = run::stand_stems(run::read_snapshot_plants(run_file, -1).plants);
-    mobility::StandDeadWood dead;
-    if (opt.deadwood) dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, -1).pieces);
-    stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
-    std::optional<run::SnapshotGround> ground;
-    if (opt.soil) ground = run::read_snapshot_ground(run_file, -1, dem.grid());
-    RasterD ground_dem = dem;
-    mobility::carve_pits(ground_dem, dead.pits);
-    const auto map =
-        mobility::mobility_map(v, ground_dem, stems, dead.logs,
-                               ground ? ground->maps() : mobility::GroundMaps{}, opt.map_options());
+    const auto w = run::read_driving_world(run_file, -1, opt.deadwood, opt.soil);
+    const auto map = mobility::mobility_map(v, w.dem, w.stems, w.dead.logs,
+                                            w.ground ? w.ground->maps() : mobility::GroundMaps{},
+                                            opt.map_options());
     io::create_folder(stage / "mobility_map", "the member's map folder");
     terrain::io::write_geotiff(map.speed_mean_m_per_s,
                                stage / "mobility_map/speed_mean_m_per_s.tif", "m/s");
@@ -208,7 +201,7 @@ void execute(const Manifest& m, const Member& mb, const fs::path& stage, const f
                 },
                 dem, run::read_snapshot_ground(opt.output, -1, dem.grid()), stage, metrics);
         if (an.contains("mobility_map"))
-            analyse_mobility_map(m, an["mobility_map"], opt.output, dem, stage, metrics);
+            analyse_mobility_map(m, an["mobility_map"], opt.output, stage, metrics);
         if (an.contains("terrain")) analyse_terrain(an["terrain"], dem, stage, metrics);
         if (an.contains("traverse")) analyse_traverse(m, an["traverse"], dem, stage, metrics);
         if (an.contains("export"))

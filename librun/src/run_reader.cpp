@@ -329,4 +329,15 @@ mobility::StandDeadWood stand_deadwood(const std::vector<DeadWoodRecord>& pieces
     return out;
 }
 
+DrivingWorld read_driving_world(const fs::path& run, int index, bool deadwood, bool soil) {
+    DrivingWorld w;
+    w.dem = read_run_terrain(run);
+    w.stems = stand_stems(read_snapshot_plants(run, index).plants);
+    if (deadwood) w.dead = stand_deadwood(read_snapshot_deadwood(run, index).pieces);
+    w.stems.insert(w.stems.end(), w.dead.snags.begin(), w.dead.snags.end());
+    if (soil) w.ground = read_snapshot_ground(run, index, w.dem.grid());
+    mobility::carve_pits(w.dem, w.dead.pits);
+    return w;
+}
+
 } // namespace ecoterra::run

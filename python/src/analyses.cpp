@@ -17,34 +17,29 @@ namespace ecoterra::python {
 
 namespace {
 
+/// Keyword arguments as a JSON object, each value checked as JSON.
+nlohmann::json keyword_json(const py::kwargs& kw, const std::string& what) {
+    nlohmann::json a = nlohmann::json::object();
+    for (const auto& [k, v] : kw) a[py::cast<std::string>(k)] = to_json(v, what);
+    return a;
+}
+
 /// Speed made good along random lines through snapshot `snapshot` of the run file, as the
 /// ensembles' `mobility` analysis drives them; `options` are its keys (docs/parameters.md,
 /// analyses.mobility: vehicle, lines, length_m, seed, soil, deadwood, effects, ...).
 py::object mobility(const std::filesystem::path& run_file, int snapshot,
                     const py::kwargs& options) {
-    nlohmann::json a = nlohmann::json::object();
-    for (const auto& [k, v] : options) a[py::cast<std::string>(k)] = to_json(v, "mobility");
+    const nlohmann::json a = keyword_json(options, "mobility");
     const auto opt =
         with_context("mobility", [&] { return analyses::mobility_catalog().read(a, {}); });
     nlohmann::json out;
     {
         py::gil_scoped_release free;
         const auto v = mobility::load_vehicle(opt.vehicle);
-        const RasterD dem = run::read_run_terrain(run_file);
-        auto stems = run::stand_stems(run::read_snapshot_plants(run_file, snapshot).plants);
-        mobility::StandDeadWood dead;
-        if (opt.deadwood)
-            dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, snapshot).pieces);
-        stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
+        const auto w = run::read_driving_world(run_file, snapshot, opt.deadwood, opt.soil);
         auto lines = opt.lines_options();
-        std::optional<run::SnapshotGround> ground;
-        if (opt.soil) {
-            ground = run::read_snapshot_ground(run_file, snapshot, dem.grid());
-            lines.smg.ground = ground->maps();
-        }
-        RasterD ground_dem = dem;
-        mobility::carve_pits(ground_dem, dead.pits);
-        const auto r = mobility::analyse_stand(v, stems, ground_dem, lines, dead.logs);
+        if (w.ground) lines.smg.ground = w.ground->maps();
+        const auto r = mobility::analyse_stand(v, w.stems, w.dem, lines, w.dead.logs);
         out = analyses::mobility_json(r, v);
         out["seed"] = opt.seed;
     }
@@ -57,26 +52,16 @@ py::object mobility(const std::filesystem::path& run_file, int snapshot,
 /// the limiting factor per cell as numpy arrays (ny, nx).
 py::object mobility_map(const std::filesystem::path& run_file, int snapshot,
                         const py::kwargs& options) {
-    nlohmann::json a = nlohmann::json::object();
-    for (const auto& [k, v] : options) a[py::cast<std::string>(k)] = to_json(v, "mobility_map");
+    const nlohmann::json a = keyword_json(options, "mobility_map");
     const auto opt =
         with_context("mobility_map", [&] { return analyses::mobility_map_catalog().read(a, {}); });
     std::optional<mobility::MobilityMap> map;
     {
         py::gil_scoped_release free;
         const auto v = mobility::load_vehicle(opt.vehicle);
-        const RasterD dem = run::read_run_terrain(run_file);
-        auto stems = run::stand_stems(run::read_snapshot_plants(run_file, snapshot).plants);
-        mobility::StandDeadWood dead;
-        if (opt.deadwood)
-            dead = run::stand_deadwood(run::read_snapshot_deadwood(run_file, snapshot).pieces);
-        stems.insert(stems.end(), dead.snags.begin(), dead.snags.end());
-        std::optional<run::SnapshotGround> ground;
-        if (opt.soil) ground = run::read_snapshot_ground(run_file, snapshot, dem.grid());
-        RasterD ground_dem = dem;
-        mobility::carve_pits(ground_dem, dead.pits);
-        map = mobility::mobility_map(v, ground_dem, stems, dead.logs,
-                                     ground ? ground->maps() : mobility::GroundMaps{},
+        const auto w = run::read_driving_world(run_file, snapshot, opt.deadwood, opt.soil);
+        map = mobility::mobility_map(v, w.dem, w.stems, w.dead.logs,
+                                     w.ground ? w.ground->maps() : mobility::GroundMaps{},
                                      opt.map_options());
     }
     py::dict d = from_json(mobility::to_json(*map));

@@ -79,6 +79,19 @@ struct SnapshotGround {
 };
 SnapshotGround read_snapshot_ground(const std::filesystem::path& run, int index,
                                     const GridSpec& grid);
+
+/// What a vehicle meets in snapshot `index` of a run: the run's terrain with the root plates' pits
+/// carved, the living stems with the snags, the logs (`deadwood`), and the ground's strength and
+/// standing water (`soil`): the world of the mobility analyses of the ensembles and the Python
+/// module.
+struct DrivingWorld {
+    RasterD dem;
+    std::vector<mobility::StandStem> stems;
+    mobility::StandDeadWood dead;
+    std::optional<SnapshotGround> ground;
+};
+DrivingWorld read_driving_world(const std::filesystem::path& run, int index, bool deadwood,
+                                bool soil);
 /// The index of the snapshot of year `year`; InputError naming the run and its snapshots' years
 /// if none is.
 int snapshot_of_year(const std::filesystem::path& run, int year);

@@ -59,7 +59,7 @@ void EcoterraBmi::Initialize(std::string config_file) {
     const auto base = std::filesystem::absolute(config_file).parent_path();
     const eco::EcoScene sc =
         with_context(config_file, [&] { return eco::load_eco_scene(j, base); });
-    m_eco = std::make_unique<eco::Ecosystem>(sc);
+    m_eco = std::make_shared<eco::Ecosystem>(sc);
     m_end_days = static_cast<double>(sc.years) * hydro::kDaysPerYear;
 }
 

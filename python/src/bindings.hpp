@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,14 @@ py::array_t<T> raster_view(const Raster<T>& r, const py::handle& owner) {
         owner);
     py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
     return a;
+}
+
+/// A Python object that owns a copy of `p`: the base of views over what `p` holds, so that the
+/// memory lives as long as the views, whatever happens to the object that handed them out.
+template <class T>
+py::object keep_alive(const std::shared_ptr<T>& p) {
+    return py::capsule(new std::shared_ptr<T>(p),
+                       [](void* q) { delete static_cast<std::shared_ptr<T>*>(q); });
 }
 
 /// A copy of a raster as a numpy array (ny, nx), for rasters computed on request.

@@ -61,14 +61,14 @@ void register_bmi_values(py::class_<Impl>& c) {
          "fills dest (float64, the variable's size) and returns it")
         .def(
             "get_value_ptr",
-            [](py::object self, const std::string& name) {
-                auto& m = self.cast<Impl&>();
+            [](Impl& m, const std::string& name) {
                 auto* p = static_cast<double*>(m.GetValuePtr(name));
                 const int g = m.GetVarGrid(name);
                 int shape[2];
                 m.GetGridShape(g, shape);
+                // The view keeps the engine alive, even past finalize().
                 py::array_t<double> a({static_cast<py::ssize_t>(shape[0] * shape[1])}, {8}, p,
-                                      self);
+                                      keep_alive(m.shared_engine()));
                 py::detail::array_proxy(a.ptr())->flags &=
                     ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
                 return a;

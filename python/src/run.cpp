@@ -21,18 +21,23 @@ namespace {
 /// A run stepped from Python. The engine holds its own copy of the scene.
 class PyRun {
 public:
-    explicit PyRun(const PyScene& s) : m_eco(std::make_unique<eco::Ecosystem>(s.scene)) {}
+    explicit PyRun(const PyScene& s) : m_eco(std::make_shared<eco::Ecosystem>(s.scene)) {}
     explicit PyRun(std::unique_ptr<eco::Ecosystem> e) : m_eco(std::move(e)) {}
 
     eco::Ecosystem& engine() {
         if (!m_eco) throw Error("this ecoterra.Run is closed");
         return *m_eco;
     }
+    /// The owner of a view: it keeps the engine alive while the view lives, even past close().
+    py::object view_owner() {
+        engine();
+        return keep_alive(m_eco);
+    }
     void close() { m_eco.reset(); }
     bool closed() const { return !m_eco; }
 
 private:
-    std::unique_ptr<eco::Ecosystem> m_eco;
+    std::shared_ptr<eco::Ecosystem> m_eco;
 };
 
 /// The state as a checkpoint's bytes (what a run file stores in /checkpoint/state).
@@ -145,35 +150,31 @@ void register_run_state(py::class_<PyRun>& c) {
         .def_property_readonly("closed", &PyRun::closed);
 }
 
+/// A read-only view over one of the engine's rasters; the view keeps the engine alive.
+template <class Get>
+auto engine_view(Get get) {
+    return [get](PyRun& r) { return raster_view(get(r.engine()), r.view_owner()); };
+}
+
 void register_run_fields(py::class_<PyRun>& c) {
-    // Views: read-only numpy arrays over the engine's own memory (no copy), valid while the run
-    // lives; they change as it steps. Row j is the j-th row from the south edge.
-    c.def_property_readonly(
-         "soil_moisture",
-         [](py::object self) {
-             return raster_view(self.cast<PyRun&>().engine().hydrology().soil_moisture(), self);
-         },
-         "root-zone water content, m3/m3 (view)")
+    // Views: read-only numpy arrays over the engine's own memory (no copy); they change as the
+    // run steps, and keep the engine alive even after close(). Row j is the j-th from the south.
+    using E = eco::Ecosystem;
+    c.def_property_readonly("soil_moisture", engine_view([](E& e) -> const RasterD& {
+                                return e.hydrology().soil_moisture();
+                            }),
+                            "root-zone water content, m3/m3 (view)")
+        .def_property_readonly("critical_layer_moisture", engine_view([](E& e) -> const RasterD& {
+                                   return e.hydrology().critical_layer_moisture();
+                               }),
+                               "water content of the critical layer, m3/m3 (view)")
         .def_property_readonly(
-            "critical_layer_moisture",
-            [](py::object self) {
-                return raster_view(
-                    self.cast<PyRun&>().engine().hydrology().critical_layer_moisture(), self);
-            },
-            "water content of the critical layer, m3/m3 (view)")
-        .def_property_readonly(
-            "elevation",
-            [](py::object self) {
-                return raster_view(self.cast<PyRun&>().engine().scene().hydro.dem, self);
-            },
+            "elevation", engine_view([](E& e) -> const RasterD& { return e.scene().hydro.dem; }),
             "terrain elevation, m (view)")
-        .def_property_readonly(
-            "vegetation_density",
-            [](py::object self) {
-                return raster_view(self.cast<PyRun&>().engine().hydrology().vegetation_density(),
-                                   self);
-            },
-            "vegetation density 0..1 seen by the runoff, 1 (view)")
+        .def_property_readonly("vegetation_density", engine_view([](E& e) -> const RasterD& {
+                                   return e.hydrology().vegetation_density();
+                               }),
+                               "vegetation density 0..1 seen by the runoff, 1 (view)")
         .def_property_readonly(
             "surface_water_depth",
             [](PyRun& r) { return raster_copy(r.engine().hydrology().surface_water_depth()); },

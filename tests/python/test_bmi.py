@@ -141,6 +141,8 @@ try:
     check(False, "a short destination raises")
 except ecoterra.InputError as e:
     check("destination" in str(e), f"a short destination: {e}")
+kept = theta.copy()
 eco.finalize()
+check(np.array_equal(theta, kept), "a get_value_ptr view outlives finalize()")
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

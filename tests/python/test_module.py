@@ -130,7 +130,14 @@ check(ok, f"a wrong type: TypeError ({msg})")
 ok, msg = raises(ecoterra.InputError, lambda: ecoterra.Scene({"terrain": 3}), "terrain")
 check(ok, f"a bad dict names the key ({msg})")
 closed_run = ecoterra.Run(scene)
+closed_run.step_day()
+kept_view = closed_run.soil_moisture
+kept_values = kept_view.copy()
 closed_run.close()
+import gc  # noqa: E402
+
+gc.collect()
+check(np.array_equal(kept_view, kept_values), "a view outlives close() (it keeps the engine)")
 ok, msg = raises(ecoterra.Error, lambda: closed_run.step_day(), "closed")
 check(ok and closed_run.closed, f"a closed run raises ecoterra.Error ({msg})")
 kept = checkpoint(work / "py.h5")

@@ -67,6 +67,11 @@ public:
 
     /// The engine (Error before Initialize or after Finalize).
     eco::Ecosystem& engine();
+    /// The engine, shared: a holder of GetValuePtr's memory keeps it alive past Finalize.
+    std::shared_ptr<eco::Ecosystem> shared_engine() {
+        engine();
+        return m_eco;
+    }
 
 private:
     /// The values of `name` as doubles (every variable is float64).
@@ -75,7 +80,7 @@ private:
     void check_grid(int grid);
 
     std::vector<std::string> m_overrides;
-    std::unique_ptr<eco::Ecosystem> m_eco;
+    std::shared_ptr<eco::Ecosystem> m_eco; ///< shared with views that outlive Finalize
     double m_end_days = 0;
 };
 

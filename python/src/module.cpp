@@ -115,6 +115,15 @@ void register_scene(py::module_& m) {
             "every key with its value, defaults filled in (a dict)")
         .def_property_readonly("overrides", [](const PyScene& s) { return s.set; })
         .def_property_readonly("years", [](const PyScene& s) { return s.scene.years; })
+        .def_property_readonly(
+            "notes",
+            [](const PyScene& s) {
+                std::vector<std::string> n = s.scene.hydro.notes;
+                for (const auto& e : s.scene.ecosystem.notes)
+                    n.push_back(s.scene.ecosystem.source.string() + ": " + e);
+                return n;
+            },
+            "what the loader did that the user should know (the program prints them as notes)")
         .def_property_readonly("species",
                                [](const PyScene& s) {
                                    std::vector<std::string> n;

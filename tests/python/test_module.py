@@ -54,6 +54,8 @@ def checkpoint(path):
 # 1. A run stepped from Python equals `ecoterra run` bit for bit, by days, by years, resumed.
 cli("run", quickstart, "-o", work / "cli.h5", "--years", 4, "--no-pictures", "--force")
 scene = ecoterra.Scene(quickstart, set={"simulation.years": 4})
+check(any("physiology keys at their defaults" in n for n in scene.notes),
+      "the scene's notes, as the program prints them")
 by_years = ecoterra.Run(scene)
 by_years.step_year(4)
 check(by_years.state() == checkpoint(work / "cli.h5"), "4 years stepped by year == ecoterra run")

@@ -112,8 +112,6 @@ private:
     void start(const EcoScene* scene);
     /// The run in m_out continued (with `scene`, when given, checked to be its scene).
     void resume(const EcoScene* scene);
-    /// The checkpoint bytes of m_out, checked against their checksum and the terrain of `sc`.
-    std::vector<std::uint8_t> read_checkpoint(const EcoScene& sc) const;
     /// Where the run writes: in place, or (over an earlier run) under a staging name.
     void prepare_output();
     /// Runs the years with their snapshots, then the pictures.
@@ -155,10 +153,6 @@ void RunJob::start(const EcoScene* scene) {
     m_years_total = scene->years;
 }
 
-std::vector<std::uint8_t> RunJob::read_checkpoint(const EcoScene& sc) const {
-    return read_run_checkpoint(m_out, sc).bytes;
-}
-
 void RunJob::resume(const EcoScene* scene) {
     const RunInfo info = read_run_info(m_out);
     const json& stored = info.provenance;
@@ -177,10 +171,6 @@ void RunJob::resume(const EcoScene* scene) {
             throw InputError(m_out.string() + ": the run was made from another scene; resume it "
                                               "without a scene file or with the same scene");
     }
-    const EcoScene sc = load_eco_scene(stored_scene, "/");
-    check_scene_memory(sc);
-    m_eco = std::make_unique<Ecosystem>(sc);
-    const std::vector<std::uint8_t> bytes = read_checkpoint(sc);
     // Every snapshot the run file lists must be there and whole, or the resumed run would link
     // to files that are gone.
     for (int k = 0; k < info.snapshots; ++k)
@@ -189,8 +179,7 @@ void RunJob::resume(const EcoScene* scene) {
                 throw InputError(m_out.string() + ": snapshot " + std::to_string(k) +
                                  " lacks its plants or its year");
         });
-    ArchiveReader r(bytes.data(), bytes.size(), m_out.string());
-    with_context(m_out.string() + ": /checkpoint", [&] { m_eco->load_state(r); });
+    m_eco = load_run_engine(m_out);
     m_snapshots = info.snapshots;
     m_checksums = read_snapshot_checksums(m_out, m_snapshots);
     m_prov["scene"] = stored_scene;

@@ -41,6 +41,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -173,8 +174,12 @@ Thinning thinning_phase(const std::vector<double>& n, const std::vector<double>&
 
 struct Mean {
     double sum = 0, sum2 = 0;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     int n = 0;
-    void add(double v) { sum += v, sum2 += v * v, ++n; }
+    void add(double v) {
+        sum += v, sum2 += v * v, ++n;
+        lo = std::min(lo, v), hi = std::max(hi, v);
+    }
     double mean() const { return sum / n; }
     double sd() const { return std::sqrt(std::max(sum2 / n - mean() * mean(), 0.0)); }
 };
@@ -423,7 +428,7 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
     std::printf("%4s %-9s %6s %6s %6s %6s %6s %6s | %-9s %6s %6s %6s %6s %6s %6s | %6s %-12s\n",
                 "seed", "years", "rain", "ET/P", "T/ET", "I/P", "E/P", "out/P", "years", "rain",
                 "ET/P", "T/ET", "I/P", "E/P", "out/P", "BA", "largest");
-    Mean et, t_et, ip, ba, top;
+    Mean et, t_et, ip, ba, top, stems, shrubs, cover;
     std::vector<Dynamics> dynamics;
     const int late0 = std::max(1, years - 19);
     for (int seed = 1; seed <= seeds; ++seed) {
@@ -468,6 +473,10 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         ip.add(b.interception / b.rain);
         ba.add(stand_ba);
         top.add(share);
+        const eco::UndergrowthMetrics u = e.undergrowth();
+        stems.add(e.stand().stems_per_ha);
+        shrubs.add(u.shrubs_per_ha);
+        cover.add(u.shrub_crown_cover_fraction);
     }
     std::printf(
         "mean over %d seeds, years %d-%d: ET/P %.2f (sd %.2f), T/ET %.2f (sd %.2f), I/P "
@@ -475,6 +484,11 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         "of it (sd %.0f)\n\n",
         seeds, late0, years, et.mean(), et.sd(), t_et.mean(), t_et.sd(), ip.mean(), ip.sd(), years,
         ba.mean(), ba.sd(), 100 * top.mean(), 100 * top.sd());
+    std::printf("at %d years: trees %.0f /ha (sd %.0f, %.0f-%.0f); shrubs %.0f /ha (sd %.0f, "
+                "%.0f-%.0f), their crowns covering %.1f%% of the ground (sd %.1f, %.1f-%.1f)\n\n",
+                years, stems.mean(), stems.sd(), stems.lo, stems.hi, shrubs.mean(), shrubs.sd(),
+                shrubs.lo, shrubs.hi, 100 * cover.mean(), 100 * cover.sd(), 100 * cover.lo,
+                100 * cover.hi);
     print_dynamics(dynamics, years);
 }
 

@@ -195,13 +195,15 @@ const char* stand_verdict_name(StandVerdict v) {
 
 Diagnosis diagnose(const DiagnosisInput& in) {
     Diagnosis d;
-    double woody = 0;
-    bool trees = false;
+    double woody = 0, living_trees = 0;
     for (std::size_t k = 0; k < in.species.size(); ++k)
         if (is_individual_plant(in.species[k])) {
             woody += in.living[k];
-            trees = trees || in.species[k].life_form == LifeForm::tree;
+            if (in.species[k].life_form == LifeForm::tree) living_trees += in.living[k];
         }
+    // Basal area measures a stand of trees; a shrubland (more shrubs alive than trees, as in the
+    // desert) is judged by its stems alone.
+    const bool tree_stand = living_trees > 0 && living_trees >= woody - living_trees;
     const double ba = in.stand.basal_area_m2_per_ha;
     const std::string after = " after " + std::to_string(in.years) + " years";
     if (in.target_basal_area_m2_per_ha && ba < kTargetShare * *in.target_basal_area_m2_per_ha) {
@@ -221,7 +223,7 @@ Diagnosis diagnose(const DiagnosisInput& in) {
         d.headline = "the stand is empty" + after + ": no tree or shrub is alive" +
                      (d.headline.empty() ? "" : "; " + d.headline);
     } else if (d.verdict == StandVerdict::ok && in.years >= kSparseAfterYears &&
-               (woody / in.area_ha < kSparseStemsPerHa || (trees && ba < kSparseBasalArea))) {
+               (woody / in.area_ha < kSparseStemsPerHa || (tree_stand && ba < kSparseBasalArea))) {
         d.verdict = StandVerdict::sparse;
         d.headline = "the stand is sparse" + after + ": " + fmt("%.0f", in.stand.stems_per_ha) +
                      " trees a hectare, basal area " + fmt("%.2f", ba) + " m2/ha";

@@ -669,7 +669,8 @@ TEST_CASE("Every shipped ecosystem grows a stand on the scene the docs name for 
     // Plausible: the diagnosis finds nothing to report (not empty, not sparse) and, where a
     // published figure exists, the stand is near it: forest.md's well-stocked mature stands hold
     // 20-50 m2/ha; creosote bush in the Mojave at Rock Valley, Nevada, 959 plants a hectare
-    // (Ackerman, in FEIS: Marshall 1995), here within a factor of 3.
+    // (Ackerman, in FEIS: Marshall 1995), here within a factor of 3, its crowns covering 10-25 %
+    // of the ground (Eldorado Valley, Nevada: Landscape Ecology 2020), here within 5-35 %.
     struct Case {
         const char* scene;
         double ba_lo, ba_hi;
@@ -692,6 +693,12 @@ TEST_CASE("Every shipped ecosystem grows a stand on the scene the docs name for 
                 if (s["species"] == "Creosote bush") creosote = s["living_at_end"].get<double>();
             CHECK(creosote >= 959.0 / 3); // on 1 ha
             CHECK(creosote <= 959.0 * 3);
+            REQUIRE(test::run(dir, "stand run.h5 --json stand.json").code == 0);
+            const double cover = json::parse(io::read_text(
+                dir / "stand.json"))["undergrowth"]["shrub_crown_cover_fraction"]
+                                     .get<double>();
+            CHECK(cover >= 0.05);
+            CHECK(cover <= 0.35);
         }
     }
 }

@@ -233,3 +233,26 @@ TEST_CASE("diagnose: verdicts and the limit it names", "[eco][diagnosis]") {
         CHECK(diagnose(in).verdict == StandVerdict::sparse);
     }
 }
+
+TEST_CASE("diagnose: a shrubland is judged by its stems, a tree stand also by its basal area",
+          "[eco][diagnosis]") {
+    Species tree, shrub;
+    tree.name = "Test mesquite";
+    tree.life_form = LifeForm::tree;
+    shrub.name = "Test creosote";
+    shrub.life_form = LifeForm::shrub;
+    const std::vector<Species> species{tree, shrub};
+    SpeciesLedger l;
+    l.arrivals = l.attempts = l.draws = l.established = 100;
+    const std::vector<SpeciesLedger> ledgers{l, l};
+    DiagnosisInput in{species, ledgers, {150, 700}, {}, 60, {}, 0, false, 1.0, "sandy_loam", 7.8};
+    in.stand.stems_per_ha = 150;
+    in.stand.basal_area_m2_per_ha = 0.7; // the desert scene's trees at 60 years
+    CHECK(diagnose(in).verdict == StandVerdict::ok);
+    in.living = {150, 149}; // trees now half or more of the woody plants: a tree stand
+    CHECK(diagnose(in).verdict == StandVerdict::sparse);
+    CHECK_THAT(diagnose(in).headline, Catch::Contains("basal area 0.70 m2/ha"));
+    in.living = {20, 70}; // a shrubland with too few stems is sparse all the same
+    in.stand.stems_per_ha = 20;
+    CHECK(diagnose(in).verdict == StandVerdict::sparse);
+}

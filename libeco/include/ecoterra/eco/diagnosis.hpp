@@ -46,7 +46,9 @@ struct Diagnosis {
 };
 
 /// Sparse: after at least `kSparseAfterYears`, fewer than `kSparseStemsPerHa` trees and shrubs,
-/// or less than `kSparseBasalArea` of basal area where the ecosystem has trees. These are
+/// or less than `kSparseBasalArea` of basal area where trees are at least half of the living
+/// trees and shrubs (a shrubland, such as the desert's creosote scrub, is judged by its stems
+/// alone). These are
 /// ecoterra's thresholds for a warning (a tenth of the stem counts and basal areas the shipped
 /// ecosystems grow by then), not measured figures.
 inline constexpr int kSparseAfterYears = 20;

@@ -55,6 +55,7 @@ namespace {
 
 constexpr double kTargetBa = 11.5; // m2/ha, the paper's 50 ft2/acre
 constexpr double kThinningMinDbhM = 0.05;
+constexpr double kInventoryMinDbhM = 0.127; // 5 in: FIA's growing-stock trees
 
 struct Line {
     double slope = 0, intercept = 0, r2 = 0;
@@ -292,6 +293,7 @@ struct Dynamics {
     std::array<double, 4> by_shade_mm{}, by_shade_n{};             // shade 0-.2-.5-.8-1
     std::unordered_set<std::int64_t> risk;
     double dominant_mm = 0, suppressed_mm = 0, all_mm = 0;
+    double inventory_mm = 0; // trees >= 12.7 cm (5 in) at the start, FIA's growing-stock size
 
     Dynamics(const std::vector<eco::Species>& species, int y) : years(y) {
         for (const auto& s : species) names.push_back(s.name);
@@ -330,16 +332,19 @@ struct Dynamics {
     void increments(const eco::Population& pop) {
         std::vector<std::pair<double, double>> h_inc; // (start height, mm/yr)
         const double span = years - increment_from + 1;
+        double inv_sum = 0, inv_n = 0;
         for (std::size_t k = 0; k < pop.size(); ++k) {
             const auto it = start.find(pop.id[k]);
             if (!pop.alive[k] || it == start.end()) continue;
             const auto& [d0, h0, s0] = it->second;
             const double mm = 1000 * (pop.dbh_m[k] - d0) / span;
             h_inc.push_back({h0, mm});
+            if (d0 >= kInventoryMinDbhM) inv_sum += mm, inv_n += 1;
             const int b = s0 < 0.2 ? 0 : s0 < 0.5 ? 1 : s0 < 0.8 ? 2 : 3;
             by_shade_mm[b] += mm;
             by_shade_n[b] += 1;
         }
+        inventory_mm = inv_n > 0 ? inv_sum / inv_n : 0;
         std::sort(h_inc.begin(), h_inc.end());
         const std::size_t q = h_inc.size() / 4;
         if (q == 0) return;
@@ -364,7 +369,7 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
     for (const auto& n : names) std::printf(" %14.14s", n.c_str());
     std::printf(" | %9s %7s %7s %7s %6s\n", "mortality", "all", "top", "bottom", "ratio");
     std::vector<std::vector<Mean>> mean_share;
-    Mean mort, all, dom, sup, ratio;
+    Mean mort, all, dom, sup, ratio, inventory;
     Mean open, overtopped, crown_ratio; // crown classes by the light at mid-crown
     for (std::size_t r = 0; r < runs.size(); ++r) {
         const auto& d = runs[r];
@@ -387,6 +392,7 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
         }
         mort.add(d.mortality());
         all.add(d.all_mm);
+        inventory.add(d.inventory_mm);
         dom.add(d.dominant_mm);
         sup.add(d.suppressed_mm);
         ratio.add(d.dominant_mm / std::max(d.suppressed_mm, 1e-3));
@@ -410,6 +416,9 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
         "%.2f, shortest %.2f, ratio %.1f (sd %.1f)\n\n",
         100 * mort.mean(), 100 * mort.sd(), all.mean(), dom.mean(), sup.mean(), ratio.mean(),
         ratio.sd());
+    std::printf("diameter increment of trees >= 12.7 cm (5 in, the inventories' size) at the "
+                "start: %.2f mm/yr (sd %.2f, %.2f-%.2f)\n\n",
+                inventory.mean(), inventory.sd(), inventory.lo, inventory.hi);
     // Crown classes as foresters define them, by the light a crown receives: open-grown or
     // dominant (shade fraction < 0.2 at the start of the period) against overtopped (>= 0.8).
     std::printf("crown classes by light (shade at the start, s0 < 0.2, s3 >= 0.8), over %d of %zu "

@@ -76,7 +76,7 @@ bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const 
     const int hi = i / canopy.map.factor, hj = j / canopy.map.factor;
     const std::int64_t cell = static_cast<std::int64_t>(hj) * canopy.map.hydro_nx + hi;
     // Light through the crowns and then through the grass and herbs (none without a ground layer).
-    double light = 1.0 - canopy.ground_shade(i, j);
+    double light = cell_light ? (*cell_light)(i, j) : 1.0 - canopy.ground_shade(i, j);
     if (!ground.empty()) light *= ground.transmission(species, cell, extinction);
     SpeciesLedger* l = ledger ? &(*ledger)[static_cast<std::size_t>(&s - species.data())] : nullptr;
     if (l) l->attempts += 1;

@@ -144,13 +144,21 @@ Ecosystem::Ecosystem(const EcoScene& scene)
 Ecosystem::~Ecosystem() = default;
 
 Seedbed Ecosystem::seedbed() {
+    const RasterD* light = nullptr;
+    if (m_scene.shading == ShadingMode::crown_profile) {
+        const double area_ha = plant_grid().width_m() * plant_grid().height_m() / 1e4;
+        m_seedbed_light = gap_light(m_canopy.ground_shade,
+                                    0.5 * top_height_m(m_pop, m_scene.ecosystem.species, area_ha));
+        light = &m_seedbed_light;
+    }
     return {m_canopy,
             m_ground,
             m_scene.ecosystem.species,
             m_scene.extinction,
             soil_water(),
             m_hydro->catchments(),
-            &m_diag};
+            &m_diag,
+            light};
 }
 
 void Ecosystem::count_starved() {

@@ -222,4 +222,44 @@ RasterD Canopy::vegetation_density(const GroundLayer& ground, const GridSpec& hy
     return density;
 }
 
+double top_height_m(const Population& pop, const std::vector<Species>& species, double area_ha) {
+    std::vector<double> h;
+    for (std::size_t k = 0; k < pop.size(); ++k)
+        if (pop.alive[k] && species[pop.species[k]].life_form == LifeForm::tree)
+            h.push_back(pop.height_m[k]);
+    if (h.empty()) return 0.0;
+    const auto n =
+        std::clamp<std::size_t>(static_cast<std::size_t>(std::lround(100 * area_ha)), 1, h.size());
+    std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n - 1), h.end(),
+                     std::greater<>());
+    double sum = 0;
+    for (std::size_t k = 0; k < n; ++k) sum += h[k];
+    return sum / static_cast<double>(n);
+}
+
+RasterD gap_light(const RasterD& ground_shade, double half_width_m) {
+    const GridSpec& g = ground_shade.grid();
+    RasterD out(g, 0.0);
+    const int r = static_cast<int>(std::floor(std::max(0.0, half_width_m) / g.cell_size_m));
+    // Summed-area table of the ground light, (nx + 1) x (ny + 1): one pass, one fixed order, so
+    // the same bits on any thread count; its rounding (about 1e-16 of the grid's sum) is far
+    // below any germination threshold.
+    const std::size_t w = static_cast<std::size_t>(g.nx) + 1;
+    std::vector<double> sat(w * (static_cast<std::size_t>(g.ny) + 1), 0.0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            sat[(j + 1) * w + i + 1] = (1.0 - ground_shade(i, j)) + sat[j * w + i + 1] +
+                                       sat[(j + 1) * w + i] - sat[j * w + i];
+    for (int j = 0; j < g.ny; ++j) {
+        const int j0 = std::max(0, j - r), j1 = std::min(g.ny, j + r + 1);
+        for (int i = 0; i < g.nx; ++i) {
+            const int i0 = std::max(0, i - r), i1 = std::min(g.nx, i + r + 1);
+            const double sum =
+                sat[j1 * w + i1] - sat[j0 * w + i1] - sat[j1 * w + i0] + sat[j0 * w + i0];
+            out(i, j) = std::clamp(sum / ((i1 - i0) * (j1 - j0)), 0.0, 1.0);
+        }
+    }
+    return out;
+}
+
 } // namespace ecoterra::eco

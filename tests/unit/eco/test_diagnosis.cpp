@@ -247,7 +247,7 @@ TEST_CASE("diagnose: a shrubland is judged by its stems, a tree stand also by it
     const std::vector<SpeciesLedger> ledgers{l, l};
     DiagnosisInput in{species, ledgers, {150, 700}, {}, 60, {}, 0, false, 1.0, "sandy_loam", 7.8};
     in.stand.stems_per_ha = 150;
-    in.stand.basal_area_m2_per_ha = 0.7; // the desert scene's trees at 60 years
+    in.stand.basal_area_m2_per_ha = 0.7; // about the desert scene's trees at 60 years
     CHECK(diagnose(in).verdict == StandVerdict::ok);
     in.living = {150, 149}; // trees now half or more of the woody plants: a tree stand
     CHECK(diagnose(in).verdict == StandVerdict::sparse);

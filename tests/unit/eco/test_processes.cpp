@@ -606,3 +606,65 @@ TEST_CASE("tissue turnover: the light compensation point is where production mee
     CHECK(tolerant > 0.0);
     CHECK(tolerant < intolerant);
 }
+
+TEST_CASE("gap_light is the window mean of the ground light, clipped at the edges",
+          "[eco][processes][establishment]") {
+    // Against a brute-force window mean over random ground shade, many sizes and half-widths.
+    Rng rng(17);
+    for (int trial = 0; trial < 40; ++trial) {
+        GridSpec g;
+        g.nx = 1 + static_cast<int>(rng.uniform() * 23);
+        g.ny = 1 + static_cast<int>(rng.uniform() * 23);
+        g.cell_size_m = trial % 2 ? 1.0 : 0.5;
+        RasterD shade(g, 0.0);
+        for (std::int64_t c = 0; c < shade.size(); ++c)
+            shade.data()[c] = rng.uniform() < 0.3 ? 0.0 : rng.uniform();
+        const double half_m = rng.uniform() * 6;
+        const RasterD light = gap_light(shade, half_m);
+        const int r = static_cast<int>(std::floor(half_m / g.cell_size_m));
+        for (int j = 0; j < g.ny; ++j)
+            for (int i = 0; i < g.nx; ++i) {
+                double sum = 0;
+                int n = 0;
+                for (int jj = std::max(0, j - r); jj <= std::min(g.ny - 1, j + r); ++jj)
+                    for (int ii = std::max(0, i - r); ii <= std::min(g.nx - 1, i + r); ++ii)
+                        sum += 1.0 - shade(ii, jj), ++n;
+                CHECK(light(i, j) == Approx(sum / n).margin(1e-12));
+            }
+    }
+    // A one-cell gap in a closed canopy is open at half-width 0 and dark in a 5 x 5 window; the
+    // centre of a clearing wider than the window is in full light.
+    RasterD closed(grid(21), 1.0);
+    closed(10, 10) = 0.0;
+    CHECK(gap_light(closed, 0.0)(10, 10) == 1.0);
+    CHECK(gap_light(closed, 2.0)(10, 10) == Approx(1.0 / 25));
+    for (int j = 4; j <= 16; ++j)
+        for (int i = 4; i <= 16; ++i) closed(i, j) = 0.0;
+    CHECK(gap_light(closed, 6.0)(10, 10) == 1.0);
+    CHECK(gap_light(closed, 6.0)(4, 4) < 0.6);
+}
+
+TEST_CASE("top_height_m is the mean height of the 100 tallest trees a hectare",
+          "[eco][processes][establishment]") {
+    Species tree, shrub;
+    tree.life_form = LifeForm::tree;
+    shrub.life_form = LifeForm::shrub;
+    const std::vector<Species> species{tree, shrub};
+    Population pop;
+    CHECK(top_height_m(pop, species, 1.0) == 0.0);
+    for (int k = 1; k <= 150; ++k) {
+        Plant p;
+        p.height_m = k;
+        pop.push(p);
+    }
+    Plant tall_shrub;
+    tall_shrub.species = 1;
+    tall_shrub.height_m = 500;
+    pop.push(tall_shrub);                                    // shrubs do not count
+    CHECK(top_height_m(pop, species, 1.0) == Approx(100.5)); // mean of 51..150
+    CHECK(top_height_m(pop, species, 0.5) == Approx(125.5)); // the 50 tallest
+    CHECK(top_height_m(pop, species, 1e-4) == 150.0);        // at least one tree
+    CHECK(top_height_m(pop, species, 10.0) == Approx(75.5)); // all 150
+    pop.alive[149] = 0;                                      // the dead do not count
+    CHECK(top_height_m(pop, species, 1e-4) == 149.0);
+}

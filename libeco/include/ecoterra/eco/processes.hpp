@@ -150,6 +150,16 @@ struct Nursery {
     Plant make(std::uint16_t sp, double x, double y, double dbh_m) const;
 };
 
+/// Forestry's top height: the mean height of the 100 tallest trees a hectare (at least one tree;
+/// shrubs and objects left out), 0 without trees.
+double top_height_m(const Population& pop, const std::vector<Species>& species, double area_ha);
+
+/// The light a seedbed cell receives from the gap it lies in: the mean of 1 - ground shade over
+/// a square window of half-width `half_width_m` around it (its part inside the grid). A gap
+/// narrower than the canopy is tall lets little light down to the ground, however open its own
+/// cell (Canham 1988, the gap light index); the seedbed uses half the top height.
+RasterD gap_light(const RasterD& ground_shade, double half_width_m);
+
 /// Where a seed may establish: enough light through the crowns and the ground layer, enough
 /// soil water, no standing water, and then a draw against the germination probability x soil
 /// suitability.
@@ -162,6 +172,9 @@ struct Seedbed {
     const hydro::Catchments& lakes;
     /// Where each species' seeds and attempts are counted (diagnosis.hpp); none if null.
     std::vector<SpeciesLedger>* ledger = nullptr;
+    /// The light of each plant cell (gap_light) under crown_profile shading; if null, 1 - the
+    /// cell's own ground shade (paper 002's blocking and Beer-Lambert shading).
+    const RasterD* cell_light = nullptr;
     /// One draw of `rng` always (the stream does not depend on the tests).
     bool establishes(const Species& s, double x, double y, Rng& rng) const;
 };

@@ -544,3 +544,39 @@ TEST_CASE("growth models: light_and_turnover closes its carbon budget and sheds 
     CHECK(turnover[0] == 0.0);
     CHECK(turnover[1] > 0.0);
 }
+
+TEST_CASE("seedbed: a seed in a small opening of a closed canopy gets its gap's light",
+          "[eco][processes][establishment]") {
+    // Full shade everywhere but one plant cell. By the cell's own light (paper 002's shading) a
+    // seed there always passes the light test; by the gap's light over a 5 x 5 window (a top
+    // height of 4 cells) it never does, and in a clearing wider than the window it always does.
+    World w;
+    w.species[0].germination_min_light = 0.3;
+    w.species[0].germination_probability = 1.0;
+    w.species[0].texture_tolerance_pct = 1e6; // the soil never refuses
+    w.species[0].ph = {6.5, 1e6};
+    auto& shade = w.canopy.ground_shade;
+    for (std::int64_t c = 0; c < shade.size(); ++c) shade.data()[c] = 1.0;
+    const auto& g = w.canopy.plant_grid;
+    const int ci = g.nx / 2, cj = g.ny / 2;
+    shade(ci, cj) = 0.0;
+    const double x = g.x_of(ci), y = g.y_of(cj);
+    const RasterD gap = gap_light(shade, 2 * g.cell_size_m);
+    Seedbed own = w.seedbed();
+    Seedbed by_gap = w.seedbed();
+    by_gap.cell_light = &gap;
+    Rng rng(5, "test.seedbed");
+    int own_ok = 0, gap_ok = 0;
+    for (int k = 0; k < 50; ++k) {
+        own_ok += own.establishes(w.species[0], x, y, rng);
+        gap_ok += by_gap.establishes(w.species[0], x, y, rng);
+    }
+    CHECK(own_ok == 50);
+    CHECK(gap_ok == 0);
+    for (int j = cj - 3; j <= cj + 3; ++j)
+        for (int i = ci - 3; i <= ci + 3; ++i) shade(i, j) = 0.0;
+    const RasterD clearing = gap_light(shade, 2 * g.cell_size_m);
+    by_gap.cell_light = &clearing;
+    for (int k = 0; k < 50; ++k) gap_ok += by_gap.establishes(w.species[0], x, y, rng);
+    CHECK(gap_ok == 50);
+}

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
+#include <utility>
 
 namespace ecoterra::eco {
 
@@ -144,12 +145,11 @@ Ecosystem::Ecosystem(const EcoScene& scene)
 Ecosystem::~Ecosystem() = default;
 
 Seedbed Ecosystem::seedbed() {
-    const RasterD* light = nullptr;
+    std::optional<RasterD> light;
     if (m_scene.shading == ShadingMode::crown_profile) {
         const double area_ha = plant_grid().width_m() * plant_grid().height_m() / 1e4;
-        m_seedbed_light = gap_light(m_canopy.ground_shade,
-                                    0.5 * top_height_m(m_pop, m_scene.ecosystem.species, area_ha));
-        light = &m_seedbed_light;
+        light = gap_light(m_canopy.ground_shade,
+                          0.5 * top_height_m(m_pop, m_scene.ecosystem.species, area_ha));
     }
     return {m_canopy,
             m_ground,
@@ -158,7 +158,7 @@ Seedbed Ecosystem::seedbed() {
             soil_water(),
             m_hydro->catchments(),
             &m_diag,
-            light};
+            std::move(light)};
 }
 
 void Ecosystem::count_starved() {

@@ -564,7 +564,7 @@ TEST_CASE("seedbed: a seed in a small opening of a closed canopy gets its gap's 
     const RasterD gap = gap_light(shade, 2 * g.cell_size_m);
     Seedbed own = w.seedbed();
     Seedbed by_gap = w.seedbed();
-    by_gap.cell_light = &gap;
+    by_gap.cell_light = gap;
     Rng rng(5, "test.seedbed");
     int own_ok = 0, gap_ok = 0;
     for (int k = 0; k < 50; ++k) {
@@ -576,7 +576,7 @@ TEST_CASE("seedbed: a seed in a small opening of a closed canopy gets its gap's 
     for (int j = cj - 3; j <= cj + 3; ++j)
         for (int i = ci - 3; i <= ci + 3; ++i) shade(i, j) = 0.0;
     const RasterD clearing = gap_light(shade, 2 * g.cell_size_m);
-    by_gap.cell_light = &clearing;
+    by_gap.cell_light = clearing;
     for (int k = 0; k < 50; ++k) gap_ok += by_gap.establishes(w.species[0], x, y, rng);
     CHECK(gap_ok == 50);
 }

@@ -153,7 +153,6 @@ private:
     } m_harvest;
     std::int64_t m_next_id = 1;
     Canopy m_canopy;
-    RasterD m_seedbed_light; ///< gap_light at the last seedbed (derived, not checkpointed)
     GroundLayer m_ground;
     std::vector<GroundCell> m_ground_env;
     // The day's water exchange (kept to avoid allocations in the daily loop): per plant the

@@ -33,6 +33,7 @@
 #include "ecoterra/hydro/soil.hpp"
 #include "ecoterra/random.hpp"
 
+#include <optional>
 #include <vector>
 
 namespace ecoterra::eco {
@@ -172,9 +173,9 @@ struct Seedbed {
     const hydro::Catchments& lakes;
     /// Where each species' seeds and attempts are counted (diagnosis.hpp); none if null.
     std::vector<SpeciesLedger>* ledger = nullptr;
-    /// The light of each plant cell (gap_light) under crown_profile shading; if null, 1 - the
+    /// The light of each plant cell (gap_light) under crown_profile shading; if empty, 1 - the
     /// cell's own ground shade (paper 002's blocking and Beer-Lambert shading).
-    const RasterD* cell_light = nullptr;
+    std::optional<RasterD> cell_light = std::nullopt;
     /// One draw of `rng` always (the stream does not depend on the tests).
     bool establishes(const Species& s, double x, double y, Rng& rng) const;
 };

@@ -125,13 +125,14 @@ std::vector<char> ageing_and_mortality(Population& pop, const std::vector<Specie
                                  pop.mass_at_year_start_kg[k], pop.turnover_kg[k],
                                  pop.growth_efficiency[k]);
         const double suppression = suppression_mortality(s, pop.growth_efficiency[k], model);
+        const double background = background_mortality(s, pop.dbh_m[k]);
         if (pop.age_yr[k] >= s.max_age_yr) {
             dead[k] = kAge;
             sums.deaths_age += 1;
-        } else if (u < s.background_mortality_per_yr) {
+        } else if (u < background) {
             dead[k] = static_cast<char>(DeathCause::background);
             sums.deaths_background += 1;
-        } else if (u < s.background_mortality_per_yr + suppression) {
+        } else if (u < background + suppression) {
             dead[k] = static_cast<char>(DeathCause::suppression);
             sums.deaths_suppression += 1;
         }

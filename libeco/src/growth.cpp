@@ -163,6 +163,14 @@ double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_a
     return e;
 }
 
+double background_mortality(const Species& s, double stem_diameter_m) {
+    double m = s.background_mortality_per_yr;
+    if (s.senescence_mortality_per_yr > 0.0 && stem_diameter_m > 0.0)
+        m += s.senescence_mortality_per_yr *
+             std::pow(stem_diameter_m / s.senescence_diameter_m, s.senescence_exponent);
+    return std::min(m, 1.0);
+}
+
 double suppression_mortality(const Species& s, double mean_efficiency, GrowthModel model) {
     const double threshold = s.suppression_growth_efficiency_kg_per_m2_leaf_per_yr;
     if (!(threshold > 0) || model != GrowthModel::paper002) return 0.0;

@@ -606,6 +606,14 @@ const ParamCatalog<Species>& physiology_catalog() {
                        "diameter a recruit enters with"),
              number<S>("background_mortality_per_yr", &S::background_mortality_per_yr, "1/yr", 0, 1,
                        "yearly death probability of any plant"),
+             number<S>("senescence.mortality_per_yr", &S::senescence_mortality_per_yr, "1/yr", 0, 1,
+                       "size-related mortality m_s: a plant of stem diameter D also dies with "
+                       "probability m_s (D / D_s)^k a year (Lines et al. 2010's rising arm); 0 = "
+                       "none"),
+             number<S>("senescence.diameter_m", &S::senescence_diameter_m, "m", 0.01, 10,
+                       "D_s, the stem diameter at which the size-related mortality is m_s"),
+             number<S>("senescence.exponent", &S::senescence_exponent, "1", 0, 20,
+                       "k, how steeply the size-related mortality rises with the stem diameter"),
              number<S>("suppression.growth_efficiency_kg_per_m2_leaf_per_yr",
                        &S::suppression_growth_efficiency_kg_per_m2_leaf_per_yr, "kg/(m2 yr)", 0, 10,
                        "growth efficiency below which a plant is suppressed"),

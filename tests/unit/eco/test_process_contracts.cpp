@@ -283,6 +283,42 @@ TEST_CASE("mortality: one draw per plant, deaths counted by one cause each",
     }
 }
 
+TEST_CASE("mortality: large trees die at the background rate plus the size-related arm",
+          "[eco][processes][demography]") {
+    // 3000 trees of 10 cm and 3000 of 60 cm; the death fraction of each size class against
+    // its probability, within 4.5 binomial standard deviations, over several seeds.
+    World w;
+    for (auto& s : w.species) {
+        s.background_mortality_per_yr = 0.01, s.max_age_yr = 1000;
+        s.suppression_mortality_per_yr = 0;
+        s.senescence_mortality_per_yr = 0.1, s.senescence_diameter_m = 0.5;
+        s.senescence_exponent = 2.0;
+    }
+    for (std::uint64_t seed : {1, 2, 3}) {
+        CAPTURE(seed);
+        Population pop;
+        const int n = 3000;
+        for (int k = 0; k < 2 * n; ++k) pop.push(w.nursery().make(0, 5.0, 5.0, k < n ? 0.1 : 0.6));
+        Rng rng(seed, "test.senescence");
+        PlantSums sums;
+        const auto dead = ageing_and_mortality(pop, w.species, rng, sums);
+        const double expected[2] = {background_mortality(w.species[0], 0.1),
+                                    background_mortality(w.species[0], 0.6)};
+        CHECK(expected[0] == Approx(0.01 + 0.1 * 0.04));
+        CHECK(expected[1] == Approx(0.01 + 0.1 * 1.44));
+        for (int cls = 0; cls < 2; ++cls) {
+            const auto first = dead.begin() + cls * n;
+            const auto died =
+                std::count(first, first + n, static_cast<char>(DeathCause::background));
+            const double p = expected[cls], sd = std::sqrt(n * p * (1 - p));
+            CHECK(std::abs(static_cast<double>(died) - n * p) < 4.5 * sd);
+        }
+        CHECK(sums.deaths_background ==
+              static_cast<double>(
+                  std::count(dead.begin(), dead.end(), static_cast<char>(DeathCause::background))));
+    }
+}
+
 TEST_CASE("seeding: every seed lands or is lost, recruits stand on the grid with fresh ids",
           "[eco][processes][demography]") {
     for (std::uint64_t seed : {1, 2, 3}) {

@@ -668,3 +668,30 @@ TEST_CASE("top_height_m is the mean height of the 100 tallest trees a hectare",
     pop.alive[149] = 0;                                      // the dead do not count
     CHECK(top_height_m(pop, species, 1e-4) == 149.0);
 }
+
+TEST_CASE("senescence: the size-related mortality rises as a power of the stem diameter",
+          "[eco][growth]") {
+    Species s;
+    s.background_mortality_per_yr = 0.004;
+    // Off by default: every size dies at the background rate.
+    for (double d : {0.0, 0.01, 0.5, 3.0}) CHECK(background_mortality(s, d) == 0.004);
+    s.senescence_mortality_per_yr = 0.02;
+    s.senescence_diameter_m = 0.5;
+    for (double k : {1.0, 2.0, 3.0, 4.5}) {
+        CAPTURE(k);
+        s.senescence_exponent = k;
+        CHECK(background_mortality(s, 0.0) == 0.004);
+        CHECK(background_mortality(s, 0.5) == Approx(0.024));
+        CHECK(background_mortality(s, 1.0) == Approx(0.004 + 0.02 * std::pow(2.0, k)));
+        CHECK(background_mortality(s, 0.25) == Approx(0.004 + 0.02 * std::pow(0.5, k)));
+        // Monotone in the diameter, and a probability.
+        double last = 0;
+        for (double d = 0; d < 20; d += 0.05) {
+            const double m = background_mortality(s, d);
+            CHECK(m >= last);
+            CHECK(m <= 1.0);
+            last = m;
+        }
+        CHECK(background_mortality(s, 100.0) == 1.0);
+    }
+}

@@ -140,6 +140,9 @@ double update_growth_efficiency(double wood_kg, double reserve_kg, double leaf_a
                                 double& mass_at_year_start_kg, double& turnover_kg,
                                 double& mean_efficiency);
 double update_growth_efficiency(Plant& p);
+/// The yearly death probability that does not depend on growth: the background rate plus the
+/// size-related arm, m_b + m_s (D / D_s)^k (species.hpp), at most 1.
+double background_mortality(const Species& s, double stem_diameter_m);
 /// Yearly growth-suppression death probability mu_max * clamp(1 - mean e / e_min, 0, 1) (0 when
 /// the species' threshold e_min is 0, and under light_and_turnover, whose suppressed plants
 /// starve).

@@ -128,6 +128,14 @@ struct Species {
     double germination_probability = 0.5;    ///< of a seed landing on a suitable cell
     double recruit_dbh_m = 0.01;             ///< a recruit enters with this diameter
     double background_mortality_per_yr = 0.005;
+    /// Size-related mortality, the rising arm of the U-shaped mortality against stem diameter that
+    /// Lines, Coomes & Purves (2010, PLoS ONE 5:e13212) found in all 21 eastern US species they
+    /// fitted: a plant of stem diameter D also dies with probability
+    /// senescence_mortality_per_yr (D / senescence_diameter_m)^senescence_exponent per year
+    /// (0 = none, the default).
+    double senescence_mortality_per_yr = 0.0;
+    double senescence_diameter_m = 0.5;
+    double senescence_exponent = 3.0;
     /// Growth-suppression mortality (after LPJ-GUESS's greff_min, reference forest.md s1): a plant
     /// whose mean yearly growth efficiency (net dry-mass increment of wood and reserve per m2 of
     /// leaf) falls below `suppression_growth_efficiency` dies with probability

@@ -422,9 +422,10 @@ void print_dynamics(const std::vector<Dynamics>& runs, int years) {
     // Crown classes as foresters define them, by the light a crown receives: open-grown or
     // dominant (shade fraction < 0.2 at the start of the period) against overtopped (>= 0.8).
     std::printf("crown classes by light (shade at the start, s0 < 0.2, s3 >= 0.8), over %d of %zu "
-                "seeds with both: dominant %.2f mm/yr, suppressed %.2f, ratio %.1f (sd %.1f)\n\n",
+                "seeds with both: dominant %.2f mm/yr, suppressed %.2f, ratio %.2f (sd %.2f; "
+                "%.2f-%.2f)\n\n",
                 open.n, runs.size(), open.mean(), overtopped.mean(), crown_ratio.mean(),
-                crown_ratio.sd());
+                crown_ratio.sd(), crown_ratio.lo, crown_ratio.hi);
 }
 
 void water_and_stand(const json& base, const std::filesystem::path& dir, int seeds, int years,
@@ -488,8 +489,8 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
         cover.add(u.shrub_crown_cover_fraction);
     }
     std::printf(
-        "mean over %d seeds, years %d-%d: ET/P %.2f (sd %.2f), T/ET %.2f (sd %.2f), I/P "
-        "%.2f (sd %.2f); basal area at %d years %.1f m2/ha (sd %.1f); largest species %.0f%% "
+        "mean over %d seeds, years %d-%d: ET/P %.3f (sd %.3f), T/ET %.3f (sd %.3f), I/P "
+        "%.3f (sd %.3f); basal area at %d years %.1f m2/ha (sd %.1f); largest species %.0f%% "
         "of it (sd %.0f)\n\n",
         seeds, late0, years, et.mean(), et.sd(), t_et.mean(), t_et.sd(), ip.mean(), ip.sd(), years,
         ba.mean(), ba.sd(), 100 * top.mean(), 100 * top.sd());

@@ -616,3 +616,41 @@ TEST_CASE("seedbed: a seed in a small opening of a closed canopy gets its gap's 
     for (int k = 0; k < 50; ++k) gap_ok += by_gap.establishes(w.species[0], x, y, rng);
     CHECK(gap_ok == 50);
 }
+
+TEST_CASE("seedbed: under the gap light a recruit's chance scales with its growth in that light",
+          "[eco][processes][establishment]") {
+    // A uniform light L everywhere: by the gap light the fraction established is p f_L(L) (the
+    // species' light response of production), by the cell's own light (paper 002's shading) it is
+    // p; binomial bounds of 4.5 standard deviations over several lights and half-saturations.
+    World w;
+    Species& s = w.species[0];
+    s.germination_min_light = 0.0;
+    s.germination_probability = 0.6;
+    s.texture_tolerance_pct = 1e6;
+    s.ph = {6.5, 1e6};
+    const auto& g = w.canopy.plant_grid;
+    int case_no = 0;
+    for (const double k_half : {0.1, 0.3, 1.0}) {
+        for (const double light : {0.05, 0.2, 0.5, 1.0}) {
+            CAPTURE(k_half, light);
+            s.light_half_saturation = k_half;
+            auto& shade = w.canopy.ground_shade;
+            for (std::int64_t c = 0; c < shade.size(); ++c) shade.data()[c] = 1.0 - light;
+            Seedbed own = w.seedbed();
+            Seedbed by_gap = w.seedbed();
+            by_gap.cell_light = RasterD(g, light);
+            Rng rng(static_cast<std::uint64_t>(++case_no), "test.seedbed.growth");
+            const int n = 4000;
+            int own_ok = 0, gap_ok = 0;
+            for (int k = 0; k < n; ++k) {
+                const double x = rng.uniform() * g.width_m(), y = rng.uniform() * g.height_m();
+                own_ok += own.establishes(s, x, y, rng);
+                gap_ok += by_gap.establishes(s, x, y, rng);
+            }
+            const double p_own = 0.6, p_gap = 0.6 * light_factor(k_half, light);
+            CHECK(std::abs(own_ok - n * p_own) < 4.5 * std::sqrt(n * p_own * (1 - p_own)));
+            CHECK(std::abs(gap_ok - n * p_gap) < 4.5 * std::sqrt(n * p_gap * (1 - p_gap)) + 1e-9);
+            if (light < 1.0) CHECK(p_gap < 0.95 * p_own); // the test can tell them apart
+        }
+    }
+}

@@ -92,14 +92,20 @@ bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const 
         if (l) l->failed_pond += 1;
         return false;
     }
+    // Under the gap light a recruit must also grow to its entry size in that light: its chance
+    // scales with the species' light response of production (growth.hpp's light_factor). One
+    // uniform serves both tests: it fails the light if draw >= grow, else draw / grow is uniform
+    // and the soil's draw passes if draw < grow * germination probability * suitability.
+    const double grow = cell_light ? light_factor(s.light_half_saturation, light) : 1.0;
+    if (!(draw < grow)) {
+        if (l) l->failed_light += 1;
+        return false;
+    }
     const double tex =
         texture_factor(s.texture, s.texture_tolerance_pct, water.soil.sand_pct(hi, hj),
                        water.soil.silt_pct(hi, hj), water.soil.clay_pct(hi, hj));
     const double ph = ph_factor(s.ph, water.soil.ph(hi, hj));
-    // Under the gap light a recruit must also grow to its entry size in that light: its chance
-    // scales with the species' light response of production (growth.hpp's light_factor).
-    const double grow = cell_light ? light_factor(s.light_half_saturation, light) : 1.0;
-    const bool ok = draw < s.germination_probability * (tex * ph) * grow; // soil_suitability's
+    const bool ok = draw < grow * (s.germination_probability * (tex * ph)); // soil_suitability's
     if (l) {
         l->draws += 1;
         l->texture_factor_sum += tex;

@@ -85,7 +85,9 @@ std::string limit_text(const std::string& key, const Species& s, const SpeciesLe
     if (key == "light")
         t = l.failed_light > 0 ? "light: " + pct(l.failed_light, l.attempts) +
                                      " of its seeds landed below its germination minimum of " +
-                                     fmt("%.2g", s.germination_min_light) + " of full light"
+                                     fmt("%.2g", s.germination_min_light) +
+                                     " of full light or in too little light to grow into a "
+                                     "recruit"
                                : "light: its plants' light factor averaged " + fmt("%.2f", f.light);
     if (key == "water")
         t = l.failed_water > 0

@@ -653,4 +653,20 @@ TEST_CASE("seedbed: under the gap light a recruit's chance scales with its growt
             if (light < 1.0) CHECK(p_gap < 0.95 * p_own); // the test can tell them apart
         }
     }
+    // The ledger blames the light for a draw the soil alone would have passed.
+    s.germination_probability = 1.0;
+    s.light_half_saturation = 0.3;
+    std::vector<SpeciesLedger> ledger(w.species.size());
+    Seedbed by_gap = w.seedbed();
+    by_gap.cell_light = RasterD(g, 0.1);
+    by_gap.ledger = &ledger;
+    Rng rng(99, "test.seedbed.ledger");
+    int ok = 0;
+    for (int k = 0; k < 2000; ++k) ok += by_gap.establishes(s, 5.0, 5.0, rng);
+    const SpeciesLedger& l = ledger[0];
+    CHECK(l.attempts == 2000);
+    CHECK(l.established == ok);
+    CHECK(l.failed_draw == 0);
+    CHECK(l.failed_light == 2000 - ok);
+    CHECK(l.failed_light > 0);
 }

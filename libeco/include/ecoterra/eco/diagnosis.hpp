@@ -21,9 +21,10 @@ struct SpeciesLedger {
     // arrivals from outside at its per-area rate.
     double seeds_landed = 0, seeds_lost = 0, arrivals = 0;
     // Establishment attempts and where each failed, in the order of the tests: light at the
-    // ground below the minimum, relative soil water below the minimum, standing water, and the
-    // draw against germination probability x soil suitability. Objects (placed without a test)
-    // count as attempts that established.
+    // ground below the minimum, relative soil water below the minimum, standing water, too little
+    // light to grow into a recruit (crown_profile shading; counted with the light's failures), and
+    // the draw against germination probability x soil suitability. Objects (placed without a
+    // test) count as attempts that established.
     double attempts = 0, failed_light = 0, failed_water = 0, failed_pond = 0, failed_draw = 0;
     double established = 0;
     // Sums over the attempts that reached the draw: the soil's texture and pH factors.

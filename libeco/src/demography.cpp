@@ -105,7 +105,8 @@ bool Seedbed::establishes(const Species& s, double x, double y, Rng& rng) const 
         texture_factor(s.texture, s.texture_tolerance_pct, water.soil.sand_pct(hi, hj),
                        water.soil.silt_pct(hi, hj), water.soil.clay_pct(hi, hj));
     const double ph = ph_factor(s.ph, water.soil.ph(hi, hj));
-    const bool ok = draw < grow * (s.germination_probability * (tex * ph)); // soil_suitability's
+    // germination probability x soil_suitability's product, scaled by the growth factor
+    const bool ok = draw < grow * (s.germination_probability * (tex * ph));
     if (l) {
         l->draws += 1;
         l->texture_factor_sum += tex;

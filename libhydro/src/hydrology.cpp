@@ -264,6 +264,7 @@ void HydrologyModel::init_soil_layers() {
     m_tew.assign(un, 0.0f);
     m_rew.assign(un, 0.0f);
     m_drain_exponent.assign(un, 0.0f);
+    m_scratch.assign(2 * un, 0.0);
     m_kr.assign(un, 1.0);
     m_intercepted.assign(un, 0.0);
     for (std::int64_t k = 0; k < n; ++k) {
@@ -431,23 +432,45 @@ void HydrologyModel::update_critical_layer() {
     const double depth = m_opt.root_zone_depth_m;
     const bool gravity = m_opt.drainage == DrainageMethod::gravity;
     const double* th = m_theta.data();
-#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
-    for (std::int64_t k = 0; k < cells; ++k) {
-        const auto u = static_cast<std::size_t>(k);
+    auto layer_cell = [&](std::int64_t k) {
         CriticalLayerCell c;
         c.depth_m = m_opt.critical_layer_depth_m;
         c.root_depth_m = depth;
         c.ceiling = gravity ? m_soil.porosity.data()[k] : m_soil.field_capacity.data()[k];
         c.wilting_point = m_soil.wilting_point.data()[k];
         c.porosity = m_soil.porosity.data()[k];
-        c.exponent = m_drain_exponent[u];
+        c.exponent = m_drain_exponent[static_cast<std::size_t>(k)];
         c.ksat_m_per_s = m_soil.ksat_m_per_s.data()[k];
-        const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
-        const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
-        const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
-        const double evaporation_m = std::max(0.0, et_m - transpiration_m);
-        m_top_theta.data()[k] = critical_layer_day(c, m_top_theta.data()[k], inflow_m,
-                                                   evaporation_m, transpiration_m, th[k], 86400.0);
+        return c;
+    };
+    // critical_layer_day in three passes, so the drainage runs over whole blocks of cells
+    // (drained_theta_cells) with the same result.
+    double* wetted = m_scratch.data();
+    double* drained = m_scratch.data() + cells;
+    const std::int64_t blocks = (cells + kSumBlockCells - 1) / kSumBlockCells;
+#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        const std::int64_t k0 = b * kSumBlockCells, k1 = std::min(cells, k0 + kSumBlockCells);
+        for (std::int64_t k = k0; k < k1; ++k) {
+            const auto u = static_cast<std::size_t>(k);
+            const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
+            wetted[k] = critical_layer_wetted(layer_cell(k), m_top_theta.data()[k], inflow_m);
+        }
+        drained_theta_cells(k1 - k0, wetted + k0, m_soil.porosity.data() + k0,
+                            m_drain_exponent.data() + k0, m_soil.ksat_m_per_s.data() + k0,
+                            m_opt.critical_layer_depth_m, 86400.0, drained + k0);
+        for (std::int64_t k = k0; k < k1; ++k) {
+            const auto u = static_cast<std::size_t>(k);
+            const CriticalLayerCell c = layer_cell(k);
+            const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
+            const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
+            const double evaporation_m = std::max(0.0, et_m - transpiration_m);
+            const double from = critical_layer_drains(c, wetted[k], th[k])
+                                    ? std::max(drained[k], th[k])
+                                    : wetted[k];
+            m_top_theta.data()[k] =
+                critical_layer_rest(c, from, evaporation_m, transpiration_m, th[k]);
+        }
     }
 }
 
@@ -476,7 +499,7 @@ void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double
     if (has_critical_layer()) m_theta_et.assign(m_theta.data(), m_theta.data() + cells);
     if (m_opt.drainage == DrainageMethod::gravity)
         gravity_drainage(soil, m_soil.porosity.data(), m_drain_exponent.data(), cells, 86400.0,
-                         recharge, f.drainage_out);
+                         recharge, f.drainage_out, m_scratch.data());
 }
 
 void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0,

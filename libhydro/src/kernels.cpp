@@ -228,42 +228,21 @@ void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, 
     evaporation_m3 += sums[1];
 }
 
-namespace {
-/// 1 - (1 + r)^(-s), 0 < s <= 1: below r = 0.02 by its binomial series (terms t1 = s r, t(k+1) =
-/// -t(k) r (s + k) / (k + 1); six terms leave a relative error under r^6 < 1e-10), saving the
-/// log1p and exp that most days' small drainage would cost.
-double fraction_drained(double r, double s) {
-    if (!(r < 0.02)) return -std::expm1(-s * std::log1p(r));
-    const double t1 = s * r, t2 = -t1 * r * (s + 1) * 0.5, t3 = -t2 * r * (s + 2) * (1.0 / 3),
-                 t4 = -t3 * r * (s + 3) * 0.25, t5 = -t4 * r * (s + 4) * 0.2,
-                 t6 = -t5 * r * (s + 5) * (1.0 / 6);
-    return t1 + t2 + t3 + t4 + t5 + t6;
-}
-} // namespace
-
-double drained_theta(double theta0, double porosity, double exponent, double ksat_m_per_s,
-                     double depth_m, double dt_s) {
-    if (!(theta0 > 0) || !(ksat_m_per_s > 0)) return theta0;
-    const double u0 = std::min(theta0 / porosity, 1.0);
-    const double m = exponent - 1.0;
-    // u1 = (u0^-m + m a dt)^(-1/m) = u0 (1 + r)^(-1/m), a = Ks / (d theta_s), r = m a dt u0^m:
-    // the day's drainage relative to the water's scale.
-    const double r = m * ksat_m_per_s * dt_s / (depth_m * porosity) * std::exp(m * std::log(u0));
-    return theta0 - u0 * porosity * fraction_drained(r, 1.0 / m);
+double critical_layer_wetted(const CriticalLayerCell& c, double theta0, double inflow_m) {
+    const double z = c.depth_m;
+    return std::min(theta0 * z + std::max(0.0, inflow_m), c.ceiling * z) / z;
 }
 
-double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
-                          double evaporation_m, double transpiration_m, double column_theta,
-                          double dt_s) {
-    const double z = c.depth_m, below = c.root_depth_m - c.depth_m;
-    double w = std::min(theta0 * z + std::max(0.0, inflow_m), c.ceiling * z);
+bool critical_layer_drains(const CriticalLayerCell& c, double theta_wetted, double column_theta) {
     // Gravity drains the layer at K(theta), but no drier than the root zone it drains into (a
     // draining profile tends to a uniform one; only evaporation and roots dry the top further).
-    if (c.porosity > 0 && c.exponent > 1 && w > column_theta * z) { // else the floor holds
-        const double drained =
-            drained_theta(w / z, c.porosity, c.exponent, c.ksat_m_per_s, z, dt_s);
-        w = std::max(drained, column_theta) * z;
-    }
+    return c.porosity > 0 && c.exponent > 1 && theta_wetted > column_theta;
+}
+
+double critical_layer_rest(const CriticalLayerCell& c, double theta_drained, double evaporation_m,
+                           double transpiration_m, double column_theta) {
+    const double z = c.depth_m, below = c.root_depth_m - c.depth_m;
+    double w = theta_drained * z;
     w -= std::min(std::max(0.0, evaporation_m), std::max(0.0, w - 0.5 * c.wilting_point * z));
     w -= std::min(std::max(0.0, transpiration_m) * z / c.root_depth_m,
                   std::max(0.0, w - c.wilting_point * z));
@@ -272,16 +251,34 @@ double critical_layer_day(const CriticalLayerCell& c, double theta0, double infl
     return std::clamp(w, lo, std::max(lo, hi)) / z;
 }
 
+double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
+                          double evaporation_m, double transpiration_m, double column_theta,
+                          double dt_s) {
+    const double wetted = critical_layer_wetted(c, theta0, inflow_m);
+    const double drained = critical_layer_drains(c, wetted, column_theta)
+                               ? std::max(drained_theta(wetted, c.porosity, c.exponent,
+                                                        c.ksat_m_per_s, c.depth_m, dt_s),
+                                          column_theta)
+                               : wetted;
+    return critical_layer_rest(c, drained, evaporation_m, transpiration_m, column_theta);
+}
+
 void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
                       std::int64_t cells, double dt_s, std::vector<double>* recharge,
-                      double& drained_m3) {
+                      double& drained_m3, double* scratch) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
+    const std::int64_t blocks = (cells + kSumBlockCells - 1) / kSumBlockCells;
+#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        const std::int64_t k0 = b * kSumBlockCells, n = std::min(kSumBlockCells, cells - k0);
+        drained_theta_cells(n, soil.theta + k0, porosity + k0, exponent + k0,
+                            soil.ksat_m_per_s + k0, depth, dt_s, scratch + k0);
+    }
     const auto sums = blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) {
         double& th = soil.theta[k];
         const double wp = soil.wilting_point[k];
         if (!(th > wp)) return;
-        const double th1 = std::max(
-            wp, drained_theta(th, porosity[k], exponent[k], soil.ksat_m_per_s[k], depth, dt_s));
+        const double th1 = std::max(wp, scratch[k]);
         const double m3 = (th - th1) * depth * area;
         th = th1;
         if (recharge)

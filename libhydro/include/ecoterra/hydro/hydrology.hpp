@@ -187,6 +187,7 @@ private:
     RasterD m_top_theta;                      ///< the critical layer's water content, m3/m3
     std::vector<double> m_theta_start, m_theta_wet, m_theta_et; ///< the day's stages, m3/m3
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
+    std::vector<double> m_scratch; ///< 2 per cell: the drainage passes' intermediate contents
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell

@@ -160,13 +160,21 @@ void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, 
 ///     the porosity), integrated exactly over `dt_s`: u = theta / theta_s follows du/dt = -a u^n,
 ///     a = Ks / (d theta_s), so u1 = (u0^(1-n) + (n-1) a dt)^(-1/(n-1)). The water drained joins
 ///     `recharge` (m3 per cell, groundwater on) or leaves the domain (added to drained_m3).
+///     `scratch` holds `cells` doubles (the drained water contents before the wilting floor).
 void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
                       std::int64_t cells, double dt_s, std::vector<double>* recharge,
-                      double& drained_m3);
+                      double& drained_m3, double* scratch);
 
-/// theta after `dt_s` of gravity drainage from `theta0` (the exact solution above).
+/// theta after `dt_s` of gravity drainage from `theta0` (the exact solution above), computed with
+/// fastmath.hpp's logarithm and exponential (a few units in the last place from libm's).
 double drained_theta(double theta0, double porosity, double exponent, double ksat_m_per_s,
                      double depth_m, double dt_s);
+
+/// drained_theta for `n` cells at once, `theta1[k]` from `theta0[k]` and the cell's soil: the
+/// same bits as the scalar function, in a loop vectorised for the machine (drainage.cpp).
+void drained_theta_cells(std::int64_t n, const double* theta0, const float* porosity,
+                         const float* exponent, const float* ksat_m_per_s, double depth_m,
+                         double dt_s, double* theta1);
 
 /// A cell's critical layer: the top `depth_m` of the root zone (`root_depth_m` deep), whose water
 /// decides the soil's strength under a vehicle (docs/hydrology.md s5b).
@@ -191,6 +199,15 @@ struct CriticalLayerCell {
 double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
                           double evaporation_m, double transpiration_m, double column_theta,
                           double dt_s);
+
+/// critical_layer_day in its three parts, for loops that drain many cells at once
+/// (drained_theta_cells): the layer's water content after the day's inflow; whether it drains
+/// (it does only above the root zone's `column_theta`); the rest of the day from `theta_drained`
+/// (drained_theta of the first part's result where it drains, that result where not).
+double critical_layer_wetted(const CriticalLayerCell& c, double theta0, double inflow_m);
+bool critical_layer_drains(const CriticalLayerCell& c, double theta_wetted, double column_theta);
+double critical_layer_rest(const CriticalLayerCell& c, double theta_drained, double evaporation_m,
+                           double transpiration_m, double column_theta);
 
 /// 7. One day of groundwater flow with the day's `recharge` (m3 per cell): the outflow through
 ///    fixed-head edges (m3) is returned; water table above the surface seeps into the standing

@@ -1,0 +1,87 @@
+// fastmath.hpp against libm: the logarithm and exponential the drainage kernel uses, over a
+// million random arguments each across their whole ranges and at the points where their range
+// reductions switch (powers of two, sqrt(2), multiples of ln 2 / 2).
+#include "ecoterra/fastmath.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace ecoterra::fastmath;
+
+namespace {
+/// |a - b| in units of the last place of b.
+double ulps(double a, double b) {
+    if (a == b) return 0;
+    const double ulp =
+        std::nextafter(std::fabs(b), std::numeric_limits<double>::infinity()) - std::fabs(b);
+    return std::fabs(a - b) / ulp;
+}
+
+/// The largest error seen and its argument.
+struct Worst {
+    double error = 0, at = 0;
+    void add(double got, double want, double x) {
+        const double u = ulps(got, want);
+        if (u > error) error = u, at = x;
+    }
+};
+} // namespace
+
+TEST_CASE("fastmath's log, log1p, exp and expm1 stay within a few ulps of libm", "[fastmath]") {
+    std::mt19937_64 rng(20261127);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    Worst log_w, log1p_w, exp_w, expm1_w;
+    for (int i = 0; i < 1000000; ++i) {
+        const double x = std::exp(u01(rng) * 1400.0 - 700.0); // 1e-304 .. 1e304
+        log_w.add(log_positive(x), std::log(x), x);
+        const double z = u01(rng) * 1416.0 - 708.0;
+        exp_w.add(exp_clamped(z), std::exp(z), z);
+        // expm1 and log1p matter most near 0: arguments spread over 17 decades each side.
+        const double small = (u01(rng) < 0.5 ? -1 : 1) * std::exp(-40.0 * u01(rng)) * 2.0;
+        expm1_w.add(expm1_clamped(small), std::expm1(small), small);
+        const double r = std::exp(-40.0 * u01(rng)) * 100.0;
+        log1p_w.add(log1p_positive(r), std::log1p(r), r);
+    }
+    INFO("log " << log_w.error << " ulp at " << log_w.at << "; exp " << exp_w.error << " at "
+                << exp_w.at << "; expm1 " << expm1_w.error << " at " << expm1_w.at << "; log1p "
+                << log1p_w.error << " at " << log1p_w.at);
+    CHECK(log_w.error <= 2);
+    CHECK(exp_w.error <= 2);
+    CHECK(expm1_w.error <= 3);
+    CHECK(log1p_w.error <= 3);
+}
+
+TEST_CASE("fastmath at the seams of its range reductions", "[fastmath]") {
+    CHECK(log_positive(1.0) == 0.0);
+    CHECK(exp_clamped(0.0) == 1.0);
+    CHECK(expm1_clamped(0.0) == 0.0);
+    CHECK(log1p_positive(0.0) == 0.0);
+    for (int e = -1020; e <= 1020; e += 17) {
+        const double p = std::ldexp(1.0, e);
+        // Powers of two, and the neighbours of sqrt(2) 2^e, where m and k switch.
+        for (double x :
+             {p, std::nextafter(p, 0.0), std::nextafter(p, 4.0), std::sqrt(2.0) * p,
+              std::nextafter(std::sqrt(2.0) * p, 0.0), std::nextafter(std::sqrt(2.0) * p, 1e308)}) {
+            INFO("x = " << x);
+            CHECK(ulps(log_positive(x), std::log(x)) <= 2);
+        }
+    }
+    const double half_ln2 = 0.5 * std::log(2.0);
+    for (int k = -2040; k <= 2040; k += 7) {
+        // Odd multiples of ln2 / 2, where the rounding of z / ln 2 switches k.
+        for (double z : {k * half_ln2, std::nextafter(k * half_ln2, -1e9),
+                         std::nextafter(k * half_ln2, 1e9)}) {
+            if (z < -708 || z > 709) continue;
+            INFO("z = " << z);
+            CHECK(ulps(exp_clamped(z), std::exp(z)) <= 2);
+            CHECK(ulps(expm1_clamped(z), std::expm1(z)) <= 3);
+        }
+    }
+    // Outside the documented range the exponential clamps instead of overflowing.
+    CHECK(exp_clamped(-1e6) == Approx(std::exp(-708.0)).epsilon(1e-15));
+    CHECK(std::isfinite(exp_clamped(1e6)));
+    CHECK(expm1_clamped(-1e6) == -1.0);
+}

@@ -65,17 +65,20 @@ double dbh_from_stem_mass(const Species& s, double mass, double guess) {
     double lo = 0, hi = std::max(guess, kFirstBracketM);
     while (stem_mass_kg(s, hi) < mass) hi *= 2;
     double d = std::clamp(guess, lo, hi);
+    const double h0 = base_height_m(s);
+    const double c = s.wood_density_kg_per_m3 * kStemFormFactor * 0.25 * std::numbers::pi;
     for (int it = 0; it < kMaxNewtonSteps; ++it) {
-        const double m = stem_mass_kg(s, d) - mass;
+        // stem_mass_kg and its slope at d from one exponential (height_m's, in the same order).
+        const double e = std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM);
+        const double h = s.life_form == LifeForm::object ? s.max_height_m
+                                                         : h0 + (s.max_height_m - h0) * (1.0 - e);
+        const double m = c * d * d * h - mass;
         if (m > 0)
             hi = d;
         else
             lo = d;
-        const double dh = s.height_dbh_slope_per_cm * kCmPerM *
-                          (s.max_height_m - base_height_m(s)) *
-                          std::exp(-s.height_dbh_slope_per_cm * d * kCmPerM);
-        const double c = s.wood_density_kg_per_m3 * kStemFormFactor * 0.25 * std::numbers::pi;
-        const double dm = c * (2 * d * height_m(s, d) + d * d * dh);
+        const double dh = s.height_dbh_slope_per_cm * kCmPerM * (s.max_height_m - h0) * e;
+        const double dm = c * (2 * d * h + d * d * dh);
         double next = dm > 0 ? d - m / dm : 0.5 * (lo + hi);
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         if (std::abs(next - d) <= kRelativeStepTolerance * std::max(d, kToleranceFloorM))

@@ -228,29 +228,6 @@ void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, 
     evaporation_m3 += sums[1];
 }
 
-double critical_layer_wetted(const CriticalLayerCell& c, double theta0, double inflow_m) {
-    const double z = c.depth_m;
-    return std::min(theta0 * z + std::max(0.0, inflow_m), c.ceiling * z) / z;
-}
-
-bool critical_layer_drains(const CriticalLayerCell& c, double theta_wetted, double column_theta) {
-    // Gravity drains the layer at K(theta), but no drier than the root zone it drains into (a
-    // draining profile tends to a uniform one; only evaporation and roots dry the top further).
-    return c.porosity > 0 && c.exponent > 1 && theta_wetted > column_theta;
-}
-
-double critical_layer_rest(const CriticalLayerCell& c, double theta_drained, double evaporation_m,
-                           double transpiration_m, double column_theta) {
-    const double z = c.depth_m, below = c.root_depth_m - c.depth_m;
-    double w = theta_drained * z;
-    w -= std::min(std::max(0.0, evaporation_m), std::max(0.0, w - 0.5 * c.wilting_point * z));
-    w -= std::min(std::max(0.0, transpiration_m) * z / c.root_depth_m,
-                  std::max(0.0, w - c.wilting_point * z));
-    const double total = column_theta * c.root_depth_m;
-    const double lo = std::max(0.0, total - c.ceiling * below), hi = std::min(c.ceiling * z, total);
-    return std::clamp(w, lo, std::max(lo, hi)) / z;
-}
-
 double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
                           double evaporation_m, double transpiration_m, double column_theta,
                           double dt_s) {

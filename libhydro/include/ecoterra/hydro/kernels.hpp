@@ -204,8 +204,30 @@ double critical_layer_day(const CriticalLayerCell& c, double theta0, double infl
 /// (drained_theta_cells): the layer's water content after the day's inflow; whether it drains
 /// (it does only above the root zone's `column_theta`); the rest of the day from `theta_drained`
 /// (drained_theta of the first part's result where it drains, that result where not).
-double critical_layer_wetted(const CriticalLayerCell& c, double theta0, double inflow_m);
-bool critical_layer_drains(const CriticalLayerCell& c, double theta_wetted, double column_theta);
+inline double critical_layer_wetted(const CriticalLayerCell& c, double theta0, double inflow_m) {
+    const double z = c.depth_m;
+    return std::min(theta0 * z + std::max(0.0, inflow_m), c.ceiling * z) / z;
+}
+
+inline bool critical_layer_drains(const CriticalLayerCell& c, double theta_wetted,
+                                  double column_theta) {
+    // Gravity drains the layer at K(theta), but no drier than the root zone it drains into (a
+    // draining profile tends to a uniform one; only evaporation and roots dry the top further).
+    return c.porosity > 0 && c.exponent > 1 && theta_wetted > column_theta;
+}
+
+inline double critical_layer_rest(const CriticalLayerCell& c, double theta_drained,
+                                  double evaporation_m, double transpiration_m,
+                                  double column_theta) {
+    const double z = c.depth_m, below = c.root_depth_m - c.depth_m;
+    double w = theta_drained * z;
+    w -= std::min(std::max(0.0, evaporation_m), std::max(0.0, w - 0.5 * c.wilting_point * z));
+    w -= std::min(std::max(0.0, transpiration_m) * z / c.root_depth_m,
+                  std::max(0.0, w - c.wilting_point * z));
+    const double total = column_theta * c.root_depth_m;
+    const double lo = std::max(0.0, total - c.ceiling * below), hi = std::min(c.ceiling * z, total);
+    return std::clamp(w, lo, std::max(lo, hi)) / z;
+}
 double critical_layer_rest(const CriticalLayerCell& c, double theta_drained, double evaporation_m,
                            double transpiration_m, double column_theta);
 

@@ -1,4 +1,5 @@
 #include "ecoterra/eco/canopy.hpp"
+#include "ecoterra/fastmath.hpp"
 
 #include "ecoterra/error.hpp"
 #include "ecoterra/parallel.hpp"
@@ -78,28 +79,39 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
 
     std::vector<double> shade(n, 0.0);
     const auto ni = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(dynamic, 64) if (ni >= parallel_min_items())
-    for (std::int64_t q = 0; q < ni; ++q) {
-        const auto p = static_cast<std::uint32_t>(q);
-        const double z = height[p] - 0.5 * depth[p];
-        double light = 0;
-        for_each_cell(p, [&](std::size_t c) {
-            double l = 0;
-            for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) {
-                const std::uint32_t o = ids[e];
-                if (!(height[o] > z)) break; // tallest first: no higher leaves remain
-                if (o != p) l += leaf_above(lai[o], height[o], depth[o], z);
-            }
-            light += std::exp(-k * l);
-        });
-        shade[p] = 1.0 - light / crowns.cells[p];
+#pragma omp parallel if (ni >= parallel_min_items())
+    {
+        // Each crown's leaf area above its mid-crown, cell by cell; then the light through it
+        // by one vectorised pass of exponentials (fastmath.hpp), summed in the cells' order.
+        std::vector<double> above, light_of;
+#pragma omp for schedule(dynamic, 64)
+        for (std::int64_t q = 0; q < ni; ++q) {
+            const auto p = static_cast<std::uint32_t>(q);
+            const double z = height[p] - 0.5 * depth[p];
+            above.clear();
+            for_each_cell(p, [&](std::size_t c) {
+                double l = 0;
+                for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) {
+                    const std::uint32_t o = ids[e];
+                    if (!(height[o] > z)) break; // tallest first: no higher leaves remain
+                    if (o != p) l += leaf_above(lai[o], height[o], depth[o], z);
+                }
+                above.push_back(l);
+            });
+            light_of.resize(above.size());
+            fastmath::exp_of_scaled(static_cast<std::int64_t>(above.size()), above.data(), -k,
+                                    light_of.data());
+            double light = 0;
+            for (const double f : light_of) light += f;
+            shade[p] = 1.0 - light / crowns.cells[p];
+        }
     }
     if (ground) {
         *ground = RasterD(g, 0.0);
         for (std::size_t c = 0; c < cells; ++c) {
             double l = 0;
             for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) l += lai[ids[e]];
-            ground->data()[static_cast<std::int64_t>(c)] = 1.0 - std::exp(-k * l);
+            ground->data()[static_cast<std::int64_t>(c)] = fastmath::beer_lambert_cover(l, k);
         }
     }
     return shade;

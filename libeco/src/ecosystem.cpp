@@ -1,4 +1,5 @@
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/fastmath.hpp"
 
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/parallel.hpp"
@@ -261,16 +262,21 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
             m_leaf_today[k] = m_pop.leaf_area_m2[k] * day.phen[m_pop.species[k]];
     m_leaf_cells.assign(cells, 0.0);
     scatter_demand(m_canopy.roots, m_leaf_today, m_leaf_cells);
-    const double k = m_scene.extinction;
     const auto n = static_cast<std::int64_t>(cells);
+    const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
 #pragma omp parallel for schedule(static) if (n >= parallel_min_items())
-    for (std::int64_t c = 0; c < n; ++c) {
-        const auto u = static_cast<std::size_t>(c);
-        m_request_mm.data()[c] = m_request[u] / m_hydro_cell_area * kMmPerM;
-        double lai = m_leaf_cells[u] / m_hydro_cell_area;
-        if (!m_ground.empty()) lai += m_ground.leaf_area_index(species, c, day.phen);
-        m_lai.data()[c] = lai;
-        m_cover.data()[c] = lai > 0 ? 1.0 - std::exp(-k * lai) : 0.0;
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        const std::int64_t c0 = b * kSumBlockCells, c1 = std::min(n, c0 + kSumBlockCells);
+        for (std::int64_t c = c0; c < c1; ++c) {
+            const auto u = static_cast<std::size_t>(c);
+            m_request_mm.data()[c] = m_request[u] / m_hydro_cell_area * kMmPerM;
+            double lai = m_leaf_cells[u] / m_hydro_cell_area;
+            if (!m_ground.empty()) lai += m_ground.leaf_area_index(species, c, day.phen);
+            m_lai.data()[c] = lai;
+        }
+        // The cover by Beer-Lambert, vectorised (fastmath.hpp).
+        fastmath::cover_from_lai(c1 - c0, m_lai.data() + c0, m_scene.extinction,
+                                 m_cover.data() + c0);
     }
 }
 

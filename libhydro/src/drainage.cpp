@@ -36,9 +36,7 @@ double drained_theta(double theta0, double porosity, double exponent, double ksa
 
 // One clone per vector width, chosen once at load time (an ifunc); the same bits from each, as
 // the test "[drainage]" checks against the scalar function on this machine's widest clone.
-#if defined(__x86_64__) && !defined(ECOTERRA_NO_TARGET_CLONES)
-__attribute__((target_clones("avx512f", "avx2", "default")))
-#endif
+ECOTERRA_CLONES
 void drained_theta_cells(std::int64_t n, const double* theta0, const float* porosity,
                          const float* exponent, const float* ksat_m_per_s, double depth_m,
                          double dt_s, double* theta1) {

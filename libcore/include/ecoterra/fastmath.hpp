@@ -17,6 +17,15 @@
 #include <bit>
 #include <cstdint>
 
+/// Put before a function whose loops call these functions: one clone per vector width (AVX-512,
+/// AVX2, baseline), chosen when the program loads. Its file must be compiled with
+/// -ffp-contract=off so the clones give the same bits, and -fno-trapping-math so they vectorise.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(ECOTERRA_NO_TARGET_CLONES)
+#define ECOTERRA_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define ECOTERRA_CLONES
+#endif
+
 namespace ecoterra::fastmath {
 
 inline constexpr double kLn2Hi = 6.93147180369123816490e-01; // 0x3FE62E42FEE00000
@@ -111,5 +120,19 @@ inline double expm1_clamped(double z) {
     const double r = detail::reduce(z, scale);
     return (scale - 1.0) + scale * detail::expm1_reduced(r);
 }
+
+/// The ground covered by leaf area index `lai` with extinction coefficient `k` (Beer-Lambert):
+/// 1 - e^(-k lai) as -expm1(-k lai), 0 where there are no leaves.
+inline double beer_lambert_cover(double lai, double k) {
+    const double cover = -expm1_clamped(-k * lai);
+    return lai > 0 ? cover : 0.0;
+}
+
+/// out[i] = exp_clamped(scale x[i]) for i < n, vectorised for the machine (vector_math.cpp; the
+/// same bits as the scalar function).
+void exp_of_scaled(std::int64_t n, const double* x, double scale, double* out);
+
+/// cover[i] = beer_lambert_cover(lai[i], k) for i < n, vectorised likewise.
+void cover_from_lai(std::int64_t n, const double* lai, double k, double* cover);
 
 } // namespace ecoterra::fastmath

@@ -6,8 +6,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 using namespace ecoterra::fastmath;
 
@@ -84,4 +86,35 @@ TEST_CASE("fastmath at the seams of its range reductions", "[fastmath]") {
     CHECK(exp_clamped(-1e6) == Approx(std::exp(-708.0)).epsilon(1e-15));
     CHECK(std::isfinite(exp_clamped(1e6)));
     CHECK(expm1_clamped(-1e6) == -1.0);
+}
+
+TEST_CASE("fastmath's vector loops compute the scalar functions' bits", "[fastmath]") {
+    // The loops run this machine's widest clone (AVX-512, AVX2 or baseline); the scalar calls
+    // here are baseline code. Lengths that are not multiples of any vector width, values across
+    // the range the callers use (leaf area above a crown, leaf area index) and beyond.
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (const std::int64_t n : {1, 3, 7, 100003}) {
+        std::vector<double> x(static_cast<std::size_t>(n)), out(x.size());
+        for (double& v : x) v = u01(rng) < 0.1 ? 0.0 : std::exp(20 * u01(rng) - 12) * 10;
+        x[0] = n > 3 ? -1.0 : x[0]; // no leaves: no cover
+        exp_of_scaled(n, x.data(), -0.5, out.data());
+        int differ = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const double one = exp_clamped(-0.5 * x[i]);
+            differ += std::memcmp(&one, &out[i], sizeof one) != 0;
+        }
+        CHECK(differ == 0);
+        cover_from_lai(n, x.data(), 0.5, out.data());
+        differ = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const double one = beer_lambert_cover(x[i], 0.5);
+            differ += std::memcmp(&one, &out[i], sizeof one) != 0;
+            CHECK(out[i] >= 0);
+            CHECK(out[i] <= 1);
+            if (x[i] > 0) CHECK(ulps(out[i], -std::expm1(-0.5 * x[i])) <= 3);
+        }
+        CHECK(differ == 0);
+        if (n > 3) CHECK(out[0] == 0.0);
+    }
 }

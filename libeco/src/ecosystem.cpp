@@ -263,10 +263,7 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     m_leaf_cells.assign(cells, 0.0);
     scatter_demand(m_canopy.roots, m_leaf_today, m_leaf_cells);
     const auto n = static_cast<std::int64_t>(cells);
-    const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
-#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::int64_t c0 = b * kSumBlockCells, c1 = std::min(n, c0 + kSumBlockCells);
+    for_each_block(n, [&](std::int64_t c0, std::int64_t c1) {
         for (std::int64_t c = c0; c < c1; ++c) {
             const auto u = static_cast<std::size_t>(c);
             m_request_mm.data()[c] = m_request[u] / m_hydro_cell_area * kMmPerM;
@@ -277,7 +274,7 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
         // The cover by Beer-Lambert, vectorised (fastmath.hpp).
         fastmath::cover_from_lai(c1 - c0, m_lai.data() + c0, m_scene.extinction,
                                  m_cover.data() + c0);
-    }
+    });
 }
 
 hydro::DailyFluxes Ecosystem::light_only_day(const hydro::DayWeather& w) {

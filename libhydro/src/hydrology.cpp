@@ -447,10 +447,7 @@ void HydrologyModel::update_critical_layer() {
     // (drained_theta_cells) with the same result.
     double* wetted = m_scratch.data();
     double* drained = m_scratch.data() + cells;
-    const std::int64_t blocks = (cells + kSumBlockCells - 1) / kSumBlockCells;
-#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::int64_t k0 = b * kSumBlockCells, k1 = std::min(cells, k0 + kSumBlockCells);
+    for_each_block(cells, [&](std::int64_t k0, std::int64_t k1) {
         for (std::int64_t k = k0; k < k1; ++k) {
             const auto u = static_cast<std::size_t>(k);
             const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
@@ -471,7 +468,7 @@ void HydrologyModel::update_critical_layer() {
             m_top_theta.data()[k] =
                 critical_layer_rest(c, from, evaporation_m, transpiration_m, th[k]);
         }
-    }
+    });
 }
 
 void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,

@@ -244,13 +244,10 @@ void gravity_drainage(const SoilColumns& soil, const float* porosity, const floa
                       std::int64_t cells, double dt_s, std::vector<double>* recharge,
                       double& drained_m3, double* scratch) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
-    const std::int64_t blocks = (cells + kSumBlockCells - 1) / kSumBlockCells;
-#pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::int64_t k0 = b * kSumBlockCells, n = std::min(kSumBlockCells, cells - k0);
-        drained_theta_cells(n, soil.theta + k0, porosity + k0, exponent + k0,
+    for_each_block(cells, [&](std::int64_t k0, std::int64_t k1) {
+        drained_theta_cells(k1 - k0, soil.theta + k0, porosity + k0, exponent + k0,
                             soil.ksat_m_per_s + k0, depth, dt_s, scratch + k0);
-    }
+    });
     const auto sums = blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) {
         double& th = soil.theta[k];
         const double wp = soil.wilting_point[k];

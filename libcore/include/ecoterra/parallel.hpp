@@ -61,6 +61,17 @@ std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
     return total;
 }
 
+/// Calls f(begin, end) for every fixed block [begin, end) of kSumBlockCells cells in [0, n), in
+/// parallel where n is large enough: for passes that work a block at a time (a vectorised call
+/// over the block). Blocks are independent, so the result does not depend on the thread count.
+template <class F>
+void for_each_block(std::int64_t n, F&& f) {
+    const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b)
+        f(b * kSumBlockCells, std::min(n, (b + 1) * kSumBlockCells));
+}
+
 /// Neumaier's compensated sum (Neumaier 1974, ZAMM 54:39): `sum` plus the rounding errors lost
 /// on the way in `carry`. Its error is about one rounding of the total, independent of the count.
 struct CompensatedSum {

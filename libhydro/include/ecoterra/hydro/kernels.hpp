@@ -228,8 +228,6 @@ inline double critical_layer_rest(const CriticalLayerCell& c, double theta_drain
     const double lo = std::max(0.0, total - c.ceiling * below), hi = std::min(c.ceiling * z, total);
     return std::clamp(w, lo, std::max(lo, hi)) / z;
 }
-double critical_layer_rest(const CriticalLayerCell& c, double theta_drained, double evaporation_m,
-                           double transpiration_m, double column_theta);
 
 /// 7. One day of groundwater flow with the day's `recharge` (m3 per cell): the outflow through
 ///    fixed-head edges (m3) is returned; water table above the surface seeps into the standing

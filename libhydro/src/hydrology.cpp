@@ -264,7 +264,7 @@ void HydrologyModel::init_soil_layers() {
     m_tew.assign(un, 0.0f);
     m_rew.assign(un, 0.0f);
     m_drain_exponent.assign(un, 0.0f);
-    m_scratch.assign(2 * un, 0.0);
+    m_scratch.assign(un, 0.0);
     m_kr.assign(un, 1.0);
     m_intercepted.assign(un, 0.0);
     for (std::int64_t k = 0; k < n; ++k) {
@@ -386,13 +386,16 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
     std::vector<double>* recharge = m_gw ? &m_recharge : nullptr; // m3 per cell
     if (recharge) std::fill(recharge->begin(), recharge->end(), 0.0);
     const bool layer = has_critical_layer();
-    if (layer) m_theta_start.assign(m_theta.data(), m_theta.data() + cells);
     if (fao || gash) leaves_of_the_day(lai, cover);
-    if (fao) {
-        // FAO-56 eq. 74 takes the surface layer's depletion at the end of the previous day.
-        const double* de = m_de.data();
+    if (layer) m_theta_start.resize(static_cast<std::size_t>(cells));
+    if (fao || layer) {
+        // The root zone's water at the day's start (for the critical layer); FAO-56 eq. 74 takes
+        // the surface layer's depletion at the end of the previous day.
+        const double *de = m_de.data(), *th = m_theta.data();
 #pragma omp parallel for schedule(static) if (cells >= parallel_min_items())
         for (std::int64_t k = 0; k < cells; ++k) {
+            if (layer) m_theta_start[k] = th[k];
+            if (!fao) continue;
             const double tew = m_tew[k], rew = m_rew[k];
             m_kr[k] = std::clamp((tew - de[k]) / (tew - rew), 0.0, 1.0);
         }
@@ -413,22 +416,23 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
     m_catch.equilibrate();
-    if (layer) m_theta_wet.assign(m_theta.data(), m_theta.data() + cells);
     // Today's interception (its energy is not the leaves' to transpire); none on a dry day.
     const double* intercepted = gash && rain_m > 0 ? m_intercepted.data() : nullptr;
-    soil_losses(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr, intercepted, recharge);
+    double theta_sum = soil_day(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr,
+                                intercepted, recharge);
     if (m_gw) {
         f.recharge =
             blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) { sum[0] += m_recharge[k]; })[0];
         f.groundwater_out = groundwater_exchange(*m_gw, m_catch, m_recharge, m_day, w.year, w.doy);
+        theta_sum = blocked_range_sums<1>(
+            cells, [&](std::int64_t b, std::int64_t e, auto& sum) { soil_day_end(b, e, sum[0]); },
+            parallel_min_items())[0];
     }
-    if (layer) update_critical_layer();
-    close_budget(f, w, soil0, surf0, gw0, lost0);
+    close_budget(f, w, soil0, theta_sum * m_opt.root_zone_depth_m * m_area, surf0, gw0, lost0);
     return f;
 }
 
-void HydrologyModel::update_critical_layer() {
-    const std::int64_t cells = m_dem.grid().size();
+void HydrologyModel::critical_layer_range(std::int64_t k0, std::int64_t k1) {
     const double depth = m_opt.root_zone_depth_m;
     const bool gravity = m_opt.drainage == DrainageMethod::gravity;
     const double* th = m_theta.data();
@@ -443,66 +447,114 @@ void HydrologyModel::update_critical_layer() {
         c.ksat_m_per_s = m_soil.ksat_m_per_s.data()[k];
         return c;
     };
-    // critical_layer_day in three passes, so the drainage runs over whole blocks of cells
-    // (drained_theta_cells) with the same result.
-    double* wetted = m_scratch.data();
-    double* drained = m_scratch.data() + cells;
-    for_each_block(cells, [&](std::int64_t k0, std::int64_t k1) {
-        for (std::int64_t k = k0; k < k1; ++k) {
-            const auto u = static_cast<std::size_t>(k);
-            const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
-            wetted[k] = critical_layer_wetted(layer_cell(k), m_top_theta.data()[k], inflow_m);
-        }
-        drained_theta_cells(k1 - k0, wetted + k0, m_soil.porosity.data() + k0,
-                            m_drain_exponent.data() + k0, m_soil.ksat_m_per_s.data() + k0,
-                            m_opt.critical_layer_depth_m, 86400.0, drained + k0);
-        for (std::int64_t k = k0; k < k1; ++k) {
-            const auto u = static_cast<std::size_t>(k);
-            const CriticalLayerCell c = layer_cell(k);
-            const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
-            const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
-            const double evaporation_m = std::max(0.0, et_m - transpiration_m);
-            const double from = critical_layer_drains(c, wetted[k], th[k])
-                                    ? std::max(drained[k], th[k])
-                                    : wetted[k];
-            m_top_theta.data()[k] =
-                critical_layer_rest(c, from, evaporation_m, transpiration_m, th[k]);
-        }
-    });
-}
-
-void HydrologyModel::soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
-                                 const et::DailyWeather& dw, const double* request_mm,
-                                 const double* intercepted_m, std::vector<double>* recharge) {
-    const std::int64_t cells = m_dem.grid().size();
-    if (m_opt.evapotranspiration == EvapotranspirationMethod::paper002) {
-        const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
-                                   et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
-                                   m_veg.data(), m_opt.grass_density_threshold};
-        evapotranspiration(m_catch, soil, cells, demand, request_mm, m_transp_supplied.data(),
-                           f.transpiration, f.evaporation);
-    } else {
-        Fao56Day day;
-        day.et0_mm = std::max(0.0, et::fao56_reference_daily(dw));
-        day.kc_max = m_opt.kc_max;
-        day.depletion_fraction = m_opt.depletion_fraction;
-        day.cover = m_day_cover;
-        day.intercepted_m = intercepted_m;
-        day.tew_mm = m_tew.data();
-        day.kr = m_kr.data();
-        evapotranspiration_fao56(m_catch, soil, cells, day, request_mm, m_transp_supplied.data(),
-                                 f.transpiration, f.evaporation);
+    // critical_layer_day in three passes, so the drainage runs over the block's draining cells
+    // gathered together (drained_theta_cells), with the same result: most days most layers are
+    // drier than the root zone below and do not drain.
+    struct Gathered {
+        std::vector<double> theta0, theta1;
+        std::vector<float> porosity, exponent, ksat;
+    };
+    thread_local Gathered g;
+    const auto len = static_cast<std::size_t>(k1 - k0);
+    if (g.theta0.size() < len) {
+        g.theta0.resize(len);
+        g.theta1.resize(len);
+        g.porosity.resize(len);
+        g.exponent.resize(len);
+        g.ksat.resize(len);
     }
-    if (has_critical_layer()) m_theta_et.assign(m_theta.data(), m_theta.data() + cells);
-    if (m_opt.drainage == DrainageMethod::gravity)
-        gravity_drainage(soil, m_soil.porosity.data(), m_drain_exponent.data(), cells, 86400.0,
-                         recharge, f.drainage_out, m_scratch.data());
+    double* wetted = m_scratch.data();
+    std::size_t n = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+        const auto u = static_cast<std::size_t>(k);
+        const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
+        const CriticalLayerCell c = layer_cell(k);
+        wetted[k] = critical_layer_wetted(c, m_top_theta.data()[k], inflow_m);
+        if (!critical_layer_drains(c, wetted[k], th[k])) continue;
+        g.theta0[n] = wetted[k];
+        g.porosity[n] = m_soil.porosity.data()[k];
+        g.exponent[n] = m_drain_exponent[u];
+        g.ksat[n] = m_soil.ksat_m_per_s.data()[k];
+        ++n;
+    }
+    drained_theta_cells(static_cast<std::int64_t>(n), g.theta0.data(), g.porosity.data(),
+                        g.exponent.data(), g.ksat.data(), m_opt.critical_layer_depth_m, 86400.0,
+                        g.theta1.data());
+    std::size_t j = 0;
+    for (std::int64_t k = k0; k < k1; ++k) {
+        const auto u = static_cast<std::size_t>(k);
+        const CriticalLayerCell c = layer_cell(k);
+        const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
+        const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
+        const double evaporation_m = std::max(0.0, et_m - transpiration_m);
+        const double from =
+            critical_layer_drains(c, wetted[k], th[k]) ? std::max(g.theta1[j++], th[k]) : wetted[k];
+        m_top_theta.data()[k] = critical_layer_rest(c, from, evaporation_m, transpiration_m, th[k]);
+    }
 }
 
-void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0,
-                                  double gw0, double lost0) {
+void HydrologyModel::soil_day_end(std::int64_t begin, std::int64_t end, double& theta_sum) {
+    if (has_critical_layer()) critical_layer_range(begin, end);
+    const double* th = m_theta.data();
+    double s = 0; // in cell order, as soil_storage_m3
+    for (std::int64_t k = begin; k < end; ++k) s += th[k];
+    theta_sum += s;
+}
+
+double HydrologyModel::soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
+                                const et::DailyWeather& dw, const double* request_mm,
+                                const double* intercepted_m, std::vector<double>* recharge) {
+    const std::int64_t cells = m_dem.grid().size();
+    const bool fao = m_opt.evapotranspiration == EvapotranspirationMethod::fao56;
+    const bool gravity = m_opt.drainage == DrainageMethod::gravity;
+    const bool layer = has_critical_layer();
+    const SurfaceDemand demand{et::kPenmanBareSoilFactor * e0_mm,
+                               et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
+                               m_veg.data(), m_opt.grass_density_threshold};
+    Fao56Day day;
+    day.et0_mm = fao ? std::max(0.0, et::fao56_reference_daily(dw)) : 0.0;
+    day.kc_max = m_opt.kc_max;
+    day.depletion_fraction = m_opt.depletion_fraction;
+    day.cover = m_day_cover;
+    day.intercepted_m = intercepted_m;
+    day.tew_mm = m_tew.data();
+    day.kr = m_kr.data();
+    if (layer) {
+        m_theta_wet.resize(static_cast<std::size_t>(cells));
+        m_theta_et.resize(static_cast<std::size_t>(cells));
+    }
+    double* th = m_theta.data();
+    double* supplied = m_transp_supplied.data();
+    // Steps 6 and 6b and, without groundwater, 9 and the soil's storage, a block of cells at a
+    // time while it is in cache; each sum in cell order within a block and then in block order,
+    // as the grid-wide kernels take them.
+    const auto sums = blocked_range_sums<4>(
+        cells,
+        [&](std::int64_t b, std::int64_t e, auto& sum) {
+            if (layer) std::copy(th + b, th + e, m_theta_wet.data() + b);
+            if (fao)
+                evapotranspiration_fao56_range(m_catch, soil, b, e, day, request_mm, supplied,
+                                               sum[0], sum[1]);
+            else
+                evapotranspiration_range(m_catch, soil, b, e, demand, request_mm, supplied, sum[0],
+                                         sum[1]);
+            if (layer) std::copy(th + b, th + e, m_theta_et.data() + b);
+            if (gravity)
+                gravity_drainage_range(soil, m_soil.porosity.data(), m_drain_exponent.data(), b, e,
+                                       86400.0, recharge, sum[2], m_scratch.data());
+            if (!m_gw) soil_day_end(b, e, sum[3]);
+        },
+        parallel_min_items());
+    f.transpiration += sums[0];
+    f.evaporation += sums[1];
+    f.drainage_out += sums[2];
+    return m_gw ? std::nan("") : sums[3];
+}
+
+void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double soil1,
+                                  double surf0, double gw0, double lost0) {
     f.runoff_out = m_catch.lost_m3() - lost0;
-    f.d_soil = soil_storage_m3() - soil0;
+    f.d_soil = soil1 - soil0;
     f.d_surface = m_catch.total_volume_m3() - surf0;
     f.d_groundwater = groundwater_storage_m3() - gw0;
     f.residual = f.rain - f.evaporation - f.transpiration - f.interception - f.runoff_out -

@@ -123,11 +123,13 @@ void route_runoff(Catchments& lakes, const SoilColumns& soil,
     }
 }
 
-void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
-                        const SurfaceDemand& demand, const double* request_mm, double* supplied_mm,
-                        double& transpiration_m3, double& evaporation_m3) {
+void evapotranspiration_range(const Catchments& lakes, const SoilColumns& soil, std::int64_t begin,
+                              std::int64_t end, const SurfaceDemand& demand,
+                              const double* request_mm, double* supplied_mm,
+                              double& transpiration_m3, double& evaporation_m3) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
-    const auto sums = blocked_sums<2>(cells, [&](std::int64_t k, auto& sum) {
+    double t_m3 = 0, e_m3 = 0; // the range's sums, in cell order (locals: theta may alias)
+    for (std::int64_t k = begin; k < end; ++k) {
         const double req = request_mm ? std::max(0.0, request_mm[k]) / kMmPerM : 0.0; // m
         const bool lake = lakes.owner(k) != 0;
         const double surface = lake
@@ -143,8 +145,19 @@ void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::i
         th -= actual / depth;
         const double tr = std::min(actual, req);
         supplied_mm[k] = tr * kMmPerM;
-        sum[0] += tr * area;
-        sum[1] += (actual - tr) * area;
+        t_m3 += tr * area;
+        e_m3 += (actual - tr) * area;
+    }
+    transpiration_m3 += t_m3;
+    evaporation_m3 += e_m3;
+}
+
+void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
+                        const SurfaceDemand& demand, const double* request_mm, double* supplied_mm,
+                        double& transpiration_m3, double& evaporation_m3) {
+    const auto sums = blocked_range_sums<2>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
+        evapotranspiration_range(lakes, soil, b, e, demand, request_mm, supplied_mm, sum[0],
+                                 sum[1]);
     });
     transpiration_m3 += sums[0];
     evaporation_m3 += sums[1];
@@ -181,12 +194,14 @@ void canopy_interception(const Catchments& lakes, const double* lai, const doubl
     interception_m3 += sums[0];
 }
 
-void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
-                              const Fao56Day& day, const double* request_mm, double* supplied_mm,
-                              double& transpiration_m3, double& evaporation_m3) {
+void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& soil,
+                                    std::int64_t begin, std::int64_t end, const Fao56Day& day,
+                                    const double* request_mm, double* supplied_mm,
+                                    double& transpiration_m3, double& evaporation_m3) {
     const double area = soil.cell_area_m2, depth = soil.depth_m, et0 = day.et0_mm;
     const double p = day.depletion_fraction;
-    const auto sums = blocked_sums<2>(cells, [&](std::int64_t k, auto& sum) {
+    double t_m3 = 0, e_m3 = 0; // the range's sums, in cell order (locals: theta may alias)
+    for (std::int64_t k = begin; k < end; ++k) {
         const double c = day.cover[k];
         const double held = day.intercepted_m ? day.intercepted_m[k] * kMmPerM : 0.0;
         // Transpiration: what the plants ask, at most the energy their leaves receive.
@@ -221,8 +236,19 @@ void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, 
             soil.surface_depletion_mm[k] = std::min(static_cast<double>(day.tew_mm[k]),
                                                     soil.surface_depletion_mm[k] + e / few);
         supplied_mm[k] = t;
-        sum[0] += t / kMmPerM * area;
-        sum[1] += e / kMmPerM * area;
+        t_m3 += t / kMmPerM * area;
+        e_m3 += e / kMmPerM * area;
+    }
+    transpiration_m3 += t_m3;
+    evaporation_m3 += e_m3;
+}
+
+void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
+                              const Fao56Day& day, const double* request_mm, double* supplied_mm,
+                              double& transpiration_m3, double& evaporation_m3) {
+    const auto sums = blocked_range_sums<2>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
+        evapotranspiration_fao56_range(lakes, soil, b, e, day, request_mm, supplied_mm, sum[0],
+                                       sum[1]);
     });
     transpiration_m3 += sums[0];
     evaporation_m3 += sums[1];
@@ -240,25 +266,33 @@ double critical_layer_day(const CriticalLayerCell& c, double theta0, double infl
     return critical_layer_rest(c, drained, evaporation_m, transpiration_m, column_theta);
 }
 
-void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
-                      std::int64_t cells, double dt_s, std::vector<double>* recharge,
-                      double& drained_m3, double* scratch) {
+void gravity_drainage_range(const SoilColumns& soil, const float* porosity, const float* exponent,
+                            std::int64_t begin, std::int64_t end, double dt_s,
+                            std::vector<double>* recharge, double& drained_m3, double* scratch) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
-    for_each_block(cells, [&](std::int64_t k0, std::int64_t k1) {
-        drained_theta_cells(k1 - k0, soil.theta + k0, porosity + k0, exponent + k0,
-                            soil.ksat_m_per_s + k0, depth, dt_s, scratch + k0);
-    });
-    const auto sums = blocked_sums<1>(cells, [&](std::int64_t k, auto& sum) {
+    drained_theta_cells(end - begin, soil.theta + begin, porosity + begin, exponent + begin,
+                        soil.ksat_m_per_s + begin, depth, dt_s, scratch + begin);
+    double sum_m3 = 0; // in cell order
+    for (std::int64_t k = begin; k < end; ++k) {
         double& th = soil.theta[k];
         const double wp = soil.wilting_point[k];
-        if (!(th > wp)) return;
+        if (!(th > wp)) continue;
         const double th1 = std::max(wp, scratch[k]);
         const double m3 = (th - th1) * depth * area;
         th = th1;
         if (recharge)
             (*recharge)[k] += m3;
         else
-            sum[0] += m3;
+            sum_m3 += m3;
+    }
+    drained_m3 += sum_m3;
+}
+
+void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
+                      std::int64_t cells, double dt_s, std::vector<double>* recharge,
+                      double& drained_m3, double* scratch) {
+    const auto sums = blocked_range_sums<1>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
+        gravity_drainage_range(soil, porosity, exponent, b, e, dt_s, recharge, sum[0], scratch);
     });
     drained_m3 += sums[0];
 }

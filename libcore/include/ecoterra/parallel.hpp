@@ -41,24 +41,38 @@ inline void set_parallel_min_items(std::int64_t n) {
                                              std::memory_order_relaxed);
 }
 
-/// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
-/// std::array<double, K>; returns the K totals.
+/// Calls f(begin, end, sums) for every fixed block [begin, end) of kSumBlockCells cells in [0, n)
+/// in parallel, where sums is the block's std::array<double, K> (zero on entry); returns the K
+/// totals, the block sums added in block order. Passes that do several things to a block while it
+/// is in cache (HydrologyModel's soil day) sum here with the same bits as blocked_sums. Runs on
+/// one thread below `parallel_from` items (by default a few blocks' worth: a pass of cheap sums
+/// gains little from a second thread; heavy passes give parallel_min_items()).
 template <std::size_t K, class F>
-std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
+std::array<double, K> blocked_range_sums(std::int64_t n, F&& f, std::int64_t parallel_from = 0) {
+    if (parallel_from <= 0) parallel_from = kMinParallelBlocks * parallel_min_items();
     const std::int64_t blocks = (n + kSumBlockCells - 1) / kSumBlockCells;
     std::vector<std::array<double, K>> part(static_cast<std::size_t>(blocks));
     // Small grids stay on one thread: a parallel region costs more than it saves there.
-#pragma omp parallel for schedule(static) if (n >= kMinParallelBlocks * parallel_min_items())
+#pragma omp parallel for schedule(static) if (n >= parallel_from)
     for (std::int64_t b = 0; b < blocks; ++b) {
         std::array<double, K> s{};
-        const std::int64_t end = std::min(n, (b + 1) * kSumBlockCells);
-        for (std::int64_t k = b * kSumBlockCells; k < end; ++k) f(k, s);
+        f(b * kSumBlockCells, std::min(n, (b + 1) * kSumBlockCells), s);
         part[static_cast<std::size_t>(b)] = s;
     }
     std::array<double, K> total{};
     for (const auto& s : part)
         for (std::size_t i = 0; i < K; ++i) total[i] += s[i];
     return total;
+}
+
+/// Calls f(cell, sums) for every cell in [0, n) in parallel, where sums is the block's
+/// std::array<double, K>; returns the K totals (blocked_range_sums, a cell at a time).
+template <std::size_t K, class F>
+std::array<double, K> blocked_sums(std::int64_t n, F&& f) {
+    return blocked_range_sums<K>(
+        n, [&](std::int64_t begin, std::int64_t end, std::array<double, K>& s) {
+            for (std::int64_t k = begin; k < end; ++k) f(k, s);
+        });
 }
 
 /// Calls f(begin, end) for every fixed block [begin, end) of kSumBlockCells cells in [0, n), in

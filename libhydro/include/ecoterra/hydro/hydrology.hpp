@@ -163,16 +163,24 @@ private:
     void init_soil_layers();
     /// Today's leaf area and cover: the plants' or the vegetation density's.
     void leaves_of_the_day(const RasterD* leaf_area_index, const RasterD* cover);
-    /// Steps 6 and 6b (evapotranspiration, drainage) under the chosen methods.
-    void soil_losses(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
-                     const et::DailyWeather& dw, const double* request_mm,
-                     const double* intercepted_m, std::vector<double>* recharge);
-    /// Step 9: the critical layer follows the day (m_theta_start: the root zone's water at the
-    /// day's start, m_theta_wet: after the rain, m_theta_et: after evapotranspiration).
-    void update_critical_layer();
-    /// Step 8: storage changes, the residual and the cumulative check.
-    void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double surf0, double gw0,
-                      double lost0);
+    /// Steps 6 and 6b (evapotranspiration, drainage) under the chosen methods and, without
+    /// groundwater, step 9 and the soil's storage (soil_day_end), a block of cells at a time.
+    /// Returns the sum of the water contents at the day's end (NaN with groundwater, whose
+    /// exchange comes first: the caller then runs soil_day_end).
+    double soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
+                    const et::DailyWeather& dw, const double* request_mm,
+                    const double* intercepted_m, std::vector<double>* recharge);
+    /// Step 9 over the cells [begin, end) (critical_layer_range, with a critical layer) and the
+    /// sum of their water contents, in cell order, added to `theta_sum`.
+    void soil_day_end(std::int64_t begin, std::int64_t end, double& theta_sum);
+    /// Step 9 over the cells [begin, end): the critical layer follows the day (m_theta_start: the
+    /// root zone's water at the day's start, m_theta_wet: after the rain, m_theta_et: after
+    /// evapotranspiration).
+    void critical_layer_range(std::int64_t begin, std::int64_t end);
+    /// Step 8: storage changes (soil1: the soil's at the day's end), the residual and the
+    /// cumulative check.
+    void close_budget(DailyFluxes& f, const DayWeather& w, double soil0, double soil1, double surf0,
+                      double gw0, double lost0);
     RasterD m_dem;
     SoilMap m_soil;
     RasterD m_veg;
@@ -187,7 +195,7 @@ private:
     RasterD m_top_theta;                      ///< the critical layer's water content, m3/m3
     std::vector<double> m_theta_start, m_theta_wet, m_theta_et; ///< the day's stages, m3/m3
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
-    std::vector<double> m_scratch; ///< 2 per cell: the drainage passes' intermediate contents
+    std::vector<double> m_scratch; ///< 1 per cell: the drainage passes' intermediate contents
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell

@@ -114,6 +114,12 @@ struct SurfaceDemand {
 void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
                         const SurfaceDemand& demand, const double* request_mm, double* supplied_mm,
                         double& transpiration_m3, double& evaporation_m3);
+/// evapotranspiration over the cells [begin, end) only, each sum taken in cell order and then
+/// added (the building block of the grid-wide pass and of HydrologyModel's soil day).
+void evapotranspiration_range(const Catchments& lakes, const SoilColumns& soil, std::int64_t begin,
+                              std::int64_t end, const SurfaceDemand& demand,
+                              const double* request_mm, double* supplied_mm,
+                              double& transpiration_m3, double& evaporation_m3);
 
 /// Gash's (1979) analytical interception model in its sparse-canopy form (Gash, Lloyd & Lachaud
 /// 1995), one storm per rain day.
@@ -154,6 +160,11 @@ struct Fao56Day {
 void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
                               const Fao56Day& day, const double* request_mm, double* supplied_mm,
                               double& transpiration_m3, double& evaporation_m3);
+/// evapotranspiration_fao56 over the cells [begin, end) only (sums as evapotranspiration_range).
+void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& soil,
+                                    std::int64_t begin, std::int64_t end, const Fao56Day& day,
+                                    const double* request_mm, double* supplied_mm,
+                                    double& transpiration_m3, double& evaporation_m3);
 
 /// 6b. Drainage below the root zone by gravity (unit gradient) at the unsaturated conductivity
 ///     K(theta) = Ks (theta / theta_s)^n, n = 3 + 2 / lambda (Saxton & Rawls 2006 eq. 16; theta_s
@@ -164,6 +175,10 @@ void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, 
 void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
                       std::int64_t cells, double dt_s, std::vector<double>* recharge,
                       double& drained_m3, double* scratch);
+/// gravity_drainage over the cells [begin, end) only (`scratch` indexed as the cells).
+void gravity_drainage_range(const SoilColumns& soil, const float* porosity, const float* exponent,
+                            std::int64_t begin, std::int64_t end, double dt_s,
+                            std::vector<double>* recharge, double& drained_m3, double* scratch);
 
 /// theta after `dt_s` of gravity drainage from `theta0` (the exact solution above), computed with
 /// fastmath.hpp's logarithm and exponential (a few units in the last place from libm's).

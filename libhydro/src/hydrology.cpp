@@ -433,64 +433,53 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
 }
 
 void HydrologyModel::critical_layer_range(std::int64_t k0, std::int64_t k1) {
-    const double depth = m_opt.root_zone_depth_m;
     const bool gravity = m_opt.drainage == DrainageMethod::gravity;
-    const double* th = m_theta.data();
-    auto layer_cell = [&](std::int64_t k) {
-        CriticalLayerCell c;
-        c.depth_m = m_opt.critical_layer_depth_m;
-        c.root_depth_m = depth;
-        c.ceiling = gravity ? m_soil.porosity.data()[k] : m_soil.field_capacity.data()[k];
-        c.wilting_point = m_soil.wilting_point.data()[k];
-        c.porosity = m_soil.porosity.data()[k];
-        c.exponent = m_drain_exponent[static_cast<std::size_t>(k)];
-        c.ksat_m_per_s = m_soil.ksat_m_per_s.data()[k];
-        return c;
-    };
+    const auto at = [k0](auto* p) { return p + k0; };
+    CriticalLayerCells c;
+    c.depth_m = m_opt.critical_layer_depth_m;
+    c.root_depth_m = m_opt.root_zone_depth_m;
+    c.ceiling = at(gravity ? m_soil.porosity.data() : m_soil.field_capacity.data());
+    c.wilting_point = at(m_soil.wilting_point.data());
+    c.porosity = at(m_soil.porosity.data());
+    c.exponent = at(m_drain_exponent.data());
+    c.theta_start = at(m_theta_start.data());
+    c.theta_wet = at(m_theta_wet.data());
+    c.theta_et = at(m_theta_et.data());
+    c.column_theta = at(m_theta.data());
+    c.transpiration_mm = at(m_transp_supplied.data());
     // critical_layer_day in three passes, so the drainage runs over the block's draining cells
     // gathered together (drained_theta_cells), with the same result: most days most layers are
     // drier than the root zone below and do not drain.
     struct Gathered {
-        std::vector<double> theta0, theta1;
+        std::vector<double> drains, drained, theta0, theta1;
         std::vector<float> porosity, exponent, ksat;
+        std::vector<std::int32_t> cell;
     };
     thread_local Gathered g;
     const auto len = static_cast<std::size_t>(k1 - k0);
     if (g.theta0.size() < len) {
-        g.theta0.resize(len);
-        g.theta1.resize(len);
-        g.porosity.resize(len);
-        g.exponent.resize(len);
-        g.ksat.resize(len);
+        for (auto* v : {&g.drains, &g.drained, &g.theta0, &g.theta1}) v->resize(len);
+        for (auto* v : {&g.porosity, &g.exponent, &g.ksat}) v->resize(len);
+        g.cell.resize(len);
     }
-    double* wetted = m_scratch.data();
+    double* wetted = at(m_scratch.data());
+    critical_layer_wetted_cells(k1 - k0, c, at(m_top_theta.data()), wetted, g.drains.data());
     std::size_t n = 0;
-    for (std::int64_t k = k0; k < k1; ++k) {
-        const auto u = static_cast<std::size_t>(k);
-        const double inflow_m = std::max(0.0, m_theta_wet[u] - m_theta_start[u]) * depth;
-        const CriticalLayerCell c = layer_cell(k);
-        wetted[k] = critical_layer_wetted(c, m_top_theta.data()[k], inflow_m);
-        if (!critical_layer_drains(c, wetted[k], th[k])) continue;
-        g.theta0[n] = wetted[k];
-        g.porosity[n] = m_soil.porosity.data()[k];
-        g.exponent[n] = m_drain_exponent[u];
-        g.ksat[n] = m_soil.ksat_m_per_s.data()[k];
+    for (std::size_t i = 0; i < len; ++i) {
+        if (g.drains[i] == 0.0) continue;
+        g.cell[n] = static_cast<std::int32_t>(i);
+        g.theta0[n] = wetted[i];
+        g.porosity[n] = c.porosity[i];
+        g.exponent[n] = c.exponent[i];
+        g.ksat[n] = m_soil.ksat_m_per_s.data()[k0 + static_cast<std::int64_t>(i)];
         ++n;
     }
     drained_theta_cells(static_cast<std::int64_t>(n), g.theta0.data(), g.porosity.data(),
-                        g.exponent.data(), g.ksat.data(), m_opt.critical_layer_depth_m, 86400.0,
-                        g.theta1.data());
-    std::size_t j = 0;
-    for (std::int64_t k = k0; k < k1; ++k) {
-        const auto u = static_cast<std::size_t>(k);
-        const CriticalLayerCell c = layer_cell(k);
-        const double transpiration_m = m_transp_supplied.data()[k] / kMmPerM;
-        const double et_m = std::max(0.0, m_theta_wet[u] - m_theta_et[u]) * depth;
-        const double evaporation_m = std::max(0.0, et_m - transpiration_m);
-        const double from =
-            critical_layer_drains(c, wetted[k], th[k]) ? std::max(g.theta1[j++], th[k]) : wetted[k];
-        m_top_theta.data()[k] = critical_layer_rest(c, from, evaporation_m, transpiration_m, th[k]);
-    }
+                        g.exponent.data(), g.ksat.data(), c.depth_m, 86400.0, g.theta1.data());
+    for (std::size_t j = 0; j < n; ++j)
+        g.drained[static_cast<std::size_t>(g.cell[j])] = g.theta1[j];
+    critical_layer_rest_cells(k1 - k0, c, wetted, g.drains.data(), g.drained.data(),
+                              at(m_top_theta.data()));
 }
 
 void HydrologyModel::soil_day_end(std::int64_t begin, std::int64_t end, double& theta_sum) {

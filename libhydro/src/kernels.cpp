@@ -198,46 +198,39 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
                                     std::int64_t begin, std::int64_t end, const Fao56Day& day,
                                     const double* request_mm, double* supplied_mm,
                                     double& transpiration_m3, double& evaporation_m3) {
-    const double area = soil.cell_area_m2, depth = soil.depth_m, et0 = day.et0_mm;
-    const double p = day.depletion_fraction;
-    double t_m3 = 0, e_m3 = 0; // the range's sums, in cell order (locals: theta may alias)
+    const double area = soil.cell_area_m2;
+    // The standing water's cells (a walk up the depression tree each), then the vectorised
+    // arithmetic, then the sums in cell order.
+    struct Scratch {
+        std::vector<double> lake;
+        std::vector<double> evaporation_mm;
+    };
+    thread_local Scratch w;
+    const auto len = static_cast<std::size_t>(end - begin);
+    if (w.lake.size() < len) {
+        w.lake.resize(len);
+        w.evaporation_mm.resize(len);
+    }
+    for (std::int64_t k = begin; k < end; ++k)
+        w.lake[static_cast<std::size_t>(k - begin)] = lakes.owner(k) != 0 ? 1.0 : 0.0;
+    auto at = [&](auto* p) { return p ? p + begin : nullptr; };
+    const Fao56Cells cells{day.cover + begin,
+                           at(day.intercepted_m),
+                           at(request_mm),
+                           day.kr + begin,
+                           day.tew_mm + begin,
+                           soil.wilting_point + begin,
+                           soil.field_capacity + begin,
+                           w.lake.data(),
+                           soil.theta + begin,
+                           at(soil.surface_depletion_mm),
+                           supplied_mm + begin,
+                           w.evaporation_mm.data()};
+    evapotranspiration_fao56_cells(end - begin, day, cells, soil.depth_m);
+    double t_m3 = 0, e_m3 = 0;
     for (std::int64_t k = begin; k < end; ++k) {
-        const double c = day.cover[k];
-        const double held = day.intercepted_m ? day.intercepted_m[k] * kMmPerM : 0.0;
-        // Transpiration: what the plants ask, at most the energy their leaves receive.
-        const double energy = std::max(0.0, c * day.kc_max * et0 - held);
-        const double t_pot =
-            std::min(energy, request_mm ? std::max(0.0, request_mm[k]) : day.default_kcb * c * et0);
-        const double kcb = et0 > 0 ? t_pot / et0 : 0.0;
-        // Soil evaporation from the exposed fraction, falling as the surface layer dries.
-        const double few = std::max(0.01, 1.0 - c);
-        // At most what the surface layer has left (eq. 77 bounds De by TEW).
-        const double left = soil.surface_depletion_mm
-                                ? few * std::max(0.0, day.tew_mm[k] - soil.surface_depletion_mm[k])
-                                : 0.0;
-        const double e_pot =
-            lakes.owner(k) != 0
-                ? 0.0
-                : std::min(left, day.kr[k] *
-                                     std::max(0.0, std::min(day.kc_max - kcb, few * day.kc_max)) *
-                                     et0);
-        double& th = soil.theta[k];
-        const double wp = soil.wilting_point[k], fc = soil.field_capacity[k];
-        const double ks = std::clamp((th - wp) / std::max((1.0 - p) * (fc - wp), 1e-9), 0.0, 1.0);
-        double t = ks * t_pot, e = e_pot; // mm
-        const double avail = std::max(0.0, (th - wp) * depth) * kMmPerM;
-        if (t + e > avail) {
-            const double scale = avail / (t + e);
-            t *= scale;
-            e *= scale;
-        }
-        th -= (t + e) / kMmPerM / depth;
-        if (soil.surface_depletion_mm)
-            soil.surface_depletion_mm[k] = std::min(static_cast<double>(day.tew_mm[k]),
-                                                    soil.surface_depletion_mm[k] + e / few);
-        supplied_mm[k] = t;
-        t_m3 += t / kMmPerM * area;
-        e_m3 += e / kMmPerM * area;
+        t_m3 += supplied_mm[k] / kMmPerM * area;
+        e_m3 += w.evaporation_mm[static_cast<std::size_t>(k - begin)] / kMmPerM * area;
     }
     transpiration_m3 += t_m3;
     evaporation_m3 += e_m3;

@@ -479,3 +479,129 @@ TEST_CASE("critical_layer_day is its three parts composed", "[hydrology][critica
     CHECK(drained_days > 2000); // both branches were taken
     CHECK(drained_days < 18000);
 }
+
+TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][fao56]") {
+    // evapotranspiration_fao56_cells runs the widest clone this machine has on every combination
+    // of its optional inputs; fao56_cell is the same arithmetic a cell at a time (baseline code).
+    // Random covers, requests, interceptions and water contents (below the wilting point to
+    // saturated), lakes, dry and short-of-water days.
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const std::int64_t n = 100003;
+    std::vector<double> cover(n), held(n), request(n), kr(n), lake(n), theta(n), depletion(n);
+    std::vector<float> tew(n), wp(n), fc(n);
+    for (std::int64_t k = 0; k < n; ++k) {
+        cover[k] = u01(rng) < 0.1 ? 0.0 : u01(rng);
+        held[k] = 0.003 * u01(rng) * cover[k];
+        request[k] = u01(rng) < 0.05 ? -1.0 : 8 * u01(rng);
+        kr[k] = u01(rng);
+        lake[k] = u01(rng) < 0.05 ? 1.0 : 0.0;
+        wp[k] = static_cast<float>(0.05 + 0.1 * u01(rng));
+        fc[k] = static_cast<float>(wp[k] + 0.05 + 0.3 * u01(rng));
+        tew[k] = static_cast<float>(10 + 30 * u01(rng));
+        depletion[k] = tew[k] * u01(rng);
+        theta[k] = wp[k] * (0.9 + 0.12 * u01(rng)) + (u01(rng) < 0.5 ? 0.0 : fc[k] * u01(rng));
+    }
+    Fao56Day day;
+    std::int64_t short_days = 0;
+    for (double et0 : {0.0, 1.5, 6.0})
+        for (int mask = 0; mask < 8; ++mask) {
+            day.et0_mm = et0;
+            std::vector<double> th = theta, de = depletion, supplied(n), evaporation(n);
+            const Fao56Cells c{cover.data(),
+                               mask & 1 ? held.data() : nullptr,
+                               mask & 2 ? request.data() : nullptr,
+                               kr.data(),
+                               tew.data(),
+                               wp.data(),
+                               fc.data(),
+                               lake.data(),
+                               th.data(),
+                               mask & 4 ? de.data() : nullptr,
+                               supplied.data(),
+                               evaporation.data()};
+            evapotranspiration_fao56_cells(n, day, c, 0.8);
+            std::int64_t differ = 0;
+            auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+            for (std::int64_t k = 0; k < n; ++k) {
+                Fao56Cell in;
+                in.cover = cover[k];
+                in.held_mm = mask & 1 ? held[k] * kMmPerM : 0.0;
+                in.has_request = mask & 2;
+                in.request_mm = mask & 2 ? request[k] : 0.0;
+                in.has_surface = mask & 4;
+                in.tew_mm = tew[k];
+                in.kr = kr[k];
+                in.depletion_mm = mask & 4 ? depletion[k] : 0.0;
+                in.theta = theta[k];
+                in.wilting_point = wp[k];
+                in.field_capacity = fc[k];
+                in.lake = lake[k] != 0;
+                const Fao56Out one = fao56_cell(day, in, 0.8);
+                differ += !same(one.theta, th[k]) || !same(one.transpiration_mm, supplied[k]) ||
+                          !same(one.evaporation_mm, evaporation[k]) ||
+                          (mask & 4 && !same(one.depletion_mm, de[k]));
+                CHECK(th[k] >= std::min(theta[k], static_cast<double>(wp[k])) - 1e-15);
+                const double avail_mm = (theta[k] - wp[k]) * 0.8 * kMmPerM;
+                short_days += avail_mm > 0 && supplied[k] + evaporation[k] > 0 &&
+                              std::abs(supplied[k] + evaporation[k] - avail_mm) < 1e-9 * avail_mm;
+            }
+            CHECK(differ == 0);
+        }
+    CHECK(short_days > 0); // some cells ran out of water: the scaled branch was taken
+}
+
+TEST_CASE("The vectorised critical layer computes its parts' bits", "[hydrology][critical_layer]") {
+    // critical_layer_wetted_cells and critical_layer_rest_cells (the widest clone) against
+    // critical_layer_wetted, critical_layer_drains and critical_layer_rest a cell at a time, on
+    // random days and soils, draining and not, both ceilings.
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const std::int64_t n = 50021;
+    std::vector<float> ceiling(n), wp(n), porosity(n), exponent(n);
+    std::vector<double> start(n), wet(n), et(n), column(n), transp(n), top(n), drained(n);
+    for (std::int64_t k = 0; k < n; ++k) {
+        porosity[k] = static_cast<float>(0.35 + 0.2 * u01(rng));
+        exponent[k] = static_cast<float>(u01(rng) < 0.05 ? 0.0 : 5 + 20 * u01(rng));
+        ceiling[k] = u01(rng) < 0.5 ? porosity[k] : static_cast<float>(0.8 * porosity[k]);
+        wp[k] = static_cast<float>(0.05 + 0.1 * u01(rng));
+        auto between = [&] { return wp[k] + u01(rng) * (ceiling[k] - wp[k]); };
+        start[k] = between();
+        wet[k] = u01(rng) < 0.5 ? start[k] : std::max(start[k], between());
+        et[k] = wet[k] - 0.004 * u01(rng);
+        column[k] = std::max<double>(wp[k], et[k] - 0.002 * u01(rng));
+        transp[k] = 3 * u01(rng);
+        top[k] = between();
+        drained[k] = u01(rng) * ceiling[k];
+    }
+    CriticalLayerCells c;
+    c.depth_m = 0.3;
+    c.root_depth_m = 1.0;
+    c.ceiling = ceiling.data(), c.wilting_point = wp.data(), c.porosity = porosity.data();
+    c.exponent = exponent.data();
+    c.theta_start = start.data(), c.theta_wet = wet.data(), c.theta_et = et.data();
+    c.column_theta = column.data(), c.transpiration_mm = transp.data();
+    std::vector<double> wetted(n), drains(n), out(n);
+    critical_layer_wetted_cells(n, c, top.data(), wetted.data(), drains.data());
+    critical_layer_rest_cells(n, c, wetted.data(), drains.data(), drained.data(), out.data());
+    std::int64_t differ = 0, draining = 0;
+    for (std::int64_t k = 0; k < n; ++k) {
+        CriticalLayerCell l;
+        l.depth_m = 0.3;
+        l.root_depth_m = 1.0;
+        l.ceiling = ceiling[k], l.wilting_point = wp[k], l.porosity = porosity[k];
+        l.exponent = exponent[k];
+        const double w = critical_layer_wetted(l, top[k], std::max(0.0, wet[k] - start[k]) * 1.0);
+        const bool d = critical_layer_drains(l, w, column[k]);
+        const double t_m = transp[k] / kMmPerM;
+        const double e_m = std::max(0.0, std::max(0.0, wet[k] - et[k]) * 1.0 - t_m);
+        const double one =
+            critical_layer_rest(l, d ? std::max(drained[k], column[k]) : w, e_m, t_m, column[k]);
+        differ += std::memcmp(&w, &wetted[k], sizeof w) != 0 || (drains[k] != 0) != d ||
+                  std::memcmp(&one, &out[k], sizeof one) != 0;
+        draining += d;
+    }
+    CHECK(differ == 0);
+    CHECK(draining > n / 10);
+    CHECK(draining < n - n / 10);
+}

@@ -151,6 +151,77 @@ struct Fao56Day {
     const double* kr;                ///< evaporation reduction at the day's start (eq. 74)
 };
 
+/// One cell's FAO-56 day (evapotranspiration_fao56's arithmetic): its inputs and what it gives.
+struct Fao56Cell {
+    double cover = 0, held_mm = 0;               ///< leaf cover; today's interception, mm
+    double request_mm = 0;                       ///< the plants' request (used when `has_request`)
+    double tew_mm = 0, kr = 1, depletion_mm = 0; ///< the surface layer (used when `has_surface`)
+    double theta = 0, wilting_point = 0, field_capacity = 0;
+    bool lake = false, has_request = false, has_surface = false;
+};
+struct Fao56Out {
+    double transpiration_mm = 0, evaporation_mm = 0, theta = 0, depletion_mm = 0;
+};
+
+/// evapotranspiration_fao56 for one cell of root-zone depth `depth_m` (the definition the grid
+/// pass computes, cell by cell, in evapotranspiration_fao56_cells), in scalars: `request_mm`
+/// counts where `has_request`, the surface layer (`tew_mm`, `kr`, `depletion_mm`) where
+/// `has_surface`.
+inline void fao56_values(const Fao56Day& day, double c, double held_mm, bool has_request,
+                         double request_mm, bool has_surface, double tew_mm, double kr,
+                         double depletion_mm, double th, double wp, double fc, bool lake,
+                         double depth_m, double& t, double& e, double& theta1, double& depletion1) {
+    const double et0 = day.et0_mm;
+    // Transpiration: what the plants ask, at most the energy their leaves receive.
+    const double energy = std::max(0.0, c * day.kc_max * et0 - held_mm);
+    const double t_pot =
+        std::min(energy, has_request ? std::max(0.0, request_mm) : day.default_kcb * c * et0);
+    const double kcb = et0 > 0 ? t_pot / et0 : 0.0;
+    // Soil evaporation from the exposed fraction, falling as the surface layer dries.
+    const double few = std::max(0.01, 1.0 - c);
+    // At most what the surface layer has left (eq. 77 bounds De by TEW).
+    const double left = has_surface ? few * std::max(0.0, tew_mm - depletion_mm) : 0.0;
+    const double e_pot =
+        lake ? 0.0
+             : std::min(left,
+                        kr * std::max(0.0, std::min(day.kc_max - kcb, few * day.kc_max)) * et0);
+    const double p = day.depletion_fraction;
+    const double ks = std::clamp((th - wp) / std::max((1.0 - p) * (fc - wp), 1e-9), 0.0, 1.0);
+    t = ks * t_pot; // mm
+    e = e_pot;
+    const double avail = std::max(0.0, (th - wp) * depth_m) * kMmPerM;
+    const double scale = avail / (t + e);
+    const bool short_of_water = t + e > avail;
+    t = short_of_water ? t * scale : t;
+    e = short_of_water ? e * scale : e;
+    theta1 = th - (t + e) / kMmPerM / depth_m;
+    depletion1 = has_surface ? std::min(tew_mm, depletion_mm + e / few) : 0.0;
+}
+
+/// fao56_values of a cell's inputs.
+inline Fao56Out fao56_cell(const Fao56Day& day, const Fao56Cell& in, double depth_m) {
+    Fao56Out out;
+    fao56_values(day, in.cover, in.held_mm, in.has_request, in.request_mm, in.has_surface,
+                 in.tew_mm, in.kr, in.depletion_mm, in.theta, in.wilting_point, in.field_capacity,
+                 in.lake, depth_m, out.transpiration_mm, out.evaporation_mm, out.theta,
+                 out.depletion_mm);
+    return out;
+}
+
+/// fao56_cell for `n` cells at once (arrays from the first of them): `lake[k]` 1 under standing
+/// water; `intercepted_m`, `request_mm` and `depletion_mm` may be null (no interception,
+/// no plants' request: Kcb_default c ET0, no surface layer). Updates `theta` and `depletion_mm`,
+/// writes `supplied_mm` and `evaporation_mm`. A loop vectorised for the machine with the same
+/// bits as fao56_cell (soil_cells.cpp).
+struct Fao56Cells {
+    const double *cover, *intercepted_m, *request_mm, *kr;
+    const float *tew_mm, *wilting_point, *field_capacity;
+    const double* lake; ///< 1 under standing water, 0 elsewhere (a double: it vectorises)
+    double *theta, *depletion_mm, *supplied_mm, *evaporation_mm;
+};
+void evapotranspiration_fao56_cells(std::int64_t n, const Fao56Day& day, const Fao56Cells& c,
+                                    double depth_m);
+
 /// 6. Evapotranspiration as the sum of two limited fluxes (FAO-56 eq. 69-77). Per cell:
 ///    transpiration T = Ks min(request, c Kc_max ET0 - I) (the energy on its leaves less what the
 ///    wet canopy used; `request_mm` null: Kcb_default c ET0); soil evaporation E = Kr min(Kc_max
@@ -243,6 +314,26 @@ inline double critical_layer_rest(const CriticalLayerCell& c, double theta_drain
     const double lo = std::max(0.0, total - c.ceiling * below), hi = std::min(c.ceiling * z, total);
     return std::clamp(w, lo, std::max(lo, hi)) / z;
 }
+
+/// The critical layer's day (critical_layer_day) for many cells at once, in the two parts around
+/// the drainage: each array from the first cell; `ceiling` is SoilColumns::ceiling_at's; the
+/// root zone's water at the day's start (`theta_start`), after the rain (`theta_wet`), after
+/// evapotranspiration (`theta_et`) and at the day's end (`column_theta`). Loops vectorised for the
+/// machine with the same bits as the per-cell parts (soil_cells.cpp).
+struct CriticalLayerCells {
+    double depth_m = 0.3, root_depth_m = 1.0;
+    const float *ceiling, *wilting_point, *porosity, *exponent;
+    const double *theta_start, *theta_wet, *theta_et, *column_theta;
+    const double* transpiration_mm; ///< today's transpiration, mm (the root zone's)
+};
+/// critical_layer_wetted of each cell from the layer's `theta0`; `drains[k]` 1 where it drains
+/// (critical_layer_drains), 0 where not.
+void critical_layer_wetted_cells(std::int64_t n, const CriticalLayerCells& c, const double* theta0,
+                                 double* wetted, double* drains);
+/// critical_layer_rest of each cell: from max(`drained`, column) where `drains`, else from
+/// `wetted`.
+void critical_layer_rest_cells(std::int64_t n, const CriticalLayerCells& c, const double* wetted,
+                               const double* drains, const double* drained, double* theta1);
 
 /// 7. One day of groundwater flow with the day's `recharge` (m3 per cell): the outflow through
 ///    fixed-head edges (m3) is returned; water table above the surface seeps into the standing

@@ -248,20 +248,19 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     const double et0_m = std::max(0.0, hydro::et::fao56_reference_daily(dw)) / kMmPerM;
     // Demand: the plants' through their root cells, then the ground layer's.
     plant_water_demand(m_pop, species, day.phen, et0_m, m_scene.growth, m_demand);
-    const auto cells = static_cast<std::size_t>(m_request_mm.size());
-    m_request.assign(cells, 0.0);
-    scatter_demand(m_canopy.roots, m_demand, m_request);
-    ground_water_request(m_ground, species, day.phen, et0_m, soil_water(),
-                         m_scene.hydro.options.root_zone_depth_m, m_hydro_cell_area,
-                         m_ground_demand, m_ground_request, m_request);
-
-    // Leaves: each plant's today, spread as its roots are, and the ground layer's.
+    // Leaves: each plant's today, spread as its roots are (in the same pass), and the ground
+    // layer's below.
     m_leaf_today.assign(m_pop.size(), 0.0);
     for (std::size_t k = 0; k < m_pop.size(); ++k)
         if (m_pop.alive[k] && species[m_pop.species[k]].life_form != LifeForm::object)
             m_leaf_today[k] = m_pop.leaf_area_m2[k] * day.phen[m_pop.species[k]];
+    const auto cells = static_cast<std::size_t>(m_request_mm.size());
+    m_request.assign(cells, 0.0);
     m_leaf_cells.assign(cells, 0.0);
-    scatter_demand(m_canopy.roots, m_leaf_today, m_leaf_cells);
+    scatter_pair(m_canopy.roots, m_demand, m_leaf_today, m_request, m_leaf_cells);
+    ground_water_request(m_ground, species, day.phen, et0_m, soil_water(),
+                         m_scene.hydro.options.root_zone_depth_m, m_hydro_cell_area,
+                         m_ground_demand, m_ground_request, m_request);
     const auto n = static_cast<std::int64_t>(cells);
     for_each_block(n, [&](std::int64_t c0, std::int64_t c1) {
         for (std::int64_t c = c0; c < c1; ++c) {

@@ -67,17 +67,23 @@ void ground_water_request(const GroundLayer& ground, const std::vector<Species>&
 
 void supply_fractions(const RootCells& roots, const RasterD& request_mm, const RasterD& supplied_mm,
                       std::vector<double>& ratio, std::vector<double>& fraction) {
-    ratio.assign(static_cast<std::size_t>(request_mm.size()), 1.0);
-    bool all_met = true;
-    for (std::int64_t c = 0; c < request_mm.size(); ++c) {
-        const double r = request_mm.data()[c];
-        if (r > 0) {
-            const double q = std::min(1.0, supplied_mm.data()[c] / r);
-            ratio[static_cast<std::size_t>(c)] = q;
-            all_met = all_met && q == 1.0;
-        }
-    }
-    if (all_met)
+    const std::int64_t cells = request_mm.size();
+    ratio.resize(static_cast<std::size_t>(cells));
+    const double *request = request_mm.data(), *supplied = supplied_mm.data();
+    // Each cell on its own (a block per thread on large grids); the count of cells short of
+    // water is a sum of whole numbers, exact in any order.
+    const double short_cells =
+        blocked_range_sums<1>(cells, [&](std::int64_t c0, std::int64_t c1, auto& sum) {
+            double n = 0;
+            for (std::int64_t c = c0; c < c1; ++c) {
+                const double r = request[c];
+                const double q = r > 0 ? std::min(1.0, supplied[c] / r) : 1.0;
+                ratio[static_cast<std::size_t>(c)] = q;
+                n += q == 1.0 ? 0.0 : 1.0;
+            }
+            sum[0] += n;
+        })[0];
+    if (short_cells == 0)
         fraction.assign(roots.size(), 1.0);
     else
         gather_supply(roots, ratio, fraction);

@@ -60,6 +60,21 @@ void scatter_demand(const RootCells& roots, const std::vector<double>& demand,
     }
 }
 
+void scatter_pair(const RootCells& roots, const std::vector<double>& a,
+                  const std::vector<double>& b, std::vector<double>& a_cells,
+                  std::vector<double>& b_cells) {
+    for (std::size_t p = 0; p < roots.size(); ++p) {
+        const double x = a[p], y = b[p];
+        const bool add_x = x > 0, add_y = y > 0;
+        if (!add_x && !add_y) continue;
+        for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e) {
+            const auto c = static_cast<std::size_t>(roots.cell[e]);
+            if (add_x) a_cells[c] += x * roots.share[e];
+            if (add_y) b_cells[c] += y * roots.share[e];
+        }
+    }
+}
+
 void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
                    std::vector<double>& fraction) {
     const auto n = static_cast<std::int64_t>(roots.size());

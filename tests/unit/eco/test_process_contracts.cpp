@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <set>
 
@@ -141,6 +142,21 @@ TEST_CASE("water demand and supply: the cells ask what the plants demand, the pl
         for (std::size_t k = 0; k < pop.size(); ++k)
             CHECK(by_light[k] == Approx(demand[k] * (1.0 - pop.shade_fraction[k])));
         scatter_demand(w.canopy.roots, demand, request);
+        // Two quantities in one pass: each the same bits as its own scatter (leaves of some
+        // plants zero, demand of others zero).
+        std::vector<double> leaves(pop.size()), demand_some = demand;
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            leaves[k] = k % 5 == 1 ? 0.0 : pop.leaf_area_m2[k];
+            if (k % 7 == 2) demand_some[k] = 0.0;
+        }
+        std::vector<double> one_a(request.size(), 0.0), one_b(request.size(), 0.0),
+            pair_a(request.size(), 0.0), pair_b(request.size(), 0.0);
+        scatter_demand(w.canopy.roots, demand_some, one_a);
+        scatter_demand(w.canopy.roots, leaves, one_b);
+        scatter_pair(w.canopy.roots, demand_some, leaves, pair_a, pair_b);
+        CHECK(std::memcmp(one_a.data(), pair_a.data(), one_a.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(one_b.data(), pair_b.data(), one_b.size() * sizeof(double)) == 0);
+        CHECK(std::accumulate(pair_b.begin(), pair_b.end(), 0.0) > 0);
         const double asked = std::accumulate(demand.begin(), demand.end(), 0.0);
         CHECK(std::accumulate(request.begin(), request.end(), 0.0) == Approx(asked).epsilon(1e-12));
         // A supply of a seeded share of each cell's request.

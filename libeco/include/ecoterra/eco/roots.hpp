@@ -41,6 +41,12 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map);
 void scatter_demand(const RootCells& roots, const std::vector<double>& demand_m3,
                     std::vector<double>& request_m3);
 
+/// scatter_demand of two quantities at once (one pass over the roots): `a` into `a_cells` and `b`
+/// into `b_cells`, each with the same bits as its own scatter_demand.
+void scatter_pair(const RootCells& roots, const std::vector<double>& a,
+                  const std::vector<double>& b, std::vector<double>& a_cells,
+                  std::vector<double>& b_cells);
+
 /// Fraction of demand met per plant: the mean of ratio[h] over each plant's root cells.
 void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
                    std::vector<double>& fraction);

@@ -123,6 +123,18 @@ void route_runoff(Catchments& lakes, const SoilColumns& soil,
     }
 }
 
+namespace {
+/// Runs range(begin, end, a, b) over the fixed blocks of `cells` (each block's sums from zero)
+/// and adds the two totals, in block order, to `a_total` and `b_total`.
+template <class F>
+void block_pass(std::int64_t cells, double& a_total, double& b_total, F&& range) {
+    const auto sums = blocked_range_sums<2>(
+        cells, [&](std::int64_t b, std::int64_t e, auto& s) { range(b, e, s[0], s[1]); });
+    a_total += sums[0];
+    b_total += sums[1];
+}
+} // namespace
+
 void evapotranspiration_range(const Catchments& lakes, const SoilColumns& soil, std::int64_t begin,
                               std::int64_t end, const SurfaceDemand& demand,
                               const double* request_mm, double* supplied_mm,
@@ -155,12 +167,11 @@ void evapotranspiration_range(const Catchments& lakes, const SoilColumns& soil, 
 void evapotranspiration(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
                         const SurfaceDemand& demand, const double* request_mm, double* supplied_mm,
                         double& transpiration_m3, double& evaporation_m3) {
-    const auto sums = blocked_range_sums<2>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
-        evapotranspiration_range(lakes, soil, b, e, demand, request_mm, supplied_mm, sum[0],
-                                 sum[1]);
-    });
-    transpiration_m3 += sums[0];
-    evaporation_m3 += sums[1];
+    block_pass(cells, transpiration_m3, evaporation_m3,
+               [&](std::int64_t b, std::int64_t e, double& t, double& v) {
+                   evapotranspiration_range(lakes, soil, b, e, demand, request_mm, supplied_mm, t,
+                                            v);
+               });
 }
 
 namespace {
@@ -239,12 +250,11 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
 void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
                               const Fao56Day& day, const double* request_mm, double* supplied_mm,
                               double& transpiration_m3, double& evaporation_m3) {
-    const auto sums = blocked_range_sums<2>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
-        evapotranspiration_fao56_range(lakes, soil, b, e, day, request_mm, supplied_mm, sum[0],
-                                       sum[1]);
-    });
-    transpiration_m3 += sums[0];
-    evaporation_m3 += sums[1];
+    block_pass(cells, transpiration_m3, evaporation_m3,
+               [&](std::int64_t b, std::int64_t e, double& t, double& v) {
+                   evapotranspiration_fao56_range(lakes, soil, b, e, day, request_mm, supplied_mm,
+                                                  t, v);
+               });
 }
 
 double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,

@@ -254,9 +254,11 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
     for (std::size_t k = 0; k < m_pop.size(); ++k)
         if (m_pop.alive[k] && species[m_pop.species[k]].life_form != LifeForm::object)
             m_leaf_today[k] = m_pop.leaf_area_m2[k] * day.phen[m_pop.species[k]];
+    // The two per-cell sums are zero between days: the block loop below clears each cell as it
+    // reads it (in cache), instead of a pass zeroing both grids here.
     const auto cells = static_cast<std::size_t>(m_request_mm.size());
-    m_request.assign(cells, 0.0);
-    m_leaf_cells.assign(cells, 0.0);
+    if (m_request.size() != cells) m_request.assign(cells, 0.0);
+    if (m_leaf_cells.size() != cells) m_leaf_cells.assign(cells, 0.0);
     scatter_pair(m_canopy.roots, m_demand, m_leaf_today, m_request, m_leaf_cells);
     ground_water_request(m_ground, species, day.phen, et0_m, soil_water(),
                          m_scene.hydro.options.root_zone_depth_m, m_hydro_cell_area,
@@ -267,6 +269,8 @@ void Ecosystem::water_request_and_leaves(const hydro::DayWeather& w, const DayCl
             const auto u = static_cast<std::size_t>(c);
             m_request_mm.data()[c] = m_request[u] / m_hydro_cell_area * kMmPerM;
             double lai = m_leaf_cells[u] / m_hydro_cell_area;
+            m_request[u] = 0.0;
+            m_leaf_cells[u] = 0.0;
             if (!m_ground.empty()) lai += m_ground.leaf_area_index(species, c, day.phen);
             m_lai.data()[c] = lai;
         }

@@ -209,19 +209,15 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
                                     std::int64_t begin, std::int64_t end, const Fao56Day& day,
                                     const double* request_mm, double* supplied_mm,
                                     double& transpiration_m3, double& evaporation_m3) {
-    const double area = soil.cell_area_m2;
     // The standing water's cells (a walk up the depression tree each), then the vectorised
     // arithmetic, then the sums in cell order.
     struct Scratch {
-        std::vector<double> lake;
-        std::vector<double> evaporation_mm;
+        std::vector<double> lake, transpiration_m3, evaporation_m3;
     };
     thread_local Scratch w;
     const auto len = static_cast<std::size_t>(end - begin);
-    if (w.lake.size() < len) {
-        w.lake.resize(len);
-        w.evaporation_mm.resize(len);
-    }
+    if (w.lake.size() < len)
+        for (auto* v : {&w.lake, &w.transpiration_m3, &w.evaporation_m3}) v->resize(len);
     for (std::int64_t k = begin; k < end; ++k)
         w.lake[static_cast<std::size_t>(k - begin)] = lakes.owner(k) != 0 ? 1.0 : 0.0;
     auto at = [&](auto* p) { return p ? p + begin : nullptr; };
@@ -236,12 +232,13 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
                            soil.theta + begin,
                            at(soil.surface_depletion_mm),
                            supplied_mm + begin,
-                           w.evaporation_mm.data()};
-    evapotranspiration_fao56_cells(end - begin, day, cells, soil.depth_m);
+                           w.transpiration_m3.data(),
+                           w.evaporation_m3.data()};
+    evapotranspiration_fao56_cells(end - begin, day, cells, soil.depth_m, soil.cell_area_m2);
     double t_m3 = 0, e_m3 = 0;
-    for (std::int64_t k = begin; k < end; ++k) {
-        t_m3 += supplied_mm[k] / kMmPerM * area;
-        e_m3 += w.evaporation_mm[static_cast<std::size_t>(k - begin)] / kMmPerM * area;
+    for (std::size_t i = 0; i < len; ++i) {
+        t_m3 += w.transpiration_m3[i];
+        e_m3 += w.evaporation_m3[i];
     }
     transpiration_m3 += t_m3;
     evaporation_m3 += e_m3;

@@ -2,8 +2,7 @@
 // evapotranspiration (fao56_cell) and the critical layer's parts, the hottest per-cell-day passes
 // of the default hydrology after the drainage. CMakeLists.txt compiles this file as drainage.cpp
 // (-fno-trapping-math: the branches become selects; -ffp-contract=off: every clone computes the
-// per-cell functions' bits, as "[fao56]" and
-// "[critical_layer]" test).
+// per-cell functions' bits, as the tests "[fao56]" and "[critical_layer]" check).
 #include "ecoterra/fastmath.hpp"
 #include "ecoterra/hydro/kernels.hpp"
 
@@ -14,12 +13,12 @@ namespace {
 /// each clone below.
 template <bool Held, bool Request, bool Surface>
 [[gnu::always_inline]] inline void fao56_loop(std::int64_t n, const Fao56Day& day,
-                                              const Fao56Cells& c, double depth_m) {
+                                              const Fao56Cells& c, double depth_m, double area) {
     const double *cover = c.cover, *held = c.intercepted_m, *request = c.request_mm, *kr = c.kr;
     const double* lake = c.lake;
     const float *tew = c.tew_mm, *wp = c.wilting_point, *fc = c.field_capacity;
     double *theta = c.theta, *depletion = c.depletion_mm, *supplied = c.supplied_mm,
-           *evaporation = c.evaporation_mm;
+           *transpiration_m3 = c.transpiration_m3, *evaporation_m3 = c.evaporation_m3;
     const Fao56Day d = day;
     // Every array is its own: without ivdep the loop needs more run-time overlap checks than GCC
     // makes and stays scalar.
@@ -33,7 +32,8 @@ template <bool Held, bool Request, bool Surface>
         theta[k] = th;
         if constexpr (Surface) depletion[k] = de;
         supplied[k] = t;
-        evaporation[k] = e;
+        transpiration_m3[k] = t / kMmPerM * area;
+        evaporation_m3[k] = e / kMmPerM * area;
     }
 }
 
@@ -41,17 +41,17 @@ template <bool Held, bool Request, bool Surface>
 
 ECOTERRA_CLONES
 void evapotranspiration_fao56_cells(std::int64_t n, const Fao56Day& day, const Fao56Cells& c,
-                                    double depth_m) {
+                                    double depth_m, double area) {
     const bool held = c.intercepted_m != nullptr, request = c.request_mm != nullptr,
                surface = c.depletion_mm != nullptr;
-    if (held && request && surface) return fao56_loop<true, true, true>(n, day, c, depth_m);
-    if (held && request) return fao56_loop<true, true, false>(n, day, c, depth_m);
-    if (held && surface) return fao56_loop<true, false, true>(n, day, c, depth_m);
-    if (held) return fao56_loop<true, false, false>(n, day, c, depth_m);
-    if (request && surface) return fao56_loop<false, true, true>(n, day, c, depth_m);
-    if (request) return fao56_loop<false, true, false>(n, day, c, depth_m);
-    if (surface) return fao56_loop<false, false, true>(n, day, c, depth_m);
-    fao56_loop<false, false, false>(n, day, c, depth_m);
+    if (held && request && surface) return fao56_loop<true, true, true>(n, day, c, depth_m, area);
+    if (held && request) return fao56_loop<true, true, false>(n, day, c, depth_m, area);
+    if (held && surface) return fao56_loop<true, false, true>(n, day, c, depth_m, area);
+    if (held) return fao56_loop<true, false, false>(n, day, c, depth_m, area);
+    if (request && surface) return fao56_loop<false, true, true>(n, day, c, depth_m, area);
+    if (request) return fao56_loop<false, true, false>(n, day, c, depth_m, area);
+    if (surface) return fao56_loop<false, false, true>(n, day, c, depth_m, area);
+    fao56_loop<false, false, false>(n, day, c, depth_m, area);
 }
 
 namespace {

@@ -507,7 +507,7 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
     for (double et0 : {0.0, 1.5, 6.0})
         for (int mask = 0; mask < 8; ++mask) {
             day.et0_mm = et0;
-            std::vector<double> th = theta, de = depletion, supplied(n), evaporation(n);
+            std::vector<double> th = theta, de = depletion, supplied(n), t_m3(n), e_m3(n);
             const Fao56Cells c{cover.data(),
                                mask & 1 ? held.data() : nullptr,
                                mask & 2 ? request.data() : nullptr,
@@ -519,8 +519,9 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
                                th.data(),
                                mask & 4 ? de.data() : nullptr,
                                supplied.data(),
-                               evaporation.data()};
-            evapotranspiration_fao56_cells(n, day, c, 0.8);
+                               t_m3.data(),
+                               e_m3.data()};
+            evapotranspiration_fao56_cells(n, day, c, 0.8, 4.0);
             std::int64_t differ = 0;
             auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
             for (std::int64_t k = 0; k < n; ++k) {
@@ -539,12 +540,14 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
                 in.lake = lake[k] != 0;
                 const Fao56Out one = fao56_cell(day, in, 0.8);
                 differ += !same(one.theta, th[k]) || !same(one.transpiration_mm, supplied[k]) ||
-                          !same(one.evaporation_mm, evaporation[k]) ||
+                          !same(one.transpiration_mm / kMmPerM * 4.0, t_m3[k]) ||
+                          !same(one.evaporation_mm / kMmPerM * 4.0, e_m3[k]) ||
                           (mask & 4 && !same(one.depletion_mm, de[k]));
                 CHECK(th[k] >= std::min(theta[k], static_cast<double>(wp[k])) - 1e-15);
                 const double avail_mm = (theta[k] - wp[k]) * 0.8 * kMmPerM;
-                short_days += avail_mm > 0 && supplied[k] + evaporation[k] > 0 &&
-                              std::abs(supplied[k] + evaporation[k] - avail_mm) < 1e-9 * avail_mm;
+                const double used_mm = one.transpiration_mm + one.evaporation_mm;
+                short_days +=
+                    avail_mm > 0 && used_mm > 0 && std::abs(used_mm - avail_mm) < 1e-9 * avail_mm;
             }
             CHECK(differ == 0);
         }

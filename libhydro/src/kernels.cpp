@@ -244,16 +244,6 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
     evaporation_m3 += e_m3;
 }
 
-void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
-                              const Fao56Day& day, const double* request_mm, double* supplied_mm,
-                              double& transpiration_m3, double& evaporation_m3) {
-    block_pass(cells, transpiration_m3, evaporation_m3,
-               [&](std::int64_t b, std::int64_t e, double& t, double& v) {
-                   evapotranspiration_fao56_range(lakes, soil, b, e, day, request_mm, supplied_mm,
-                                                  t, v);
-               });
-}
-
 double critical_layer_day(const CriticalLayerCell& c, double theta0, double inflow_m,
                           double evaporation_m, double transpiration_m, double column_theta,
                           double dt_s) {
@@ -286,15 +276,6 @@ void gravity_drainage_range(const SoilColumns& soil, const float* porosity, cons
             sum_m3 += m3;
     }
     drained_m3 += sum_m3;
-}
-
-void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
-                      std::int64_t cells, double dt_s, std::vector<double>* recharge,
-                      double& drained_m3, double* scratch) {
-    const auto sums = blocked_range_sums<1>(cells, [&](std::int64_t b, std::int64_t e, auto& sum) {
-        gravity_drainage_range(soil, porosity, exponent, b, e, dt_s, recharge, sum[0], scratch);
-    });
-    drained_m3 += sums[0];
 }
 
 double groundwater_exchange(Groundwater& gw, Catchments& lakes, const std::vector<double>& recharge,

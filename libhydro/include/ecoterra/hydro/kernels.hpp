@@ -14,9 +14,10 @@
 //                         their ceiling, the rest reaches a catchment or leaves through the edge
 //   5. Catchments::equilibrate   the standing water settles (fills, spills, merges, splits)
 //   6. evapotranspiration FAO-56: soil evaporation plus transpiration, each limited
-//                         (evapotranspiration_fao56, after canopy_interception split the rain);
-//                         paper 002: the larger of the surface demand and the plants' request;
-//                         never below the wilting point; then gravity_drainage below the roots
+//                         (evapotranspiration_fao56_range, after canopy_interception split the
+//                         rain); paper 002: the larger of the surface demand and the plants'
+//                         request; never below the wilting point; then gravity_drainage_range
+//                         below the roots (6 to 9 run a block of cells at a time)
 //   7. groundwater_exchange      the water table moves; where it reaches the surface it seeps out
 //                                into the standing water, which settles again
 //   8. close_budget       storage changes and the residual, checked against the tolerance
@@ -228,11 +229,9 @@ void evapotranspiration_fao56_cells(std::int64_t n, const Fao56Day& day, const F
 ///    wet canopy used; `request_mm` null: Kcb_default c ET0); soil evaporation E = Kr min(Kc_max
 ///    - Kcb, few Kc_max) ET0 with few = 1 - c (none under standing water); both scaled down
 ///    together to the water above the wilting point. The surface layer's depletion grows by E /
-///    few. Writes `supplied_mm` and adds transpiration and evaporation, m3.
-void evapotranspiration_fao56(const Catchments& lakes, const SoilColumns& soil, std::int64_t cells,
-                              const Fao56Day& day, const double* request_mm, double* supplied_mm,
-                              double& transpiration_m3, double& evaporation_m3);
-/// evapotranspiration_fao56 over the cells [begin, end) only (sums as evapotranspiration_range).
+///    few. Over the cells [begin, end) (HydrologyModel runs it a block at a time): writes
+///    `supplied_mm` and adds transpiration and evaporation, m3, summed as
+///    evapotranspiration_range does.
 void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& soil,
                                     std::int64_t begin, std::int64_t end, const Fao56Day& day,
                                     const double* request_mm, double* supplied_mm,
@@ -243,11 +242,8 @@ void evapotranspiration_fao56_range(const Catchments& lakes, const SoilColumns& 
 ///     the porosity), integrated exactly over `dt_s`: u = theta / theta_s follows du/dt = -a u^n,
 ///     a = Ks / (d theta_s), so u1 = (u0^(1-n) + (n-1) a dt)^(-1/(n-1)). The water drained joins
 ///     `recharge` (m3 per cell, groundwater on) or leaves the domain (added to drained_m3).
-///     `scratch` holds `cells` doubles (the drained water contents before the wilting floor).
-void gravity_drainage(const SoilColumns& soil, const float* porosity, const float* exponent,
-                      std::int64_t cells, double dt_s, std::vector<double>* recharge,
-                      double& drained_m3, double* scratch);
-/// gravity_drainage over the cells [begin, end) only (`scratch` indexed as the cells).
+///     Over the cells [begin, end); `scratch` is indexed as the cells and receives the drained
+///     water contents before the wilting floor.
 void gravity_drainage_range(const SoilColumns& soil, const float* porosity, const float* exponent,
                             std::int64_t begin, std::int64_t end, double dt_s,
                             std::vector<double>* recharge, double& drained_m3, double* scratch);

@@ -47,10 +47,16 @@ void ground_water_request(const GroundLayer& ground, const std::vector<Species>&
                           double root_zone_depth_m, double cell_area_m2,
                           std::vector<double>& demand_m3, std::vector<double>& request_m3,
                           std::vector<double>& cell_request_m3) {
+    // No ground layer, nothing asked: the two grids stay empty (their readers run only with a
+    // ground layer) instead of being zeroed every day.
+    if (ground.empty()) {
+        demand_m3.clear();
+        request_m3.clear();
+        return;
+    }
     const auto& grid = water.theta.grid();
     demand_m3.assign(cell_request_m3.size(), 0.0);
     request_m3.assign(cell_request_m3.size(), 0.0);
-    if (ground.empty()) return;
     for (std::int64_t c = 0; c < grid.size(); ++c) {
         const auto k = static_cast<std::size_t>(c);
         const double d = ground.demand_m3(species, c, phen, et0_m, cell_area_m2);

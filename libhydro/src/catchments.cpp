@@ -23,7 +23,8 @@ double tolerance_m3(double reference_m3) {
 Catchments::Catchments(const RasterD& dem, D8Rule rule)
     : m_dem(dem), m_fd(dem, rule), m_dh(m_fd), m_area(dem.cell_size() * dem.cell_size()),
       m_pos(static_cast<std::size_t>(m_dh.node_count()), -1),
-      m_cover(static_cast<std::size_t>(m_dh.node_count()), 0) {}
+      m_cover(static_cast<std::size_t>(m_dh.node_count()), 0),
+      m_owner(static_cast<std::size_t>(dem.size()), 0) {}
 
 Catchment& Catchments::create(std::int32_t node, double volume_m3) {
     Catchment k;
@@ -291,6 +292,24 @@ void Catchments::finish() {
     for (auto& k : m_list)
         k.wet_cells = m_dh.cells_below_outlet(k.node) -
                       static_cast<std::int64_t>(m_dh.band(k.node).size()) + k.own_wet;
+    map_owners();
+}
+
+void Catchments::map_owners() {
+    for (const auto c : m_owned) m_owner[static_cast<std::size_t>(c)] = 0;
+    m_owned.clear();
+    for (const auto& k : m_list) {
+        // The nodes whose cover is this catchment: its own and those of its subtree not covered
+        // by another. A band is in rising elevation, so its cells below the level come first.
+        m_dh.for_each_in_subtree(k.node, [&](std::int32_t n) {
+            if (m_cover[n] != k.node + 1) return;
+            for (const auto c : m_dh.band(n)) {
+                if (!(m_fd.elevation(c) < k.level_m)) break;
+                m_owner[static_cast<std::size_t>(c)] = k.id;
+                m_owned.push_back(c);
+            }
+        });
+    }
 }
 
 std::vector<std::int64_t> Catchments::seeds(const Catchment& k) const {

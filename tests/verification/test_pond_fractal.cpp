@@ -162,3 +162,71 @@ TEST_CASE("Ponding equals the brute-force reference on fractal DEMs, padded and 
     CHECK(compared == 48);
     CHECK(filled_downstream > 10); // the case the fix is about is well represented
 }
+
+TEST_CASE("The owner map holds the hierarchy's owner of every cell through fills, spills, merges, "
+          "splits, new water and a checkpoint",
+          "[catchments][depressions]") {
+    // owner() reads a map that each equilibrium keeps; owner_by_hierarchy() is its definition.
+    // Fractal and white-noise DEMs, some on discrete steps (flats, cells at a full lake's level),
+    // padded and unpadded, water added and taken in uneven portions.
+    int checked = 0, owned = 0, split_or_shrunk = 0;
+    for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+        Rng rng(seed, "test.owner_map");
+        RasterD z = fractal_dem(seed);
+        if (seed % 4 == 1) // white noise on ten levels: flats, and lakes full to a flat pass
+            for (std::int64_t k = 0; k < z.size(); ++k)
+                z.data()[k] = std::floor(rng.uniform(0.0, 10.0)) / 10.0;
+        if (seed % 4 == 3) // the fractal on 2 cm steps
+            for (std::int64_t k = 0; k < z.size(); ++k)
+                z.data()[k] = std::round(z.data()[k] / 0.02) * 0.02;
+        if (seed % 2 == 0) z = padded(z);
+        CAPTURE(seed, z.grid().nx);
+        Catchments c(z);
+        const double area = z.cell_size() * z.cell_size();
+        auto check_all = [&](const Catchments& x) {
+            std::int64_t wrong = 0;
+            for (std::int64_t k = 0; k < z.size(); ++k) {
+                wrong += x.owner(k) != x.owner_by_hierarchy(k);
+                owned += x.owner(k) != 0;
+            }
+            CHECK(wrong == 0);
+            ++checked;
+        };
+        check_all(c);
+        for (int part = 0; part < 6; ++part) {
+            if (part % 3 == 2) {
+                // Take water from every catchment: lakes shrink and split.
+                const auto list = c.catchments();
+                for (const auto& k : list)
+                    split_or_shrunk +=
+                        c.remove_water(k.id, k.volume_m3 * rng.uniform(0.3, 0.9)) > 0;
+            } else {
+                const double depth = rng.uniform(0.002, 0.08);
+                std::vector<double> v(static_cast<std::size_t>(z.size()), depth * area);
+                c.add_routed(route_to_pits(c.flow(), v, Routing::d8));
+            }
+            c.equilibrate();
+            check_all(c);
+            // New water between equilibria (onto lakes and dry cells) changes no answer.
+            for (int drop = 0; drop < 20; ++drop)
+                c.add_water(
+                    static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(z.size()))),
+                    rng.uniform(0.0, 0.05) * area);
+            check_all(c);
+        }
+        c.equilibrate();
+        ArchiveWriter a;
+        c.save_state(a);
+        const std::vector<std::uint8_t> bytes = a.bytes();
+        Catchments r(z);
+        ArchiveReader in(bytes.data(), bytes.size(), "test");
+        r.load_state(in);
+        check_all(r);
+        std::int64_t differ = 0;
+        for (std::int64_t k = 0; k < z.size(); ++k) differ += r.owner(k) != c.owner(k);
+        CHECK(differ == 0);
+    }
+    CHECK(checked == 24 * 14);
+    CHECK(owned > 0);
+    CHECK(split_or_shrunk > 24);
+}

@@ -70,7 +70,7 @@ void plant_water_demand(const Population& pop, const std::vector<Species>& speci
 
 /// The ground layer's demand per hydrology cell (`demand_m3`) and what it asks of the soil
 /// (`request_m3`: at most the water above the wilting point within its roots and the root zone),
-/// m3; the request is added to `cell_request_m3`.
+/// m3; the request is added to `cell_request_m3`. Without a ground layer both are left empty.
 void ground_water_request(const GroundLayer& ground, const std::vector<Species>& species,
                           const std::vector<double>& phen, double et0_m, const SoilWater& water,
                           double root_zone_depth_m, double cell_area_m2,

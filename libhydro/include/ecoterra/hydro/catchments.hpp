@@ -85,8 +85,14 @@ public:
     /// Catchment id per cell (0 = dry) and water depth per cell, m.
     Raster<std::int32_t> id_map() const;
     RasterD depth_map() const;
-    /// Id of the catchment whose water covers a cell, 0 if none (valid after equilibrate()).
-    std::int32_t owner(std::int64_t cell) const {
+    /// Id of the catchment whose water covers a cell, 0 if none (valid after equilibrate()): a
+    /// map kept by each equilibrium, holding owner_by_hierarchy's answers. Between equilibria the
+    /// answers do not change (a catchment created by new water starts at its lowest cell, under
+    /// which nothing lies).
+    std::int32_t owner(std::int64_t cell) const { return m_owner[static_cast<std::size_t>(cell)]; }
+    /// The definition of owner(): the cell's node, the catchment covering it, and the cell's
+    /// elevation below that catchment's level (a walk through three tables; tests compare).
+    std::int32_t owner_by_hierarchy(std::int64_t cell) const {
         const std::int32_t n = m_dh.node_of(cell);
         if (n < 0 || m_cover[n] == 0) return 0;
         const Catchment& k = m_list[static_cast<std::size_t>(m_pos[m_cover[n] - 1])];
@@ -119,8 +125,11 @@ private:
     /// A catchment over its capacity: it spills past its pass (no parent), merges with a full
     /// sibling into one lake over the saddle, or pours the excess towards the sibling.
     void overflow(std::int32_t node, std::vector<std::int32_t>& work);
-    /// After an equilibrium: list order, positions, cover map and wet counts.
+    /// After an equilibrium: list order, positions, cover map, wet counts and the owner map.
     void finish();
+    /// The owner map from the catchments: for each, the lowest cells (below its level) of the
+    /// bands of the nodes it covers; work in the cells under water, not in the grid.
+    void map_owners();
 
     RasterD m_dem;
     FlowDirections m_fd;
@@ -129,6 +138,8 @@ private:
     std::vector<Catchment> m_list;
     std::vector<std::int32_t> m_pos;   ///< position in m_list of the catchment at a node, or -1
     std::vector<std::int32_t> m_cover; ///< id of the catchment covering a node (0 = none)
+    std::vector<std::int32_t> m_owner; ///< owner() per cell, set by finish()
+    std::vector<std::int64_t> m_owned; ///< the cells with an owner, to clear them next time
     double m_lost_m3 = 0.0;
     std::int64_t m_updates = 0;
 };

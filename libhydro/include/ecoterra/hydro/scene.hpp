@@ -73,7 +73,9 @@ Methods scene_methods(const HydroScene& scene);
 /// groundwater; the constants carry some margin (docs/scaling.md). The soil-water processes of
 /// issue 27 added 76 B per cell (surface layer, drainage exponent, today's leaves and cover, the
 /// interception and the ecosystem's leaf rasters): a 1 km2 year at 1 m peaked at 456 MB, 75 MB
-/// more than before.
+/// more than before. On 2026-11-27 (the catchments' owner map adds 4 B per cell; the ground
+/// layer's two grids exist only with one) `ecoterra run` of a 1 km2 year at 1 m with 300 stems/ha
+/// and its output peaked at 615 MiB, under the run's estimate of 0.9 GiB (plants included).
 MemoryEstimate memory_estimate(const HydroScene& scene);
 inline constexpr double kFixedBytes = 60e6;
 inline constexpr double kBytesPerTerrainCell = 580;

@@ -772,7 +772,7 @@ TEST_CASE("a scene larger than the memory available is refused at the start, nam
                        "ECOTERRA_MEMORY_LIMIT_GIB=0.01");
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("needs an estimated") && Catch::Contains("terrain cells") &&
-                          Catch::Contains("plants x 1000 B") &&
+                          Catch::Contains("plants x 2000 B") &&
                           Catch::Contains("0.01 GiB is available (ECOTERRA_MEMORY_LIMIT_GIB)"));
     CHECK(read(dir / "run.h5") == before);
     CHECK(

@@ -73,11 +73,13 @@ EcoScene load_eco_scene(const nlohmann::json& scene, const std::filesystem::path
 /// The memory a run of the scene needs at its peak: the hydrology's (hydro::memory_estimate) and,
 /// per plant cell and per plant, the plant model's. The plants counted are the more of the initial
 /// stems and kStemCeilingPerHa over the area (stands in the shipped ecosystems stay below ~1,500
-/// stems/ha once they close). Measured peaks: ~20 B per plant cell and ~810 B per plant (a 1-year
-/// 500 x 500 run with 75,000 stems against one without); the constants carry margin.
+/// stems/ha once they close). Measured peaks: ~20 B per plant cell; per plant ~810 B before issue
+/// 27 (a 1-year 500 x 500 run with 75,000 stems against one without), and on 2026-11-27 1.5 kB
+/// over 3 years and 1.77 kB in the first year (1 km2 at 1 m, 1e5 stems against 3,600-6,900; what
+/// issues 27 and 29 added per plant, not split by cause); the constants carry margin.
 MemoryEstimate memory_estimate(const EcoScene& scene);
 inline constexpr double kBytesPerPlantCell = 24;
-inline constexpr double kBytesPerPlant = 1000;
+inline constexpr double kBytesPerPlant = 2000;
 inline constexpr double kStemCeilingPerHa = 3000;
 
 /// The published methods an ecosystem scene uses: its hydrology's (hydro::scene_methods) and the

@@ -41,14 +41,15 @@ targets="${ECOTERRA_FUZZ_TARGETS:-species_json scene_json weather_csv esri_ascii
 work="$build/fuzz-corpus"
 # One fuzzer per core at a time, reported in the targets' order. Each runs on one OpenMP thread
 # that sleeps when idle (two fuzzers with two OpenMP threads each would share two cores four ways).
-# A scene asking for thousands of W-M terms hit the 20 s timeout in CI at f348a68; the scene fuzzer
-# now skips those (fuzz_scene_json.cpp).
+# In CI at f348a68 a scene input spent over the 20 s timeout in the W-M terrain generator's
+# parallel product; the scene fuzzer now skips scenes asking for thousands of W-M terms.
 fuzz_one() {
   local target="$1" exe="$build/fuzz/fuzz_$1" rc=0
   mkdir -p "$work/$target" "$root/fuzz/crashes/$target"
   # New inputs go to the build's corpus; fuzz/corpus/ is read, not changed (docs/testing.md says
   # how to fold a campaign's finds into it).
-  OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive "$exe" "$work/$target" "$root/fuzz/corpus/$target" -max_total_time="$seconds" \
+  OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive \
+    "$exe" "$work/$target" "$root/fuzz/corpus/$target" -max_total_time="$seconds" \
     -timeout=20 -rss_limit_mb=3072 -artifact_prefix="$root/fuzz/crashes/$target/" \
     -print_final_stats=1 > "$build/fuzz-$target.log" 2>&1 || rc=$?
   echo "$rc" > "$build/fuzz-$target.rc"

@@ -3,9 +3,8 @@
 # UndefinedBehaviorSanitizer (LeakSanitizer included) and libFuzzer coverage in ./build-sanitize,
 # runs the whole test suite there (every finding fails it), then fuzzes each reader for
 # ECOTERRA_FUZZ_SECONDS seconds (default 15) from its corpus in fuzz/corpus/, one reader per core
-# at a time. An input that makes
-# a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the pass: keep it there, fixed, as a
-# regression test (the suite replays that folder).
+# at a time. An input that makes a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the
+# pass: keep it there, fixed, as a regression test (the suite replays that folder).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/install-deps.sh" --sanitize

@@ -324,10 +324,7 @@ std::vector<std::int64_t> Catchments::seeds(const Catchment& k) const {
 
 Raster<std::int32_t> Catchments::id_map() const {
     Raster<std::int32_t> m(m_dem.grid(), 0);
-    for (const auto& k : m_list)
-        for_each_wet_cell(k, [&](std::int64_t c) {
-            if (k.level_m - m_fd.elevation(c) > 0) m.data()[c] = k.id;
-        });
+    std::copy(m_owner.begin(), m_owner.end(), m.data());
     return m;
 }
 

@@ -82,7 +82,7 @@ public:
                 for (const auto c : m_dh.band(n)) f(c);
             });
     }
-    /// Catchment id per cell (0 = dry) and water depth per cell, m.
+    /// Catchment id per cell (0 = dry: owner() of every cell) and water depth per cell, m.
     Raster<std::int32_t> id_map() const;
     RasterD depth_map() const;
     /// Id of the catchment whose water covers a cell, 0 if none (valid after equilibrate()): a

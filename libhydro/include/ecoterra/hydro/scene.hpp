@@ -75,7 +75,7 @@ Methods scene_methods(const HydroScene& scene);
 /// interception and the ecosystem's leaf rasters): a 1 km2 year at 1 m peaked at 456 MB, 75 MB
 /// more than before. On 2026-11-27 (the catchments' owner map adds 4 B per cell; the ground
 /// layer's two grids exist only with one) `ecoterra run` of a 1 km2 year at 1 m with 300 stems/ha
-/// and its output peaked at 615 MiB, under the run's estimate of 0.9 GiB (plants included).
+/// and its output peaked at 615 MiB, under the run's estimate of 1.2 GiB (plants included).
 MemoryEstimate memory_estimate(const HydroScene& scene);
 inline constexpr double kFixedBytes = 60e6;
 inline constexpr double kBytesPerTerrainCell = 580;

@@ -670,13 +670,16 @@ TEST_CASE("Every shipped ecosystem grows a stand on the scene the docs name for 
     // published figure exists, the stand is near it: forest.md's well-stocked mature stands hold
     // 20-50 m2/ha; creosote bush in the Mojave at Rock Valley, Nevada, 959 plants a hectare
     // (Ackerman, in FEIS: Marshall 1995), here within a factor of 3, its crowns covering 10-25 %
-    // of the ground (Eldorado Valley, Nevada: Landscape Ecology 2020), here within 5-35 %.
+    // of the ground (Eldorado Valley, Nevada: Landscape Ecology 2020), here within 5-35 %. The
+    // undergrowth mix has no published figure: its yaupon holds back the trees' recruitment
+    // (1.9 m2/ha at 40 years, 9.9 at 100 with the calibrated broadleaf files: docs/validation.md
+    // s2c), so its bound only asks that trees grow at all.
     struct Case {
         const char* scene;
         double ba_lo, ba_hi;
     };
     for (const Case& c :
-         {Case{"quickstart.json", 2, 50}, Case{"quickstart_undergrowth.json", 2, 50},
+         {Case{"quickstart.json", 2, 50}, Case{"quickstart_undergrowth.json", 1, 50},
           Case{"southeastern_pine.json", 20, 50}, Case{"southwest_desert.json", 0.5, 50}}) {
         test::TempDir dir;
         const auto r = test::run(dir, "run " + (test::data_dir() / "scenes" / c.scene).string() +

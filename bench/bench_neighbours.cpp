@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
                                           out,
                                           "--set",
                                           "simulation.years=" + std::to_string(years),
-                                          "--no-pictures"};
+                                          "--no-pictures",
+                                          "--force"};
     std::printf("ecoterra run %s, %d years; median of %d runs; %ld cores\n", scene.c_str(), years,
                 repeat, sysconf(_SC_NPROCESSORS_ONLN));
     std::printf("%-14s %-26s %10s %12s\n", "busy neighbours", "wait policy", "seconds", "x alone");

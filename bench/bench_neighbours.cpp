@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -92,7 +93,6 @@ int main(int argc, char** argv) {
                         *policy ? "active (spin)" : "default (passive, sleeps)", med, med / alone);
         }
     }
-    std::remove(out.c_str());
-    std::remove((std::string(tmpl) + "/run.snapshots").c_str());
+    std::filesystem::remove_all(tmpl);
     return 0;
 }

@@ -37,6 +37,43 @@ void sweep(const CellOperator& a, const std::vector<double>& inv_diag, const dou
     }
 }
 
+/// The first red half sweep from x = 0, with the same bits as sweep(.., 0) after a fill with 0:
+/// the red cells take b_i / d_i (b_i where inactive), the black ones 0.
+void sweep_from_zero(const CellOperator& a, const std::vector<double>& inv_diag, const double* b,
+                     double* x) {
+    const int nx = a.nx, ny = a.ny;
+#pragma omp parallel for schedule(static) if (parallel_grid(a.size()))
+    for (int j = 0; j < ny; ++j) {
+        const std::int64_t row = static_cast<std::int64_t>(j) * nx;
+        for (int i = 0; i < nx; ++i) {
+            const std::int64_t k = row + i;
+            // A neighbour's 0 adds c * 0 = +0 to the sum, which leaves b_i as it is (a -0 b_i
+            // becomes +0 there: the same value).
+            const double sum = nx > 1 || ny > 1 ? b[k] + 0.0 : b[k];
+            x[k] = ((i + j) & 1) == 0 ? (a.active[k] ? sum * inv_diag[k] : b[k]) : 0.0;
+        }
+    }
+}
+
+/// The residual b - A x of a fine level restricted to the coarse one: each coarse cell the sum
+/// over its active fine cells, each coarse row gathering its two fine rows in a fixed order (the
+/// same bits on any threads, and as computing the residual first and summing it after).
+void restrict_residual(const CellOperator& a, const double* b, const double* x,
+                       const CellOperator& c, std::vector<double>& cb) {
+    const int nx = a.nx, ny = a.ny, cnx = c.nx;
+#pragma omp parallel for schedule(static) if (parallel_grid(a.size()))
+    for (int jc = 0; jc < c.ny; ++jc) {
+        double* out = cb.data() + static_cast<std::int64_t>(jc) * cnx;
+        std::fill(out, out + cnx, 0.0);
+        for (int j = 2 * jc; j < std::min(ny, 2 * jc + 2); ++j)
+            for (int i = 0; i < nx; ++i) {
+                const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
+                if (!a.active[k]) continue;
+                out[i / 2] += b[k] - a.row(k, i, j, x);
+            }
+    }
+}
+
 /// The operator on cells of twice the side: own terms summed, crossing faces averaged. Reuses
 /// c's arrays when it has the size already.
 void coarsen(const CellOperator& f, CellOperator& c) {
@@ -61,11 +98,6 @@ void coarsen(const CellOperator& f, CellOperator& c) {
             }
 }
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-    return blocked_sums<1>(static_cast<std::int64_t>(a.size()),
-                           [&](std::int64_t k, auto& s) { s[0] += a[k] * b[k]; })[0];
-}
-
 } // namespace
 
 CellOperator::CellOperator(int nx_, int ny_)
@@ -78,16 +110,7 @@ void CellOperator::apply(const double* x, double* y) const {
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
-            if (!active[k]) {
-                y[k] = x[k];
-                continue;
-            }
-            double v = s[k] * x[k];
-            if (i > 0) v += cx[k - 1] * (x[k] - x[k - 1]);
-            if (i + 1 < nx) v += cx[k] * (x[k] - x[k + 1]);
-            if (j > 0) v += cy[k - nx] * (x[k] - x[k - nx]);
-            if (j + 1 < ny) v += cy[k] * (x[k] - x[k + nx]);
-            y[k] = v;
+            y[k] = active[k] ? row(k, i, j, x) : x[k];
         }
 }
 
@@ -151,9 +174,9 @@ void MultigridSolver::set_operator(CellOperator fine) {
     for (Level& l : m_levels) {
         l.op.diagonal_into(l.inv_diag);
         const auto m = static_cast<std::size_t>(l.op.size());
-        l.b.resize(m);
+        // Level 0's right-hand side is the solve's residual, read where it is.
+        if (&l != &m_levels.front()) l.b.resize(m);
         l.x.resize(m);
-        l.r.resize(m);
     }
     const CellOperator& a = m_levels.front().op;
     const std::vector<double>& d = m_levels.front().inv_diag; // still the diagonal here
@@ -172,44 +195,34 @@ void MultigridSolver::set_operator(CellOperator fine) {
     for (auto* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(static_cast<std::size_t>(n));
 }
 
-void MultigridSolver::vcycle(std::size_t l) const {
+void MultigridSolver::vcycle(std::size_t l, const double* b) const {
     const Level& L = m_levels[l];
-    std::fill(L.x.begin(), L.x.end(), 0.0);
+    sweep_from_zero(L.op, L.inv_diag, b, L.x.data());
     if (l + 1 == m_levels.size()) {
-        for (int k = 0; k < kCoarsestSweeps; ++k) {
-            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
-            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
+        sweep(L.op, L.inv_diag, b, L.x.data(), 1);
+        for (int k = 1; k < kCoarsestSweeps; ++k) {
+            sweep(L.op, L.inv_diag, b, L.x.data(), 0);
+            sweep(L.op, L.inv_diag, b, L.x.data(), 1);
         }
         for (int k = 0; k < kCoarsestSweeps; ++k) {
-            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
-            sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+            sweep(L.op, L.inv_diag, b, L.x.data(), 1);
+            sweep(L.op, L.inv_diag, b, L.x.data(), 0);
         }
         return;
     }
-    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
-    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
-    L.op.apply(L.x.data(), L.r.data());
+    sweep(L.op, L.inv_diag, b, L.x.data(), 1);
     const Level& C = m_levels[l + 1];
-    std::fill(C.b.begin(), C.b.end(), 0.0);
+    restrict_residual(L.op, b, L.x.data(), C.op, C.b);
+    vcycle(l + 1, C.b.data());
     const int nx = L.op.nx, ny = L.op.ny, cnx = C.op.nx;
-    // Each coarse row gathers its two fine rows (a fixed order: the same bits on any threads).
-#pragma omp parallel for schedule(static) if (parallel_grid(L.op.size()))
-    for (int jc = 0; jc < C.op.ny; ++jc)
-        for (int j = 2 * jc; j < std::min(ny, 2 * jc + 2); ++j)
-            for (int i = 0; i < nx; ++i) {
-                const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
-                if (L.op.active[k])
-                    C.b[static_cast<std::int64_t>(jc) * cnx + i / 2] += L.b[k] - L.r[k];
-            }
-    vcycle(l + 1);
 #pragma omp parallel for schedule(static) if (parallel_grid(L.op.size()))
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const std::int64_t k = static_cast<std::int64_t>(j) * nx + i;
             if (L.op.active[k]) L.x[k] += C.x[static_cast<std::int64_t>(j / 2) * cnx + i / 2];
         }
-    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 1);
-    sweep(L.op, L.inv_diag, L.b.data(), L.x.data(), 0);
+    sweep(L.op, L.inv_diag, b, L.x.data(), 1);
+    sweep(L.op, L.inv_diag, b, L.x.data(), 0);
 }
 
 SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<double>& x,
@@ -223,47 +236,59 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
     for_grid_cells(n, [&](std::int64_t k) { r[k] = a.active[k] ? b[k] - q[k] : 0.0; });
     const double active_cells = std::max<double>(
         1.0, blocked_sums<1>(n, [&](std::int64_t k, auto& s) { s[0] += a.active[k]; })[0]);
-    auto scaled = [&] {
-        return std::sqrt(blocked_sums<1>(n,
-                                         [&](std::int64_t k, auto& s) {
-                                             const double e = r[k] * m_weight[k];
-                                             s[0] += e * e;
-                                         })[0] /
-                         active_cells);
-    };
-    auto precondition = [&] {
-        const Level& L = m_levels.front();
-        std::copy(r.begin(), r.end(), L.b.begin());
-        vcycle(0);
-        for_grid_cells(n, [&](std::int64_t k) { z[k] = a.active[k] ? L.x[k] : 0.0; });
+    auto scaled = [&](double squares) { return std::sqrt(squares / active_cells); };
+    // Each pass below does in one sweep over the cells what took two or three (the operator and
+    // a dot product, the update and the residual's norm, the preconditioned residual and its dot
+    // product), with the same arithmetic in the same order: the same bits as separate passes.
+    const double* w = m_weight.data();
+    const Level& L0 = m_levels.front();
+    auto precondition_dot = [&] { // z = M r, returns r . z
+        vcycle(0, r.data());
+        return blocked_range_sums<1>(n, [&](std::int64_t b0, std::int64_t e0, auto& s) {
+            for (std::int64_t k = b0; k < e0; ++k) {
+                z[k] = a.active[k] ? L0.x[k] : 0.0;
+                s[0] += r[k] * z[k];
+            }
+        })[0];
     };
     SolveReport rep;
-    rep.residual_scaled = scaled();
+    rep.residual_scaled = scaled(blocked_sums<1>(n, [&](std::int64_t k, auto& s) {
+        const double e = r[k] * w[k];
+        s[0] += e * e;
+    })[0]);
     if (rep.residual_scaled <= tolerance) {
         rep.converged = true;
         return rep;
     }
-    precondition();
+    double rz = precondition_dot();
     std::copy(z.begin(), z.end(), p.begin());
-    double rz = dot(r, z);
+    const int nx = a.nx;
     while (rep.iterations < max_iterations) {
-        a.apply(p.data(), q.data());
-        for_grid_cells(n, [&](std::int64_t k) {
-            if (!a.active[k]) q[k] = 0;
-        });
-        const double alpha = rz / dot(p, q);
-        for_grid_cells(n, [&](std::int64_t k) {
-            x[k] += alpha * p[k];
-            r[k] -= alpha * q[k];
-        });
+        // q = A p on the active cells (0 elsewhere), and p . q.
+        const double pq = blocked_range_sums<1>(n, [&](std::int64_t b0, std::int64_t e0, auto& s) {
+            for (std::int64_t k = b0; k < e0; ++k) {
+                q[k] = a.active[k]
+                           ? a.row(k, static_cast<int>(k % nx), static_cast<int>(k / nx), p.data())
+                           : 0.0;
+                s[0] += p[k] * q[k];
+            }
+        })[0];
+        const double alpha = rz / pq;
+        rep.residual_scaled =
+            scaled(blocked_range_sums<1>(n, [&](std::int64_t b0, std::int64_t e0, auto& s) {
+                for (std::int64_t k = b0; k < e0; ++k) {
+                    x[k] += alpha * p[k];
+                    r[k] -= alpha * q[k];
+                    const double e = r[k] * w[k];
+                    s[0] += e * e;
+                }
+            })[0]);
         ++rep.iterations;
-        rep.residual_scaled = scaled();
         if (rep.residual_scaled <= tolerance) {
             rep.converged = true;
             break;
         }
-        precondition();
-        const double rz_new = dot(r, z);
+        const double rz_new = precondition_dot();
         const double beta = rz_new / rz;
         rz = rz_new;
         for_grid_cells(n, [&](std::int64_t k) { p[k] = z[k] + beta * p[k]; });

@@ -49,6 +49,15 @@ struct CellOperator {
     std::int64_t size() const { return static_cast<std::int64_t>(nx) * ny; }
     /// y = A x.
     void apply(const double* x, double* y) const;
+    /// (A x)_k of the active cell k at column i, row j.
+    double row(std::int64_t k, int i, int j, const double* x) const {
+        double v = s[k] * x[k];
+        if (i > 0) v += cx[k - 1] * (x[k] - x[k - 1]);
+        if (i + 1 < nx) v += cx[k] * (x[k] - x[k + 1]);
+        if (j > 0) v += cy[k - nx] * (x[k] - x[k - nx]);
+        if (j + 1 < ny) v += cy[k] * (x[k] - x[k + nx]);
+        return v;
+    }
     /// The diagonal s_i + sum c_f (1 for inactive cells).
     std::vector<double> diagonal() const;
     void diagonal_into(std::vector<double>& d) const;
@@ -82,12 +91,13 @@ private:
     struct Level {
         CellOperator op;
         std::vector<double> inv_diag;
-        mutable std::vector<double> b, x, r; ///< work arrays of the V-cycle
+        mutable std::vector<double> b, x; ///< work arrays of the V-cycle (no b on level 0)
     };
     std::vector<Level> m_levels;
     std::vector<double> m_weight; ///< 1 / s_i (or 1 / diagonal) for the stopping test
     mutable std::vector<double> m_r, m_z, m_p, m_q; ///< conjugate-gradient work arrays
-    void vcycle(std::size_t l) const;
+    /// One V-cycle from level l down with right-hand side b, leaving the result in level l's x.
+    void vcycle(std::size_t l, const double* b) const;
 };
 
 } // namespace ecoterra::hydro

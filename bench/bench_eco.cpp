@@ -6,6 +6,7 @@
 // time it implies). Usage: bench_eco [--years-1km N] [--skip-1km] [--mode coupled|light_only]
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/wait_policy.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -47,6 +48,7 @@ void report(const char* name, const char* mode, int years, const Result& r) {
 } // namespace
 
 int main(int argc, char** argv) {
+    ecoterra::ensure_passive_wait(argv); // time what `ecoterra` does (it runs passive)
     int years_1km = 10;
     bool skip_1km = false;
     std::string only; // --mode coupled | light_only: run that mode alone

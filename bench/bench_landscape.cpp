@@ -10,6 +10,7 @@
 #include "busy.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/io/atomic_file.hpp"
+#include "ecoterra/wait_policy.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -83,6 +84,7 @@ void measure(const char* name, const json& sc, int years) {
 } // namespace
 
 int main(int argc, char** argv) {
+    ecoterra::ensure_passive_wait(argv); // time what `ecoterra` does (it runs passive)
     int years_1km = 3;
     bool quiet_only = false;
     for (int i = 1; i < argc; ++i) {

@@ -12,6 +12,7 @@
 #include "ecoterra/random.hpp"
 #include "ecoterra/terrain/generate.hpp"
 #include "ecoterra/terrain/spectral.hpp"
+#include "ecoterra/wait_policy.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -94,6 +95,7 @@ void bench_map(const Vehicle& v, double side_m, std::size_t stems) {
 } // namespace
 
 int main(int argc, char** argv) {
+    ecoterra::ensure_passive_wait(argv); // time what `ecoterra` does (it runs passive)
     int lines = 400, missions = 200;
     bool only_map = false;
     for (int i = 1; i < argc; ++i)

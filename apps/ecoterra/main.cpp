@@ -3,6 +3,7 @@
 #include "subcommands.hpp"
 
 #include "ecoterra/error.hpp"
+#include "ecoterra/wait_policy.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -10,22 +11,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <unistd.h>
 
 namespace {
-
-/// OpenMP threads that wait for work spin by default (libgomp busy-waits for a while before it
-/// sleeps), which steals the core a working thread needs when the machine is shared: beside two
-/// busy processes on two cores a run took 6-14 times as long as alone. libgomp reads
-/// OMP_WAIT_POLICY once, before main, so when the user has not chosen a policy the program starts
-/// itself again with the passive one (threads sleep while they wait). Results do not depend on
-/// the policy; OMP_WAIT_POLICY=active restores spinning for a machine of one's own.
-void ensure_passive_wait(char** argv) {
-    if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-    if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
-    execv("/proc/self/exe", argv);
-    // Only reached if the new start failed: go on with the runtime as it is.
-}
 
 /// Prints an error on a line of its own, after what the program printed so far.
 void report(const char* kind, const char* what) {
@@ -36,7 +23,7 @@ void report(const char* kind, const char* what) {
 } // namespace
 
 int main(int argc, char** argv) {
-    ensure_passive_wait(argv);
+    ecoterra::ensure_passive_wait(argv);
     // A file over the size limit (ulimit -f) is a write error to report, not a fatal signal.
     std::signal(SIGXFSZ, SIG_IGN);
     ecoterra::set_command_line(argc, argv);

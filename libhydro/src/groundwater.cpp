@@ -57,7 +57,8 @@ std::unique_ptr<Groundwater::Impl> make(const RasterD& surface, const RasterD& b
                                         GroundwaterNumerics numerics) {
     return numerics.solver == GroundwaterSolver::cvode
                ? make_cvode_groundwater(surface, base, head, ksat, sy, sides)
-               : make_implicit_groundwater(surface, base, head, ksat, sy, sides, numerics.substeps);
+               : make_implicit_groundwater(surface, base, head, ksat, sy, sides, numerics.substeps,
+                                           numerics.head_tolerance_m);
 }
 } // namespace
 

@@ -63,6 +63,6 @@ std::unique_ptr<Groundwater::Impl> make_cvode_groundwater(const RasterD& surf, c
 std::unique_ptr<Groundwater::Impl>
 make_implicit_groundwater(const RasterD& surf, const RasterD& b, const RasterD& h0,
                           const RasterF& ks, double sy, std::array<GroundwaterBoundary, 4> sides,
-                          int substeps);
+                          int substeps, double head_tolerance_m);
 
 } // namespace ecoterra::hydro

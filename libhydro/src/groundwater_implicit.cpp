@@ -28,8 +28,6 @@ namespace ecoterra::hydro {
 
 namespace {
 
-/// Solve until the residual stands for less than this change of head (root mean square, m).
-constexpr double kHeadTolerance = 1e-6;
 constexpr int kMaxIterations = 500;
 const double kGamma = 2.0 - std::sqrt(2.0);
 const double kB = (1 - kGamma) * (1 - kGamma) / (kGamma * (2 - kGamma));
@@ -45,15 +43,20 @@ struct ImplicitGroundwater final : Groundwater::Impl {
     CellOperator op;    ///< a stage's operator (its arrays reused from stage to stage)
     MultigridSolver mg; ///< its hierarchy (likewise)
     int substeps = 1;   ///< TR-BDF2 steps per call
+    double tolerance;   ///< of a stage's solve: the root mean square change of head, m
 
     ImplicitGroundwater(const RasterD& surf, const RasterD& b, const RasterD& h, const RasterF& ks,
                         double specific_yield, std::array<GroundwaterBoundary, 4> sides,
-                        int substeps_)
-        : Impl(surf, b, h, ks, specific_yield, sides), substeps(substeps_) {
+                        int substeps_, double tolerance_)
+        : Impl(surf, b, h, ks, specific_yield, sides), substeps(substeps_), tolerance(tolerance_) {
         if (substeps < 1)
             throw InputError("groundwater: the implicit solver needs at least 1 step per call, "
                              "got " +
                              std::to_string(substeps));
+        if (!(tolerance > 0 && tolerance < 1))
+            throw InputError("groundwater: the implicit solver's head tolerance must be in (0, 1) "
+                             "m, got " +
+                             std::to_string(tolerance));
         const auto n = static_cast<std::size_t>(grid.size());
         for (auto* v : {&h0, &hg, &trial, &flux, &f0, &d, &fx, &fy, &rhs}) v->assign(n, 0.0);
     }
@@ -148,7 +151,7 @@ struct ImplicitGroundwater final : Groundwater::Impl {
         stage_operator(own);
         mg.set_operator(std::move(op));
         std::fill(d.begin(), d.end(), 0.0);
-        const SolveReport rep = mg.solve(rhs, d, kHeadTolerance, kMaxIterations);
+        const SolveReport rep = mg.solve(rhs, d, tolerance, kMaxIterations);
         op = mg.take_operator();
         steps += rep.iterations;
         if (!rep.converged) {
@@ -204,8 +207,9 @@ struct ImplicitGroundwater final : Groundwater::Impl {
 std::unique_ptr<Groundwater::Impl>
 make_implicit_groundwater(const RasterD& surf, const RasterD& b, const RasterD& h0,
                           const RasterF& ks, double sy, std::array<GroundwaterBoundary, 4> sides,
-                          int substeps) {
-    return std::make_unique<ImplicitGroundwater>(surf, b, h0, ks, sy, sides, substeps);
+                          int substeps, double head_tolerance_m) {
+    return std::make_unique<ImplicitGroundwater>(surf, b, h0, ks, sy, sides, substeps,
+                                                 head_tolerance_m);
 }
 
 } // namespace ecoterra::hydro

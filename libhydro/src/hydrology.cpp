@@ -117,84 +117,109 @@ et::DailyWeather et_weather(const DayWeather& w, const Climate& c) {
     return dw;
 }
 
-const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
+namespace {
+/// The groundwater keys of the hydrology section, in their place in its listing.
+std::vector<Param<HydrologyOptions>> groundwater_params() {
     using O = HydrologyOptions;
-    static const ParamCatalog<O> c(
-        "hydrology",
-        {number<O>("root_zone_depth_m", &O::root_zone_depth_m, "m", 0.01, 10,
-                   "depth of the root zone whose water the model tracks"),
-         number<O>("initial_saturation", &O::initial_saturation, "1", 0, 1,
-                   "initial soil water as a fraction s of FC - WP: theta0 = WP + s (FC - WP)"),
-         choice<O>("routing", &O::routing,
-                   std::vector<std::pair<std::string, Routing>>{{"d8", Routing::d8},
-                                                                {"d8-lowest", Routing::d8_lowest},
-                                                                {"mfd", Routing::mfd}},
-                   "flow directions: d8 steepest descent, d8-lowest lowest neighbour (as "
-                   "Fill-Spill-Merge), mfd multiple flow directions"),
-         choice<O>("runoff", &O::runoff,
-                   std::vector<std::pair<std::string, RunoffMethod>>{
-                       {"coefficients", RunoffMethod::coefficients},
-                       {"curve_number", RunoffMethod::curve_number}},
-                   "rain partition: runoff coefficients (vegetation x slope x texture) or the "
-                   "SCS curve number"),
-         number<O>("flat_slope", &O::flat_slope, "1", 0, 1,
-                   "slope (rise/run) below which a cell absorbs all its rain"),
-         number<O>("grass_density_threshold", &O::grass_density_threshold, "1", 0, 1,
-                   "vegetation density at which the surface evaporates as grass, not bare soil"),
-         choice<O>("wind_function", &O::wind, et::wind_function_keys(), "Penman wind function"),
-         flag<O>("groundwater", &O::groundwater, "lateral groundwater flow under the root zone"),
-         number<O>("specific_yield", &O::specific_yield, "m3/m3", 0.001, 0.6,
-                   "drainable porosity of the aquifer"),
-         number<O>("aquifer_thickness_m", &O::aquifer_thickness_m, "m", 0.1, 1000,
-                   "from the impermeable base to the surface"),
-         number<O>("initial_water_table_depth_m", &O::initial_water_table_depth_m, "m", 0, 1000,
-                   "below the surface at the start; at most aquifer_thickness_m"),
-         choice<O>(
-             "groundwater_solver", &O::groundwater_solver,
-             std::vector<std::pair<std::string, GroundwaterSolver>>{
-                 {"implicit", GroundwaterSolver::implicit}, {"cvode", GroundwaterSolver::cvode}},
-             "implicit: TR-BDF2 steps, each stage solved by multigrid-preconditioned "
-             "conjugate gradients, work in proportion to the cells (docs/hydrology.md); cvode: "
-             "the error-controlled reference (CVODE BDF + KLU), for grids up to ~128 x 128"),
-         integer<O>("groundwater_steps_per_day", &O::groundwater_steps_per_day, "1/d", 1, 96,
-                    "TR-BDF2 steps a day of the implicit solver; its water-table error is second "
-                    "order in the step (under 1 cm a year against cvode at 2)"),
-         choice<O>("evapotranspiration", &O::evapotranspiration,
-                   std::vector<std::pair<std::string, EvapotranspirationMethod>>{
-                       {"fao56", EvapotranspirationMethod::fao56},
-                       {"paper002", EvapotranspirationMethod::paper002}},
-                   "fao56: two-stage soil evaporation plus transpiration, each limited (FAO-56 "
-                   "dual coefficients); paper002: the larger of the surface's Penman demand and "
-                   "the plants' request"),
-         choice<O>("drainage", &O::drainage,
-                   std::vector<std::pair<std::string, DrainageMethod>>{
-                       {"gravity", DrainageMethod::gravity}, {"none", DrainageMethod::none}},
-                   "gravity: the soil holds up to its porosity and drains at K(theta) (Saxton & "
-                   "Rawls 2006); none (paper 002): it holds up to field capacity, the rest runs "
-                   "off (or percolates at Ksat with groundwater on)"),
-         choice<O>("interception", &O::interception,
-                   std::vector<std::pair<std::string, InterceptionMethod>>{
-                       {"gash", InterceptionMethod::gash}, {"none", InterceptionMethod::none}},
-                   "gash: the canopy holds and evaporates rain (Gash 1979, sparse form 1995); "
-                   "none (paper 002)"),
-         number<O>("surface_layer_depth_m", &O::surface_layer_depth_m, "m", 0.05, 0.25,
-                   "depth Ze of the evaporating surface layer (FAO-56 eq. 73: 0.10-0.15)"),
-         number<O>("critical_layer_depth_m", &O::critical_layer_depth_m, "m", 0, 5,
-                   "top of the root zone whose water sets the soil's strength for vehicles "
-                   "(6-12 in, Priddy & Willoughby 2004); 0: none, the root zone's water"),
-         number<O>("kc_max", &O::kc_max, "1", 1.0, 1.4,
-                   "upper limit of the crop and evaporation coefficients, Kcb + Ke (FAO-56 eq. "
-                   "72)"),
-         number<O>("depletion_fraction", &O::depletion_fraction, "1", 0, 0.9,
-                   "fraction p of the available water plants use before transpiration falls "
-                   "(FAO-56 eq. 84, Table 22)"),
-         number<O>("canopy_storage_per_lai_mm", &O::canopy_storage_per_lai_mm, "mm", 0, 2,
-                   "rain a unit of leaf area index holds (Gash interception)"),
-         number<O>("wet_canopy_evaporation_ratio", &O::wet_canopy_evaporation_ratio, "1", 0.01, 0.9,
-                   "mean evaporation rate from a wet canopy over the mean rain rate (Gash)"),
-         number<O>("canopy_extinction", &O::canopy_extinction, "1", 0.1, 2,
-                   "k of cover = 1 - exp(-k LAI) when hydrology runs without plants (the "
-                   "vegetation density is the cover)")});
+    return {
+        flag<O>("groundwater", &O::groundwater, "lateral groundwater flow under the root zone"),
+        number<O>("specific_yield", &O::specific_yield, "m3/m3", 0.001, 0.6,
+                  "drainable porosity of the aquifer"),
+        number<O>("aquifer_thickness_m", &O::aquifer_thickness_m, "m", 0.1, 1000,
+                  "from the impermeable base to the surface"),
+        number<O>("initial_water_table_depth_m", &O::initial_water_table_depth_m, "m", 0, 1000,
+                  "below the surface at the start; at most aquifer_thickness_m"),
+        choice<O>(
+            "groundwater_solver", &O::groundwater_solver,
+            std::vector<std::pair<std::string, GroundwaterSolver>>{
+                {"implicit", GroundwaterSolver::implicit}, {"cvode", GroundwaterSolver::cvode}},
+            "implicit: TR-BDF2 steps, each stage solved by multigrid-preconditioned "
+            "conjugate gradients, work in proportion to the cells (docs/hydrology.md); cvode: "
+            "the error-controlled reference (CVODE BDF + KLU), for grids up to ~128 x 128"),
+        integer<O>("groundwater_steps_per_day", &O::groundwater_steps_per_day, "1/d", 1, 96,
+                   "TR-BDF2 steps a day of the implicit solver; its water-table error is second "
+                   "order in the step (under 1 cm a year against cvode at 2)"),
+        number<O>("groundwater_head_tolerance_m", &O::groundwater_head_tolerance_m, "m", 1e-9, 1e-2,
+                  "the implicit solver's stages stop when their residual stands for at most this "
+                  "root mean square change of head (an order below the step's error at 2 a day)")};
+}
+
+/// The keys of the hydrology section before the groundwater ones.
+std::vector<Param<HydrologyOptions>> surface_params() {
+    using O = HydrologyOptions;
+    return {number<O>("root_zone_depth_m", &O::root_zone_depth_m, "m", 0.01, 10,
+                      "depth of the root zone whose water the model tracks"),
+            number<O>("initial_saturation", &O::initial_saturation, "1", 0, 1,
+                      "initial soil water as a fraction s of FC - WP: theta0 = WP + s (FC - WP)"),
+            choice<O>(
+                "routing", &O::routing,
+                std::vector<std::pair<std::string, Routing>>{
+                    {"d8", Routing::d8}, {"d8-lowest", Routing::d8_lowest}, {"mfd", Routing::mfd}},
+                "flow directions: d8 steepest descent, d8-lowest lowest neighbour (as "
+                "Fill-Spill-Merge), mfd multiple flow directions"),
+            choice<O>("runoff", &O::runoff,
+                      std::vector<std::pair<std::string, RunoffMethod>>{
+                          {"coefficients", RunoffMethod::coefficients},
+                          {"curve_number", RunoffMethod::curve_number}},
+                      "rain partition: runoff coefficients (vegetation x slope x texture) or the "
+                      "SCS curve number"),
+            number<O>("flat_slope", &O::flat_slope, "1", 0, 1,
+                      "slope (rise/run) below which a cell absorbs all its rain"),
+            number<O>("grass_density_threshold", &O::grass_density_threshold, "1", 0, 1,
+                      "vegetation density at which the surface evaporates as grass, not bare soil"),
+            choice<O>("wind_function", &O::wind, et::wind_function_keys(), "Penman wind function")};
+}
+
+/// The keys of the hydrology section after the groundwater ones: the soil water's methods.
+std::vector<Param<HydrologyOptions>> soil_water_params() {
+    using O = HydrologyOptions;
+    return {choice<O>("evapotranspiration", &O::evapotranspiration,
+                      std::vector<std::pair<std::string, EvapotranspirationMethod>>{
+                          {"fao56", EvapotranspirationMethod::fao56},
+                          {"paper002", EvapotranspirationMethod::paper002}},
+                      "fao56: two-stage soil evaporation plus transpiration, each limited (FAO-56 "
+                      "dual coefficients); paper002: the larger of the surface's Penman demand and "
+                      "the plants' request"),
+            choice<O>("drainage", &O::drainage,
+                      std::vector<std::pair<std::string, DrainageMethod>>{
+                          {"gravity", DrainageMethod::gravity}, {"none", DrainageMethod::none}},
+                      "gravity: the soil holds up to its porosity and drains at K(theta) (Saxton & "
+                      "Rawls 2006); none (paper 002): it holds up to field capacity, the rest runs "
+                      "off (or percolates at Ksat with groundwater on)"),
+            choice<O>("interception", &O::interception,
+                      std::vector<std::pair<std::string, InterceptionMethod>>{
+                          {"gash", InterceptionMethod::gash}, {"none", InterceptionMethod::none}},
+                      "gash: the canopy holds and evaporates rain (Gash 1979, sparse form 1995); "
+                      "none (paper 002)"),
+            number<O>("surface_layer_depth_m", &O::surface_layer_depth_m, "m", 0.05, 0.25,
+                      "depth Ze of the evaporating surface layer (FAO-56 eq. 73: 0.10-0.15)"),
+            number<O>("critical_layer_depth_m", &O::critical_layer_depth_m, "m", 0, 5,
+                      "top of the root zone whose water sets the soil's strength for vehicles "
+                      "(6-12 in, Priddy & Willoughby 2004); 0: none, the root zone's water"),
+            number<O>("kc_max", &O::kc_max, "1", 1.0, 1.4,
+                      "upper limit of the crop and evaporation coefficients, Kcb + Ke (FAO-56 eq. "
+                      "72)"),
+            number<O>("depletion_fraction", &O::depletion_fraction, "1", 0, 0.9,
+                      "fraction p of the available water plants use before transpiration falls "
+                      "(FAO-56 eq. 84, Table 22)"),
+            number<O>("canopy_storage_per_lai_mm", &O::canopy_storage_per_lai_mm, "mm", 0, 2,
+                      "rain a unit of leaf area index holds (Gash interception)"),
+            number<O>("wet_canopy_evaporation_ratio", &O::wet_canopy_evaporation_ratio, "1", 0.01,
+                      0.9,
+                      "mean evaporation rate from a wet canopy over the mean rain rate (Gash)"),
+            number<O>("canopy_extinction", &O::canopy_extinction, "1", 0.1, 2,
+                      "k of cover = 1 - exp(-k LAI) when hydrology runs without plants (the "
+                      "vegetation density is the cover)")};
+}
+} // namespace
+
+const ParamCatalog<HydrologyOptions>& hydrology_catalog() {
+    static const ParamCatalog<HydrologyOptions> c("hydrology", [] {
+        std::vector<Param<HydrologyOptions>> p = surface_params();
+        for (auto&& part : {groundwater_params(), soil_water_params()})
+            for (const auto& q : part) p.push_back(q);
+        return p;
+    }());
     return c;
 }
 
@@ -252,7 +277,8 @@ HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const Ra
         m_gw = std::make_unique<Groundwater>(
             dem, soil.ksat_m_per_s, opt.specific_yield, opt.aquifer_thickness_m,
             opt.initial_water_table_depth_m,
-            GroundwaterNumerics{opt.groundwater_solver, opt.groundwater_steps_per_day});
+            GroundwaterNumerics{opt.groundwater_solver, opt.groundwater_steps_per_day,
+                                opt.groundwater_head_tolerance_m});
 }
 
 HydrologyModel::~HydrologyModel() = default;

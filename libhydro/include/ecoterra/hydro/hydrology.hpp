@@ -62,7 +62,8 @@ struct HydrologyOptions {
     double aquifer_thickness_m = 20.0; ///< from the impermeable base to the surface
     double initial_water_table_depth_m = 5.0;
     GroundwaterSolver groundwater_solver = GroundwaterSolver::implicit;
-    int groundwater_steps_per_day = 2; ///< TR-BDF2 steps a day (implicit solver)
+    int groundwater_steps_per_day = 2;          ///< TR-BDF2 steps a day (implicit solver)
+    double groundwater_head_tolerance_m = 1e-5; ///< of a stage's solve (implicit solver)
     EvapotranspirationMethod evapotranspiration = EvapotranspirationMethod::fao56;
     DrainageMethod drainage = DrainageMethod::gravity;
     InterceptionMethod interception = InterceptionMethod::gash;

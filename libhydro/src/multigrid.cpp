@@ -266,11 +266,11 @@ SolveReport MultigridSolver::solve(const std::vector<double>& b, std::vector<dou
     while (rep.iterations < max_iterations) {
         // q = A p on the active cells (0 elsewhere), and p . q.
         const double pq = blocked_range_sums<1>(n, [&](std::int64_t b0, std::int64_t e0, auto& s) {
+            int i = static_cast<int>(b0 % nx), j = static_cast<int>(b0 / nx);
             for (std::int64_t k = b0; k < e0; ++k) {
-                q[k] = a.active[k]
-                           ? a.row(k, static_cast<int>(k % nx), static_cast<int>(k / nx), p.data())
-                           : 0.0;
+                q[k] = a.active[k] ? a.row(k, i, j, p.data()) : 0.0;
                 s[0] += p[k] * q[k];
+                if (++i == nx) i = 0, ++j;
             }
         })[0];
         const double alpha = rz / pq;

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace ecoterra::hydro {
 
@@ -175,7 +176,9 @@ struct ImplicitGroundwater final : Groundwater::Impl {
         faces_at(h0);
         const double out0 = fluxes(h0);
         for_cells([&](std::int64_t c) { rhs[c] = evolving(c) ? 2 * flux[c] : 0.0; });
-        f0 = flux;
+        // F(h0) moves to f0; fluxes() writes every evolving cell of `flux` anew, and no other
+        // cell's entry is read.
+        std::swap(f0, flux);
         solve_stage(2 * m / (kGamma * dt), h0, dt);
         const double outg = fluxes(trial);
         for_cells([&](std::int64_t c) {

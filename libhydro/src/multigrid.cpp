@@ -179,19 +179,22 @@ void MultigridSolver::set_operator(CellOperator fine) {
         l.x.resize(m);
     }
     const CellOperator& a = m_levels.front().op;
-    const std::vector<double>& d = m_levels.front().inv_diag; // still the diagonal here
+    std::vector<double>& d = m_levels.front().inv_diag; // the diagonal until inverted here
     m_weight.resize(static_cast<std::size_t>(n));
     std::int64_t singular = n;
 #pragma omp parallel for schedule(static) reduction(min : singular) if (parallel_grid(n))
     for (std::int64_t k = 0; k < n; ++k) {
         if (!(d[k] > 0)) singular = std::min(singular, k);
         m_weight[k] = a.active[k] ? 1.0 / (a.s[k] > 0 ? a.s[k] : d[k]) : 0.0;
+        d[k] = 1.0 / d[k];
     }
     if (singular < n)
         throw InputError("multigrid: cell " + std::to_string(singular) +
                          " has no own term and no faces (a singular row)");
-    for (Level& l : m_levels)
+    for (std::size_t i = 1; i < m_levels.size(); ++i) {
+        Level& l = m_levels[i];
         for_grid_cells(l.op.size(), [&](std::int64_t k) { l.inv_diag[k] = 1.0 / l.inv_diag[k]; });
+    }
     for (auto* v : {&m_r, &m_z, &m_p, &m_q}) v->resize(static_cast<std::size_t>(n));
 }
 

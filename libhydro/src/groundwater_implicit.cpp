@@ -57,7 +57,7 @@ struct ImplicitGroundwater final : Groundwater::Impl {
         if (!(tolerance > 0 && tolerance < 1))
             throw InputError("groundwater: the implicit solver's head tolerance must be in (0, 1) "
                              "m, got " +
-                             std::to_string(tolerance));
+                             format_number(tolerance));
         const auto n = static_cast<std::size_t>(grid.size());
         for (auto* v : {&h0, &hg, &trial, &flux, &f0, &d, &fx, &fy, &rhs}) v->assign(n, 0.0);
     }

@@ -528,7 +528,7 @@ TEST_CASE("a run names the published methods its options chose, in its provenanc
     CHECK(stored.dump().find("Goodin, Hudson et al. (2024)") != std::string::npos);
 }
 
-TEST_CASE("A forest grows on a window of each shipped DEM, resampled to 1 m", "[eco][dem]") {
+TEST_CASE("A forest grows on a window of each shipped DEM, resampled to 1 m", "[eco][dem][slow]") {
     struct Dem {
         const char* file;
         json window;

@@ -361,7 +361,7 @@ TEST_CASE("ensemble: after kill -9 of the driver or of a member, running again c
 }
 
 TEST_CASE("ensemble: a finished ensemble runs nothing again and a changed input reruns its members",
-          "[ensemble][cli]") {
+          "[ensemble][cli][slow]") {
     test::TempDir d;
     json m = small_manifest();
     write(d / "m.json", m);
@@ -459,7 +459,7 @@ TEST_CASE("ensemble: bad input gets a clear error and loses nothing", "[ensemble
     CHECK(io::read_text(d / "out/members/000002/member.json") == kept);
 }
 
-TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli]") {
+TEST_CASE("ensemble: terrain and mobility bases", "[ensemble][cli][slow]") {
     test::TempDir d;
     const std::string data = test::data_dir().string();
     // Terrains: the multifractal at two D_high, analysed and driven over by the Husky.

@@ -135,7 +135,7 @@ std::size_t check_every_split(const eco::EcoScene& scene, int years, int every) 
 } // namespace
 
 TEST_CASE("resume: the quickstart split at every snapshot ends bit for bit as one run",
-          "[eco][resume][property]") {
+          "[eco][resume][property][slow]") {
     std::ifstream f(test::data_dir() / "scenes/quickstart.json");
     json j = json::parse(f);
     j["simulation"]["years"] = 30;

@@ -127,7 +127,7 @@ TEST_CASE("Generators give the same bits on one and two threads", "[wm][determin
     CHECK_FALSE((a.array() == c.array()).all());
 }
 
-TEST_CASE("Fractal dimension of W-M surfaces of known D", "[wm][fractal][verification]") {
+TEST_CASE("Fractal dimension of W-M surfaces of known D", "[wm][fractal][verification][slow]") {
     // Random-phase (0..2 pi) W-M surfaces at the paper's grid, 3 seeds each: the variogram
     // estimate must land within 0.07 of D, and the radial PSD slope (gamma-wide annuli centred
     // on gamma^n / L) within 0.1 of -(8 - 2D).

@@ -20,6 +20,7 @@ template <bool Held, bool Request, bool Surface>
     double *theta = c.theta, *depletion = c.depletion_mm, *supplied = c.supplied_mm,
            *transpiration_m3 = c.transpiration_m3, *evaporation_m3 = c.evaporation_m3;
     const Fao56Day d = day;
+    const double m3_per_mm = area / kMmPerM;
     // Every array is its own: without ivdep the loop needs more run-time overlap checks than GCC
     // makes and stays scalar.
     ECOTERRA_IVDEP
@@ -32,8 +33,8 @@ template <bool Held, bool Request, bool Surface>
         theta[k] = th;
         if constexpr (Surface) depletion[k] = de;
         supplied[k] = t;
-        transpiration_m3[k] = t / kMmPerM * area;
-        evaporation_m3[k] = e / kMmPerM * area;
+        transpiration_m3[k] = t * m3_per_mm;
+        evaporation_m3[k] = e * m3_per_mm;
     }
 }
 

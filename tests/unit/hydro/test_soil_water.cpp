@@ -540,8 +540,8 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
                 in.lake = lake[k] != 0;
                 const Fao56Out one = fao56_cell(day, in, 0.8);
                 differ += !same(one.theta, th[k]) || !same(one.transpiration_mm, supplied[k]) ||
-                          !same(one.transpiration_mm / kMmPerM * 4.0, t_m3[k]) ||
-                          !same(one.evaporation_mm / kMmPerM * 4.0, e_m3[k]) ||
+                          !same(one.transpiration_mm * (4.0 / kMmPerM), t_m3[k]) ||
+                          !same(one.evaporation_mm * (4.0 / kMmPerM), e_m3[k]) ||
                           (mask & 4 && !same(one.depletion_mm, de[k]));
                 CHECK(th[k] >= std::min(theta[k], static_cast<double>(wp[k])) - 1e-15);
                 const double avail_mm = (theta[k] - wp[k]) * 0.8 * kMmPerM;

@@ -177,7 +177,10 @@ inline void fao56_values(const Fao56Day& day, double c, double held_mm, bool has
     const double energy = std::max(0.0, c * day.kc_max * et0 - held_mm);
     const double t_pot =
         std::min(energy, has_request ? std::max(0.0, request_mm) : day.default_kcb * c * et0);
-    const double kcb = et0 > 0 ? t_pot / et0 : 0.0;
+    // Loop invariants (hoisted out of the cells' loop): the vector units divide slowly.
+    const double inv_et0 = et0 > 0 ? 1.0 / et0 : 0.0;
+    const double theta_per_mm = 1.0 / (kMmPerM * depth_m);
+    const double kcb = t_pot * inv_et0;
     // Soil evaporation from the exposed fraction, falling as the surface layer dries.
     const double few = std::max(0.01, 1.0 - c);
     // At most what the surface layer has left (eq. 77 bounds De by TEW).
@@ -195,7 +198,7 @@ inline void fao56_values(const Fao56Day& day, double c, double held_mm, bool has
     const bool short_of_water = t + e > avail;
     t = short_of_water ? t * scale : t;
     e = short_of_water ? e * scale : e;
-    theta1 = th - (t + e) / kMmPerM / depth_m;
+    theta1 = th - (t + e) * theta_per_mm;
     depletion1 = has_surface ? std::min(tew_mm, depletion_mm + e / few) : 0.0;
 }
 

@@ -39,6 +39,11 @@ namespace ecoterra::fastmath {
 inline constexpr double kLn2Hi = 6.93147180369123816490e-01; // 0x3FE62E42FEE00000
 inline constexpr double kLn2Lo = 1.90821492927058770002e-10; // ln 2 - kLn2Hi
 inline constexpr double kInvLn2 = 1.44269504088896338700e+00;
+// The same for single precision (the float functions below): hi (0x3f317200) has 9 trailing zero
+// bits, so k hi is exact for |k| < 2^9.
+inline constexpr float kLn2HiF = 0.693145751953125f;
+inline constexpr float kLn2LoF = 1.42860676533018570e-06f; // ln 2 - kLn2HiF
+inline constexpr float kInvLn2F = 1.44269504088896341f;
 
 /// ln(m) for m in [sqrt(1/2), sqrt(2)] (see above).
 inline double log_reduced(double m) {
@@ -100,33 +105,70 @@ inline double expm1_reduced(double r) {
     p = p * r + 0.5;
     return r + (r * r) * p;
 }
-/// z = k ln2 + r: r returned, 2^k in `scale`. z in [-708, 709].
-inline double reduce(double z, double& scale) {
-    constexpr double shifter = 6755399441055744.0; // 1.5 * 2^52: adding it rounds to an integer
-    const double t = z * kInvLn2 + shifter;
-    const double k = t - shifter;
-    const std::uint64_t kbits =
-        std::bit_cast<std::uint64_t>(t) - std::bit_cast<std::uint64_t>(shifter);
-    scale = std::bit_cast<double>((kbits + 1023ULL) << 52);
-    return (z - k * kLn2Hi) - k * kLn2Lo;
+/// The exponential's constants for double (and, below, float).
+template <class T>
+struct ExpFormat;
+template <>
+struct ExpFormat<double> {
+    using Bits = std::uint64_t;
+    static constexpr double shifter = 6755399441055744.0; // 1.5 * 2^52: adding it rounds
+    static constexpr Bits bias = 1023;
+    static constexpr int mantissa_bits = 52;
+    static constexpr double lowest = -708, highest = 709; // the clamp
+    static constexpr double inv_ln2 = kInvLn2, ln2_hi = kLn2Hi, ln2_lo = kLn2Lo;
+};
+/// e^r - 1 for |r| <= ln2 / 2, in float (the series to r^7 / 7!).
+inline float expm1_reduced(float r) {
+    float p = 1.0f / 5040;
+    p = p * r + 1.0f / 720;
+    p = p * r + 1.0f / 120;
+    p = p * r + 1.0f / 24;
+    p = p * r + 1.0f / 6;
+    p = p * r + 0.5f;
+    return r + (r * r) * p;
+}
+template <>
+struct ExpFormat<float> {
+    using Bits = std::uint32_t;
+    static constexpr float shifter = 12582912.0f; // 1.5 * 2^23
+    static constexpr Bits bias = 127;
+    static constexpr int mantissa_bits = 23;
+    static constexpr float lowest = -87, highest = 88; // e^-87 is still a normal float
+    static constexpr float inv_ln2 = kInvLn2F, ln2_hi = kLn2HiF, ln2_lo = kLn2LoF;
+};
+/// z = k ln2 + r: r returned, 2^k in `scale`. z within the format's clamp.
+template <class T>
+inline T reduce(T z, T& scale) {
+    using F = ExpFormat<T>;
+    using Bits = typename F::Bits;
+    const T t = z * F::inv_ln2 + F::shifter;
+    const T k = t - F::shifter;
+    const Bits kbits = std::bit_cast<Bits>(t) - std::bit_cast<Bits>(F::shifter);
+    scale = std::bit_cast<T>((kbits + F::bias) << F::mantissa_bits);
+    return (z - k * F::ln2_hi) - k * F::ln2_lo;
+}
+/// e^z (Minus1 = false) or e^z - 1 (true), z clamped to the format's range first.
+template <class T, bool Minus1>
+inline T exp_clamped_any(T z) {
+    z = std::min(std::max(z, ExpFormat<T>::lowest), ExpFormat<T>::highest);
+    T scale;
+    const T r = reduce(z, scale);
+    if constexpr (Minus1)
+        return (scale - T(1)) + scale * expm1_reduced(r);
+    else
+        return scale + scale * expm1_reduced(r);
 }
 } // namespace detail
 
 /// e^z; arguments below -708 give e^-708 (about 3e-308), above 709 e^709. Callers here use it
 /// for fractions in (0, 1] and growth factors far inside that range.
 inline double exp_clamped(double z) {
-    z = std::min(std::max(z, -708.0), 709.0);
-    double scale;
-    const double r = detail::reduce(z, scale);
-    return scale + scale * detail::expm1_reduced(r);
+    return detail::exp_clamped_any<double, false>(z);
 }
 
 /// e^z - 1, accurate for small |z| (same clamping as exp_clamped).
 inline double expm1_clamped(double z) {
-    z = std::min(std::max(z, -708.0), 709.0);
-    double scale;
-    const double r = detail::reduce(z, scale);
-    return (scale - 1.0) + scale * detail::expm1_reduced(r);
+    return detail::exp_clamped_any<double, true>(z);
 }
 
 // Single precision, for kernels whose result needs float accuracy only (the gravity drainage's
@@ -134,10 +176,6 @@ inline double expm1_clamped(double z) {
 // (remainder < 3e-9 relative), e^r - 1 to r^7 / 7! (remainder < 6e-9 for |r| <= ln2 / 2); the
 // result is within a few float ulps of libm (tests/unit/core/test_fastmath.cpp). Twice the lanes
 // of the double functions, and about half the operations.
-// ln 2 split: hi (0x3f317200) has 9 trailing zero bits, so k hi is exact for |k| < 2^9.
-inline constexpr float kLn2HiF = 0.693145751953125f;
-inline constexpr float kLn2LoF = 1.42860676533018570e-06f; // ln 2 - kLn2HiF
-inline constexpr float kInvLn2F = 1.44269504088896341f;
 
 /// ln(x) for positive normal float x (the caller keeps x away from 0, subnormals and NaN).
 inline float log_positive_f(float x) {
@@ -161,42 +199,14 @@ inline float log1p_positive_f(float r) {
     return log_positive_f(u) + (r - (u - 1.0f)) / u;
 }
 
-namespace detail {
-/// e^r - 1 for |r| <= ln2 / 2, and z = k ln2 + r reduced (2^k in `scale`), z in [-87, 88].
-inline float expm1_reduced_f(float r) {
-    float p = 1.0f / 5040;
-    p = p * r + 1.0f / 720;
-    p = p * r + 1.0f / 120;
-    p = p * r + 1.0f / 24;
-    p = p * r + 1.0f / 6;
-    p = p * r + 0.5f;
-    return r + (r * r) * p;
-}
-inline float reduce_f(float z, float& scale) {
-    constexpr float shifter = 12582912.0f; // 1.5 * 2^23
-    const float t = z * kInvLn2F + shifter;
-    const float k = t - shifter;
-    const std::uint32_t kbits =
-        std::bit_cast<std::uint32_t>(t) - std::bit_cast<std::uint32_t>(shifter);
-    scale = std::bit_cast<float>((kbits + 127U) << 23);
-    return (z - k * kLn2HiF) - k * kLn2LoF;
-}
-} // namespace detail
-
 /// e^z in float; arguments below -87 give e^-87 (about 1.6e-38, still normal), above 88 e^88.
 inline float exp_clamped_f(float z) {
-    z = std::min(std::max(z, -87.0f), 88.0f);
-    float scale;
-    const float r = detail::reduce_f(z, scale);
-    return scale + scale * detail::expm1_reduced_f(r);
+    return detail::exp_clamped_any<float, false>(z);
 }
 
 /// e^z - 1 in float, accurate for small |z| (same clamping as exp_clamped_f).
 inline float expm1_clamped_f(float z) {
-    z = std::min(std::max(z, -87.0f), 88.0f);
-    float scale;
-    const float r = detail::reduce_f(z, scale);
-    return (scale - 1.0f) + scale * detail::expm1_reduced_f(r);
+    return detail::exp_clamped_any<float, true>(z);
 }
 
 /// The ground covered by leaf area index `lai` with extinction coefficient `k` (Beer-Lambert):

@@ -193,6 +193,13 @@ std::vector<Param<HydrologyOptions>> soil_water_params() {
                       "none (paper 002)"),
             number<O>("surface_layer_depth_m", &O::surface_layer_depth_m, "m", 0.05, 0.25,
                       "depth Ze of the evaporating surface layer (FAO-56 eq. 73: 0.10-0.15)"),
+            choice<O>("evaporable_water", &O::evaporable_water,
+                      std::vector<std::pair<std::string, EvaporableWater>>{
+                          {"sqrt_et0", EvaporableWater::sqrt_et0}, {"eq73", EvaporableWater::eq73}},
+                      "the surface layer's total evaporable water TEW: sqrt_et0 scales FAO-56 eq. "
+                      "73 by min(1, sqrt(ET0 / 5 mm/day)) each day (FAO-56 ch. 6's initial-stage "
+                      "TEW, 13 sqrt(ET0) up to 28 mm on medium soils); eq73: eq. 73 alone (as "
+                      "pyfao56)"),
             number<O>("critical_layer_depth_m", &O::critical_layer_depth_m, "m", 0, 5,
                       "top of the root zone whose water sets the soil's strength for vehicles "
                       "(6-12 in, Priddy & Willoughby 2004); 0: none, the root zone's water"),
@@ -414,6 +421,9 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
     const bool layer = has_critical_layer();
     if (fao || gash) leaves_of_the_day(lai, cover);
     if (layer) m_theta_start.resize(static_cast<std::size_t>(cells));
+    m_tew_scale = fao && m_opt.evaporable_water == EvaporableWater::sqrt_et0
+                      ? evaporable_water_scale(std::max(0.0, et::fao56_reference_daily(dw)))
+                      : 1.0;
     if (fao || layer) {
         // The root zone's water at the day's start (for the critical layer); FAO-56 eq. 74 takes
         // the surface layer's depletion at the end of the previous day.
@@ -422,8 +432,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         for (std::int64_t k = 0; k < cells; ++k) {
             if (layer) m_theta_start[k] = th[k];
             if (!fao) continue;
-            const double tew = m_tew[k], rew = m_rew[k];
-            m_kr[k] = std::clamp((tew - de[k]) / (tew - rew), 0.0, 1.0);
+            m_kr[k] = evaporation_reduction(m_tew[k], m_rew[k], m_tew_scale, de[k]);
         }
     }
 
@@ -533,6 +542,7 @@ double HydrologyModel::soil_day(DailyFluxes& f, const SoilColumns& soil, double 
     day.cover = m_day_cover;
     day.intercepted_m = intercepted_m;
     day.tew_mm = m_tew.data();
+    day.tew_scale = m_tew_scale;
     day.kr = m_kr.data();
     if (layer) {
         m_theta_wet.resize(static_cast<std::size_t>(cells));

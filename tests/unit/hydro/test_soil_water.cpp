@@ -66,6 +66,7 @@ TEST_CASE("A drying bare soil evaporates day by day as pyfao56 computes FAO-56's
     HydrologyOptions opt; // the defaults: FAO-56, gravity drainage, interception
     REQUIRE(opt.surface_layer_depth_m == 0.10);
     REQUIRE(opt.kc_max == 1.2);
+    opt.evaporable_water = EvaporableWater::eq73; // pyfao56 takes TEW from eq. 73 alone
     HydrologyModel m(RasterD(g, 5.0), soil, RasterD(g, 0.0), opt, climate);
     double worst = 0, sum_eco = 0, sum_ref = 0;
     for (std::size_t d = 0; d < weather.size(); ++d) {
@@ -112,7 +113,9 @@ TEST_CASE("Stage 2 of a drying soil: evaporation falls geometrically once REW is
     REQUIRE(soil.texture(0, 0) == static_cast<std::uint8_t>(tex));
     INFO(texture_name(tex));
     const Climate climate = climate_preset("temperate");
-    HydrologyModel m(RasterD(g, 1.0), soil, RasterD(g, 0.0), HydrologyOptions{}, climate);
+    HydrologyOptions opt;
+    opt.evaporable_water = EvaporableWater::eq73; // TEW as eq. 73 gives it, whatever ET0
+    HydrologyModel m(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, climate);
     DayWeather w;
     w.doy = 200;
     w.tmin_c = 15;
@@ -151,6 +154,87 @@ TEST_CASE("Stage 2 of a drying soil: evaporation falls geometrically once REW is
     }
     CHECK(total <= tew * (1 + 1e-6)); // never more than the layer's evaporable water
     CHECK(total > 0.9 * tew);
+}
+
+namespace {
+/// A day of clear, rainless weather whose FAO-56 reference ET grows with `rs_mj`.
+DayWeather dry_day(double rs_mj, double tmax_c) {
+    DayWeather w;
+    w.doy = 150;
+    w.tmin_c = tmax_c - 12;
+    w.tmax_c = tmax_c;
+    w.tdew_c = tmax_c - 16;
+    w.u2_m_per_s = 2;
+    w.rs_mj = rs_mj;
+    return w;
+}
+} // namespace
+
+TEST_CASE("Under a low evaporative demand the surface layer dries out at FAO-56's initial-stage "
+          "TEW, 13 sqrt(ET0)",
+          "[hydrology][fao56]") {
+    // FAO-56 ch. 6 (the initial-stage Kc of Figs. 29-30) takes a medium or fine soil's total
+    // evaporable water as min(28 mm, 13 sqrt(ET0)). A soil whose eq. 73 TEW is 13 sqrt(5) =
+    // 29.07 mm (Ze chosen for it), dried for 120 rainless days from wet under a constant ET0 below
+    // 4.6 mm/day, evaporates 13 sqrt(ET0) in all with the default TEW, and eq. 73's 29.07 mm with
+    // `eq73`.
+    const GridSpec g{3, 3, 1.0, 0, 0};
+    const SoilMap soil = uniform_soil(g, SoilComposition{20, 60, 20, 6.5, {}});
+    const double fc = soil.field_capacity(1, 1), wp = soil.wilting_point(1, 1);
+    const double ze = 13.0 * std::sqrt(5.0) / (1000.0 * (fc - 0.5 * wp));
+    REQUIRE(ze > 0.05);
+    REQUIRE(ze < 0.25);
+    const Climate climate = climate_preset("temperate");
+    for (const auto& [rs, tmax] :
+         {std::pair{4.0, 8.0}, {8.0, 14.0}, {12.0, 20.0}, {16.0, 24.0}, {18.0, 24.0}}) {
+        const DayWeather w = dry_day(rs, tmax);
+        const double et0 = et::fao56_reference_daily(et_weather(w, climate));
+        INFO("ET0 " << et0 << " mm/day");
+        REQUIRE(et0 > 0.3);
+        REQUIRE(et0 < 4.6);
+        for (const auto method : {EvaporableWater::sqrt_et0, EvaporableWater::eq73}) {
+            HydrologyOptions opt;
+            opt.surface_layer_depth_m = ze;
+            opt.evaporable_water = method;
+            HydrologyModel m(RasterD(g, 1.0), soil, RasterD(g, 0.0), opt, climate);
+            double total = 0;
+            for (int d = 0; d < 120; ++d) total += m.step(w).evaporation / 9.0 * 1000.0;
+            const double expected =
+                method == EvaporableWater::sqrt_et0 ? 13.0 * std::sqrt(et0) : 13.0 * std::sqrt(5.0);
+            CHECK(total == Approx(expected).epsilon(2e-3));
+            CHECK(m.surface_depletion_mm()(1, 1) == Approx(expected).epsilon(2e-3));
+        }
+    }
+}
+
+TEST_CASE("A dull day after sunny ones: a surface layer drier than the day's TEW evaporates "
+          "nothing and keeps its depletion",
+          "[hydrology][fao56]") {
+    // The default TEW shrinks with the day's ET0, but the layer's depletion is its state: it
+    // never falls without rain, and evaporation resumes from it when the sun returns.
+    const GridSpec g{3, 3, 1.0, 0, 0};
+    const SoilMap soil = uniform_soil(g, SoilComposition{20, 60, 20, 6.5, {}});
+    const Climate climate = climate_preset("temperate");
+    HydrologyModel m(RasterD(g, 1.0), soil, RasterD(g, 0.0), HydrologyOptions{}, climate);
+    const DayWeather sunny = dry_day(28, 32), dull = dry_day(2, 5);
+    const double et0_sunny = et::fao56_reference_daily(et_weather(sunny, climate));
+    const double et0_dull = et::fao56_reference_daily(et_weather(dull, climate));
+    REQUIRE(et0_sunny >= 5.0);
+    REQUIRE(et0_dull < 1.5);
+    const double fc = soil.field_capacity(1, 1), wp = soil.wilting_point(1, 1);
+    const double tew = static_cast<float>(1000.0 * (fc - 0.5 * wp) * 0.10);
+    for (int d = 0; d < 12; ++d) m.step(sunny);
+    const double de = m.surface_depletion_mm()(1, 1);
+    REQUIRE(de > tew * std::sqrt(et0_dull / 5.0)); // drier than the dull day's TEW
+    for (int d = 0; d < 3; ++d) {
+        CHECK(m.step(dull).evaporation == 0.0);
+        CHECK(m.surface_depletion_mm()(1, 1) == de);
+    }
+    const double e = m.step(sunny).evaporation / 9.0 * 1000.0; // stage 2 again, from de
+    const double rew =
+        std::min(readily_evaporable_water_mm(Texture(soil.texture(1, 1))), 0.9 * tew);
+    CHECK(e == Approx(1.2 * et0_sunny * (tew - de) / (tew - rew)).epsilon(1e-5));
+    CHECK(m.surface_depletion_mm()(1, 1) == Approx(de + e).epsilon(1e-9));
 }
 
 TEST_CASE("Gravity drainage follows the exact solution of d(theta)/dt = -K(theta) / depth",

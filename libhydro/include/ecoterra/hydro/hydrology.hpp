@@ -44,6 +44,11 @@ enum class RunoffMethod { coefficients, curve_number };
 /// the plants' request) or FAO-56's dual coefficients (two-stage soil evaporation plus
 /// transpiration, each limited).
 enum class EvapotranspirationMethod { paper002, fao56 };
+/// The surface layer's total evaporable water TEW: FAO-56 eq. 73 alone (`eq73`), or eq. 73 scaled
+/// by min(1, sqrt(ET0 / 5 mm/day)) on each day (`sqrt_et0`): less of the layer dries under a low
+/// evaporative demand, as FAO-56's initial-stage procedure has it (ch. 6, Figs. 29-30: TEW =
+/// min(28 mm, 13 sqrt(ET0)) on medium and fine soils, min(15 mm, 7 sqrt(ET0)) on coarse ones).
+enum class EvaporableWater { eq73, sqrt_et0 };
 /// Water below the root zone: none (paper 002: the root zone holds at most field capacity, the
 /// excess runs off) or gravity drainage at K(theta).
 enum class DrainageMethod { none, gravity };
@@ -68,6 +73,7 @@ struct HydrologyOptions {
     DrainageMethod drainage = DrainageMethod::gravity;
     InterceptionMethod interception = InterceptionMethod::gash;
     double surface_layer_depth_m = 0.10; ///< Ze, FAO-56 eq. 73 (0.10-0.15 m)
+    EvaporableWater evaporable_water = EvaporableWater::sqrt_et0;
     /// The top of the root zone whose water sets the soil's strength for vehicles (the critical
     /// layer: 6-12 in, Priddy & Willoughby 2004; 0-6 in for light vehicles); 0: none (the soil's
     /// strength reads the root zone's water, and the hydrology skips the layer's update).
@@ -198,6 +204,7 @@ private:
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
     std::vector<double> m_scratch; ///< 1 per cell: the drainage passes' intermediate contents
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
+    double m_tew_scale = 1.0; ///< today's factor on m_tew (HydrologyOptions::evaporable_water)
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell
     std::unique_ptr<Groundwater> m_gw;

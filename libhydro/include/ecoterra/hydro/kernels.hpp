@@ -34,6 +34,7 @@
 #include "ecoterra/units.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -149,8 +150,25 @@ struct Fao56Day {
     const double* cover;             ///< fraction of the ground under leaves, per cell
     const double* intercepted_m;     ///< today's interception per cell (may be null)
     const float* tew_mm;             ///< total evaporable water of the surface layer (eq. 73)
+    double tew_scale = 1.0;          ///< today's factor on tew_mm (EvaporableWater)
     const double* kr;                ///< evaporation reduction at the day's start (eq. 74)
 };
+
+/// Today's factor on FAO-56 eq. 73's TEW: min(1, sqrt(ET0 / 5 mm/day)), the square-root
+/// dependence on the evaporative demand of FAO-56's initial-stage TEW (ch. 6, Figs. 29-30: 13
+/// sqrt(ET0) up to 28 mm on medium and fine soils, 7 sqrt(ET0) up to 15 mm on coarse ones).
+inline double evaporable_water_scale(double et0_mm) {
+    return et0_mm >= 5.0 ? 1.0 : std::sqrt(std::max(0.0, et0_mm) / 5.0);
+}
+
+/// FAO-56 eq. 74's Kr from the layer's TEW and REW (mm) scaled by `tew_scale` (REW at most 90 % of
+/// the scaled TEW, as init_soil_layers bounds it) and its depletion at the day's start.
+inline double evaporation_reduction(double tew_mm, double rew_mm, double tew_scale,
+                                    double depletion_mm) {
+    const double tew = tew_mm * tew_scale;
+    const double rew = tew_scale < 1.0 ? std::min(rew_mm, 0.9 * tew) : rew_mm;
+    return tew > rew ? std::clamp((tew - depletion_mm) / (tew - rew), 0.0, 1.0) : 0.0;
+}
 
 /// One cell's FAO-56 day (evapotranspiration_fao56's arithmetic): its inputs and what it gives.
 struct Fao56Cell {
@@ -183,8 +201,9 @@ inline void fao56_values(const Fao56Day& day, double c, double held_mm, bool has
     const double kcb = t_pot * inv_et0;
     // Soil evaporation from the exposed fraction, falling as the surface layer dries.
     const double few = std::max(0.01, 1.0 - c);
-    // At most what the surface layer has left (eq. 77 bounds De by TEW).
-    const double left = has_surface ? few * std::max(0.0, tew_mm - depletion_mm) : 0.0;
+    // At most what the surface layer has left (eq. 77 bounds De by TEW, today's).
+    const double tew = tew_mm * day.tew_scale;
+    const double left = has_surface ? few * std::max(0.0, tew - depletion_mm) : 0.0;
     const double e_pot =
         lake ? 0.0
              : std::min(left,
@@ -199,7 +218,8 @@ inline void fao56_values(const Fao56Day& day, double c, double held_mm, bool has
     t = short_of_water ? t * scale : t;
     e = short_of_water ? e * scale : e;
     theta1 = th - (t + e) * theta_per_mm;
-    depletion1 = has_surface ? std::min(tew_mm, depletion_mm + e / few) : 0.0;
+    // A layer drier than today's TEW evaporates nothing and keeps its depletion.
+    depletion1 = has_surface ? std::min(std::max(tew, depletion_mm), depletion_mm + e / few) : 0.0;
 }
 
 /// fao56_values of a cell's inputs.

@@ -24,15 +24,22 @@
 //     composition by age, mortality of trees >= 5 cm, increments of the tallest and shortest
 //     quarters and of the crown classes by light, dominant and suppressed; docs/validation.md
 //     s2c).
+//  D. Bare ground (issue 27: "bare ground in the humid climate evaporates at most half of the
+//     year's rain"): data/scenes/hydro_quickstart.json with no vegetation (vegetation.density =
+//     0) for 10 years, for each seed (weather seed s, terrain seed 100 + s) the soil evaporation's
+//     share of the rain over the ten years and its lowest and highest year; then the mean (sd).
+//     Only with --only-bare, or --bare beside the others.
 //
 // Usage: study_forest [--seeds N] [--years Y] [--density D] [--century Y] [--paper002]
-//                     [--only-central | --only-thinning | --only-water] [--scene FILE]
+//                     [--only-central | --only-thinning | --only-water | --only-bare] [--bare]
+//                     [--scene FILE]
 //                     [--set key=value ...]
 // --scene runs another scene instead of the quickstart (e.g. data/scenes/southeastern_pine.json:
 // its own ecosystem and soil, with the study's seeds); --set changes a key of the scene for every
 // run (as `ecoterra run --set`).
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/hydro/scene.hpp"
 #include "ecoterra/io/atomic_file.hpp"
 #include "ecoterra/json_util.hpp"
 
@@ -502,13 +509,53 @@ void water_and_stand(const json& base, const std::filesystem::path& dir, int see
     print_dynamics(dynamics, years);
 }
 
+void bare_ground(const json& base, const std::filesystem::path& dir, int seeds) {
+    constexpr int kYears = 10;
+    std::printf("D. Bare ground (vegetation.density = 0), %d years, %d seeds: soil evaporation / "
+                "rain\n\n%4s %8s %8s %8s %8s\n",
+                kYears, seeds, "seed", "rain", "E/P", "lowest", "highest");
+    Mean share;
+    for (int seed = 1; seed <= seeds; ++seed) {
+        json q = base;
+        q["vegetation"] = json{{"density", 0.0}};
+        q["simulation"]["seed"] = seed;
+        q["terrain"]["generate"]["seed"] = 100 + seed;
+        const hydro::HydroScene sc = hydro::load_hydro_scene(q, dir);
+        hydro::HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options,
+                                    sc.climate);
+        hydro::WeatherGenerator weather(sc.climate, sc.seed);
+        Mean yearly;
+        double rain = 0, evaporation = 0;
+        for (int y = 0; y < kYears; ++y) {
+            double p = 0, e = 0; // m3
+            for (int d = 0; d < hydro::kDaysPerYear; ++d) {
+                const hydro::DailyFluxes f = model.step(weather.next());
+                p += f.rain;
+                e += f.evaporation;
+            }
+            yearly.add(e / p);
+            rain += p;
+            evaporation += e;
+        }
+        const double area = sc.dem.grid().width_m() * sc.dem.grid().height_m();
+        std::printf("%4d %8.0f %8.3f %8.3f %8.3f\n", seed, rain / area * 1000.0 / kYears,
+                    evaporation / rain, yearly.lo, yearly.hi);
+        share.add(evaporation / rain);
+    }
+    std::printf("mean over %d seeds: soil evaporation %.3f of the rain (sd %.3f, %.3f-%.3f)\n\n",
+                seeds, share.mean(), share.sd(), share.lo, share.hi);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     int seeds = 10, years = 80, century = 100;
     double density = 4000;
-    bool central = true, thinning = true, water = true, paper = false;
+    bool central = true, thinning = true, water = true, paper = false, bare = false;
     for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--only-bare") == 0) central = thinning = water = false;
+        if (std::strcmp(argv[i], "--only-bare") == 0 || std::strcmp(argv[i], "--bare") == 0)
+            bare = true;
         if (std::strcmp(argv[i], "--only-central") == 0) thinning = water = false;
         if (std::strcmp(argv[i], "--only-thinning") == 0) central = water = false;
         if (std::strcmp(argv[i], "--only-water") == 0) central = thinning = false;
@@ -541,5 +588,11 @@ int main(int argc, char** argv) {
     if (central) central_result(q, scene.parent_path(), seeds);
     if (thinning) self_thinning(q, scene.parent_path(), seeds, years, density);
     if (water) water_and_stand(q, scene.parent_path(), seeds, century, paper);
+    if (bare) {
+        const std::filesystem::path hydro_scene = data / "scenes/hydro_quickstart.json";
+        json h = json::parse(io::read_text(hydro_scene));
+        apply_overrides(h, overrides);
+        bare_ground(h, hydro_scene.parent_path(), seeds);
+    }
     return 0;
 }

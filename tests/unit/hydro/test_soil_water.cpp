@@ -568,7 +568,8 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
     // evapotranspiration_fao56_cells runs the widest clone this machine has on every combination
     // of its optional inputs; fao56_cell is the same arithmetic a cell at a time (baseline code).
     // Random covers, requests, interceptions and water contents (below the wilting point to
-    // saturated), lakes, dry and short-of-water days.
+    // saturated), lakes, dry and short-of-water days, surface layers wetter and drier than the
+    // day's TEW.
     std::mt19937_64 rng(13);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     const std::int64_t n = 100003;
@@ -591,6 +592,7 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
     for (double et0 : {0.0, 1.5, 6.0})
         for (int mask = 0; mask < 8; ++mask) {
             day.et0_mm = et0;
+            day.tew_scale = evaporable_water_scale(et0); // 0, 0.55 and 1: layers drier than TEW
             std::vector<double> th = theta, de = depletion, supplied(n), t_m3(n), e_m3(n);
             const Fao56Cells c{cover.data(),
                                mask & 1 ? held.data() : nullptr,
@@ -628,6 +630,7 @@ TEST_CASE("The vectorised FAO-56 cells compute fao56_cell's bits", "[hydrology][
                           !same(one.evaporation_mm * (4.0 / kMmPerM), e_m3[k]) ||
                           (mask & 4 && !same(one.depletion_mm, de[k]));
                 CHECK(th[k] >= std::min(theta[k], static_cast<double>(wp[k])) - 1e-15);
+                if (mask & 4) CHECK(one.depletion_mm >= depletion[k]); // no water, no wetting
                 const double avail_mm = (theta[k] - wp[k]) * 0.8 * kMmPerM;
                 const double used_mm = one.transpiration_mm + one.evaporation_mm;
                 short_days +=

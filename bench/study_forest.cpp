@@ -521,8 +521,7 @@ void bare_ground(const json& base, const std::filesystem::path& dir, int seeds) 
         q["simulation"]["seed"] = seed;
         q["terrain"]["generate"]["seed"] = 100 + seed;
         const hydro::HydroScene sc = hydro::load_hydro_scene(q, dir);
-        hydro::HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options,
-                                    sc.climate);
+        hydro::HydrologyModel model(sc.dem, sc.soil, sc.vegetation_density, sc.options, sc.climate);
         hydro::WeatherGenerator weather(sc.climate, sc.seed);
         Mean yearly;
         double rain = 0, evaporation = 0;

@@ -421,9 +421,8 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
     const bool layer = has_critical_layer();
     if (fao || gash) leaves_of_the_day(lai, cover);
     if (layer) m_theta_start.resize(static_cast<std::size_t>(cells));
-    m_tew_scale = fao && m_opt.evaporable_water == EvaporableWater::sqrt_et0
-                      ? evaporable_water_scale(std::max(0.0, et::fao56_reference_daily(dw)))
-                      : 1.0;
+    const double et0_mm = fao ? std::max(0.0, et::fao56_reference_daily(dw)) : 0.0;
+    const double scale = tew_scale(et0_mm);
     if (fao || layer) {
         // The root zone's water at the day's start (for the critical layer); FAO-56 eq. 74 takes
         // the surface layer's depletion at the end of the previous day.
@@ -432,7 +431,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
         for (std::int64_t k = 0; k < cells; ++k) {
             if (layer) m_theta_start[k] = th[k];
             if (!fao) continue;
-            m_kr[k] = evaporation_reduction(m_tew[k], m_rew[k], m_tew_scale, de[k]);
+            m_kr[k] = evaporation_reduction(m_tew[k], m_rew[k], scale, de[k]);
         }
     }
 
@@ -453,7 +452,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
     m_catch.equilibrate();
     // Today's interception (its energy is not the leaves' to transpire); none on a dry day.
     const double* intercepted = gash && rain_m > 0 ? m_intercepted.data() : nullptr;
-    double theta_sum = soil_day(f, soil, e0_mm, dw, transp_mm ? transp_mm->data() : nullptr,
+    double theta_sum = soil_day(f, soil, e0_mm, et0_mm, dw, transp_mm ? transp_mm->data() : nullptr,
                                 intercepted, recharge);
     if (m_gw) {
         f.recharge =
@@ -525,8 +524,13 @@ void HydrologyModel::soil_day_end(std::int64_t begin, std::int64_t end, double& 
     theta_sum += s;
 }
 
+double HydrologyModel::tew_scale(double et0_mm) const {
+    return m_opt.evaporable_water == EvaporableWater::sqrt_et0 ? evaporable_water_scale(et0_mm)
+                                                               : 1.0;
+}
+
 double HydrologyModel::soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
-                                const et::DailyWeather& dw, const double* request_mm,
+                                double et0_mm, const et::DailyWeather& dw, const double* request_mm,
                                 const double* intercepted_m, std::vector<double>* recharge) {
     const std::int64_t cells = m_dem.grid().size();
     const bool fao = m_opt.evapotranspiration == EvapotranspirationMethod::fao56;
@@ -536,13 +540,13 @@ double HydrologyModel::soil_day(DailyFluxes& f, const SoilColumns& soil, double 
                                et::penman_grass_factor(m_climate.latitude_deg, dw.doy) * e0_mm,
                                m_veg.data(), m_opt.grass_density_threshold};
     Fao56Day day;
-    day.et0_mm = fao ? std::max(0.0, et::fao56_reference_daily(dw)) : 0.0;
+    day.et0_mm = et0_mm;
     day.kc_max = m_opt.kc_max;
     day.depletion_fraction = m_opt.depletion_fraction;
     day.cover = m_day_cover;
     day.intercepted_m = intercepted_m;
     day.tew_mm = m_tew.data();
-    day.tew_scale = m_tew_scale;
+    day.tew_scale = tew_scale(et0_mm);
     day.kr = m_kr.data();
     if (layer) {
         m_theta_wet.resize(static_cast<std::size_t>(cells));

@@ -174,7 +174,7 @@ private:
     /// groundwater, step 9 and the soil's storage (soil_day_end), a block of cells at a time.
     /// Returns the sum of the water contents at the day's end (NaN with groundwater, whose
     /// exchange comes first: the caller then runs soil_day_end).
-    double soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm,
+    double soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm, double et0_mm,
                     const et::DailyWeather& dw, const double* request_mm,
                     const double* intercepted_m, std::vector<double>* recharge);
     /// Step 9 over the cells [begin, end) (critical_layer_range, with a critical layer) and the
@@ -204,7 +204,8 @@ private:
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
     std::vector<double> m_scratch; ///< 1 per cell: the drainage passes' intermediate contents
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
-    double m_tew_scale = 1.0; ///< today's factor on m_tew (HydrologyOptions::evaporable_water)
+    /// The factor on m_tew on a day of FAO-56 reference ET `et0_mm` (evaporable_water).
+    double tew_scale(double et0_mm) const;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell
     std::unique_ptr<Groundwater> m_gw;

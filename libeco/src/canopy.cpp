@@ -77,6 +77,20 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
     for (const std::uint32_t p : order)
         for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
 
+    // The crowns visited row band by row band (by their first row, a stable counting sort), so
+    // that consecutive crowns read neighbouring cells' lists: in plant order they are scattered
+    // over the grid and most reads of `start` and `ids` miss the cache. Each crown's shade is
+    // its own sum either way: the order of visits changes no bits.
+    std::vector<std::uint32_t> by_row(n);
+    {
+        std::vector<std::uint32_t> first(static_cast<std::size_t>(g.ny) + 1, 0);
+        auto row_of = [&](std::uint32_t p) {
+            return static_cast<std::size_t>(crowns.spans[crowns.offset[p]].row);
+        };
+        for (std::uint32_t p = 0; p < n; ++p) ++first[row_of(p) + 1];
+        for (std::size_t r = 0; r < static_cast<std::size_t>(g.ny); ++r) first[r + 1] += first[r];
+        for (std::uint32_t p = 0; p < n; ++p) by_row[first[row_of(p)]++] = p;
+    }
     std::vector<double> shade(n, 0.0);
     const auto ni = static_cast<std::int64_t>(n);
     // Parallel by the work (the crowns' cells, each visiting the crowns over it), not the plant
@@ -89,7 +103,7 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
         std::vector<double> above, light_of;
 #pragma omp for schedule(dynamic, 64)
         for (std::int64_t q = 0; q < ni; ++q) {
-            const auto p = static_cast<std::uint32_t>(q);
+            const std::uint32_t p = by_row[static_cast<std::size_t>(q)];
             const double z = height[p] - 0.5 * depth[p];
             above.clear();
             for_each_cell(p, [&](std::size_t c) {

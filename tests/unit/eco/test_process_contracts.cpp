@@ -7,6 +7,7 @@
 #include "ecoterra/eco/processes.hpp"
 #include "ecoterra/eco/scene_config.hpp"
 #include "ecoterra/hydro/catchments.hpp"
+#include "ecoterra/parallel.hpp"
 #include "support/scenes.hpp"
 
 #include <catch2/catch.hpp>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <omp.h>
 #include <set>
 
 using namespace ecoterra;
@@ -157,6 +159,20 @@ TEST_CASE("water demand and supply: the cells ask what the plants demand, the pl
         CHECK(std::memcmp(one_a.data(), pair_a.data(), one_a.size() * sizeof(double)) == 0);
         CHECK(std::memcmp(one_b.data(), pair_b.data(), one_b.size() * sizeof(double)) == 0);
         CHECK(std::accumulate(pair_b.begin(), pair_b.end(), 0.0) > 0);
+        // And on large stands, the two scatters side by side on two threads (here forced on
+        // this small one), on 1 to 3 threads: the same bits again.
+        const int saved_threads = omp_get_max_threads();
+        set_parallel_min_items(1);
+        for (int threads : {1, 2, 3}) {
+            CAPTURE(threads);
+            omp_set_num_threads(threads);
+            std::vector<double> par_a(request.size(), 0.0), par_b(request.size(), 0.0);
+            scatter_pair(w.canopy.roots, demand_some, leaves, par_a, par_b);
+            CHECK(std::memcmp(one_a.data(), par_a.data(), one_a.size() * sizeof(double)) == 0);
+            CHECK(std::memcmp(one_b.data(), par_b.data(), one_b.size() * sizeof(double)) == 0);
+        }
+        omp_set_num_threads(saved_threads);
+        set_parallel_min_items(kMinParallelItems);
         const double asked = std::accumulate(demand.begin(), demand.end(), 0.0);
         CHECK(std::accumulate(request.begin(), request.end(), 0.0) == Approx(asked).epsilon(1e-12));
         // A supply of a seeded share of each cell's request.

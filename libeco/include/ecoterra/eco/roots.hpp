@@ -41,8 +41,9 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map);
 void scatter_demand(const RootCells& roots, const std::vector<double>& demand_m3,
                     std::vector<double>& request_m3);
 
-/// scatter_demand of two quantities at once (one pass over the roots): `a` into `a_cells` and `b`
-/// into `b_cells`, each with the same bits as its own scatter_demand.
+/// scatter_demand of two quantities: `a` into `a_cells` and `b` into `b_cells`, each with the
+/// same bits as its own scatter_demand. From parallel_min_items() root entries, and with a second
+/// thread, the two run side by side, one per thread; below, in one pass over the roots.
 void scatter_pair(const RootCells& roots, const std::vector<double>& a,
                   const std::vector<double>& b, std::vector<double>& a_cells,
                   std::vector<double>& b_cells);

@@ -125,10 +125,14 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
     }
     if (ground) {
         *ground = RasterD(g, 0.0);
-        for (std::size_t c = 0; c < cells; ++c) {
+        double* out = ground->data();
+        const auto nc = static_cast<std::int64_t>(cells);
+        // Each cell its own sum (in its list's order): the same bits on any thread count.
+#pragma omp parallel for schedule(static) if (crown_cells >= parallel_min_items())
+        for (std::int64_t c = 0; c < nc; ++c) {
             double l = 0;
             for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) l += lai[ids[e]];
-            ground->data()[static_cast<std::int64_t>(c)] = fastmath::beer_lambert_cover(l, k);
+            out[c] = fastmath::beer_lambert_cover(l, k);
         }
     }
     return shade;

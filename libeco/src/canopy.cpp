@@ -45,6 +45,38 @@ double leaf_above(double lai, double top_m, double depth_m, double z) {
     return depth_m > 0 ? lai * std::min(1.0, (top_m - z) / depth_m) : lai;
 }
 
+/// The crowns ordered by their first row (a stable counting sort).
+std::vector<std::uint32_t> crowns_by_first_row(const CrownSet& crowns, int ny) {
+    const std::size_t n = crowns.size();
+    std::vector<std::uint32_t> by_row(n), first(static_cast<std::size_t>(ny) + 1, 0);
+    auto row_of = [&](std::size_t p) {
+        return static_cast<std::size_t>(crowns.spans[crowns.offset[p]].row);
+    };
+    for (std::size_t p = 0; p < n; ++p) ++first[row_of(p) + 1];
+    for (std::size_t r = 0; r < static_cast<std::size_t>(ny); ++r) first[r + 1] += first[r];
+    for (std::size_t p = 0; p < n; ++p) by_row[first[row_of(p)]++] = static_cast<std::uint32_t>(p);
+    return by_row;
+}
+
+/// The ground's shade, 1 - exp(-k L) of each cell's total leaf area index L over it, from the
+/// cells' crown lists; each cell its own sum (in its list's order): the same bits on any thread
+/// count.
+RasterD ground_cover(const GridSpec& g, const std::vector<std::uint32_t>& start,
+                     const std::vector<std::uint32_t>& ids, const std::vector<double>& lai,
+                     double k) {
+    RasterD ground(g, 0.0);
+    double* out = ground.data();
+    const auto nc = static_cast<std::int64_t>(start.size()) - 1;
+    const bool parallel = static_cast<std::int64_t>(ids.size()) >= parallel_min_items();
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::int64_t c = 0; c < nc; ++c) {
+        double l = 0;
+        for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) l += lai[ids[e]];
+        out[c] = fastmath::beer_lambert_cover(l, k);
+    }
+    return ground;
+}
+
 std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& crowns,
                                           const std::vector<double>& height,
                                           const std::vector<double>& lai,
@@ -77,20 +109,10 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
     for (const std::uint32_t p : order)
         for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
 
-    // The crowns visited row band by row band (by their first row, a stable counting sort), so
-    // that consecutive crowns read neighbouring cells' lists: in plant order they are scattered
-    // over the grid and most reads of `start` and `ids` miss the cache. Each crown's shade is
-    // its own sum either way: the order of visits changes no bits.
-    std::vector<std::uint32_t> by_row(n);
-    {
-        std::vector<std::uint32_t> first(static_cast<std::size_t>(g.ny) + 1, 0);
-        auto row_of = [&](std::uint32_t p) {
-            return static_cast<std::size_t>(crowns.spans[crowns.offset[p]].row);
-        };
-        for (std::uint32_t p = 0; p < n; ++p) ++first[row_of(p) + 1];
-        for (std::size_t r = 0; r < static_cast<std::size_t>(g.ny); ++r) first[r + 1] += first[r];
-        for (std::uint32_t p = 0; p < n; ++p) by_row[first[row_of(p)]++] = p;
-    }
+    // The crowns visited row band by row band, so that consecutive crowns read neighbouring
+    // cells' lists: in plant order they are scattered over the grid and most reads of `start` and
+    // `ids` miss the cache. Each crown's shade is its own sum either way: the same bits.
+    const std::vector<std::uint32_t> by_row = crowns_by_first_row(crowns, g.ny);
     std::vector<double> shade(n, 0.0);
     const auto ni = static_cast<std::int64_t>(n);
     // Parallel by the work (the crowns' cells, each visiting the crowns over it), not the plant
@@ -123,18 +145,7 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
             shade[p] = 1.0 - light / crowns.cells[p];
         }
     }
-    if (ground) {
-        *ground = RasterD(g, 0.0);
-        double* out = ground->data();
-        const auto nc = static_cast<std::int64_t>(cells);
-        // Each cell its own sum (in its list's order): the same bits on any thread count.
-#pragma omp parallel for schedule(static) if (crown_cells >= parallel_min_items())
-        for (std::int64_t c = 0; c < nc; ++c) {
-            double l = 0;
-            for (std::uint32_t e = start[c]; e < start[c + 1]; ++e) l += lai[ids[e]];
-            out[c] = fastmath::beer_lambert_cover(l, k);
-        }
-    }
+    if (ground) *ground = ground_cover(g, start, ids, lai, k);
     return shade;
 }
 } // namespace

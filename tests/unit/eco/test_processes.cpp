@@ -6,12 +6,15 @@
 #include "ecoterra/eco/processes.hpp"
 #include "ecoterra/eco/roots.hpp"
 #include "ecoterra/eco/stand_metrics.hpp"
+#include "ecoterra/parallel.hpp"
 #include "ecoterra/random.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <omp.h>
 #include <vector>
 
 using namespace ecoterra;
@@ -113,6 +116,22 @@ TEST_CASE("shading, crown_profile: equals a direct sum over crowns on random sta
         const double k = 0.3 + rng.uniform();
         RasterD ground;
         const auto s = compute_shading(g, c, h, lai, ShadingMode::crown_profile, k, &ground, depth);
+        // The crowns' visits by row band and the ground's cells split over threads (forced on
+        // this small stand): the same bits on 1 to 3 threads.
+        const int saved_threads = omp_get_max_threads();
+        set_parallel_min_items(1);
+        for (int threads : {1, 2, 3}) {
+            CAPTURE(threads);
+            omp_set_num_threads(threads);
+            RasterD ground_t;
+            const auto st =
+                compute_shading(g, c, h, lai, ShadingMode::crown_profile, k, &ground_t, depth);
+            CHECK(std::memcmp(st.data(), s.data(), s.size() * sizeof(double)) == 0);
+            CHECK(std::memcmp(ground_t.data(), ground.data(),
+                              static_cast<std::size_t>(g.size()) * sizeof(double)) == 0);
+        }
+        omp_set_num_threads(saved_threads);
+        set_parallel_min_items(kMinParallelItems);
         // Direct: per plant, per cell, every other crown covering the cell.
         std::vector<std::vector<int>> owners(static_cast<std::size_t>(g.size()));
         for (int p = 0; p < n; ++p)

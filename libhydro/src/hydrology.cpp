@@ -525,8 +525,11 @@ void HydrologyModel::soil_day_end(std::int64_t begin, std::int64_t end, double& 
 }
 
 double HydrologyModel::tew_scale(double et0_mm) const {
-    return m_opt.evaporable_water == EvaporableWater::sqrt_et0 ? evaporable_water_scale(et0_mm)
-                                                               : 1.0;
+    // 1 unless FAO-56's evaporation runs with the ET0-scaled TEW (without FAO-56 et0_mm is 0).
+    return m_opt.evapotranspiration == EvapotranspirationMethod::fao56 &&
+                   m_opt.evaporable_water == EvaporableWater::sqrt_et0
+               ? evaporable_water_scale(et0_mm)
+               : 1.0;
 }
 
 double HydrologyModel::soil_day(DailyFluxes& f, const SoilColumns& soil, double e0_mm,

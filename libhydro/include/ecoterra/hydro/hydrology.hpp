@@ -204,7 +204,8 @@ private:
     std::vector<float> m_tew, m_rew, m_drain_exponent; ///< per cell: TEW, REW (mm), 3 + 2/lambda
     std::vector<double> m_scratch; ///< 1 per cell: the drainage passes' intermediate contents
     std::vector<double> m_kr, m_lai, m_cover, m_intercepted;
-    /// The factor on m_tew on a day of FAO-56 reference ET `et0_mm` (evaporable_water).
+    /// The factor on m_tew on a day of FAO-56 reference ET `et0_mm` (evaporable_water; 1 without
+    /// FAO-56).
     double tew_scale(double et0_mm) const;
     bool m_leaves_from_density = false; ///< m_lai and m_cover hold the density's leaves
     const double *m_day_lai = nullptr, *m_day_cover = nullptr; ///< today's leaves, per cell

@@ -68,14 +68,32 @@ Groundwater::Groundwater(const RasterD& surface, const RasterF& ksat, double spe
     b.array() -= thickness_m;
     h0.array() -= initial_depth_m;
     using GB = GroundwaterBoundary;
-    m = make(surface, b, h0, ksat, specific_yield,
-             {GB::fixed_head, GB::fixed_head, GB::fixed_head, GB::fixed_head}, numerics);
+    init(surface, b, h0, ksat, specific_yield,
+         {GB::fixed_head, GB::fixed_head, GB::fixed_head, GB::fixed_head}, numerics);
 }
 
 Groundwater::Groundwater(const RasterD& surface, const RasterD& base, const RasterD& initial_head,
                          const RasterF& ksat, double specific_yield,
-                         std::array<GroundwaterBoundary, 4> sides, GroundwaterNumerics numerics)
-    : m(make(surface, base, initial_head, ksat, specific_yield, sides, numerics)) {}
+                         std::array<GroundwaterBoundary, 4> sides, GroundwaterNumerics numerics) {
+    init(surface, base, initial_head, ksat, specific_yield, sides, numerics);
+}
+
+void Groundwater::init(const RasterD& surface, const RasterD& base, const RasterD& initial_head,
+                       const RasterF& ksat, double sy, std::array<GroundwaterBoundary, 4> sides,
+                       GroundwaterNumerics numerics) {
+    if (numerics.aquifer_cell_factor == 1) {
+        m = make(surface, base, initial_head, ksat, sy, sides, numerics);
+        return;
+    }
+    if (!(base.grid() == surface.grid()) || !(initial_head.grid() == surface.grid()) ||
+        !(ksat.grid() == surface.grid()))
+        throw InputError("groundwater: base, head and conductivity rasters must share the "
+                         "terrain's grid");
+    m_coarse = std::make_unique<Coarse>(surface, numerics.aquifer_cell_factor);
+    const Coarse& cs = *m_coarse;
+    m = make(cs.mean(surface), cs.mean(base), cs.mean(initial_head), cs.geometric_mean(ksat), sy,
+             sides, numerics);
+}
 
 Groundwater::~Groundwater() = default;
 Groundwater::Groundwater(Groundwater&&) noexcept = default;
@@ -83,18 +101,24 @@ Groundwater& Groundwater::operator=(Groundwater&&) noexcept = default;
 
 GroundwaterResult Groundwater::step(double dt_s, const std::vector<double>& recharge_m3) {
     if (!(dt_s > 0)) throw InputError("groundwater: the time step must be > 0 s");
-    if (static_cast<std::int64_t>(recharge_m3.size()) != m->grid.size())
+    const std::int64_t ncell = m_coarse ? m_coarse->fine.size() : m->grid.size();
+    if (static_cast<std::int64_t>(recharge_m3.size()) != ncell)
         throw InputError("groundwater: the recharge has " + std::to_string(recharge_m3.size()) +
-                         " cells for a grid of " + std::to_string(m->grid.size()));
+                         " cells for a grid of " + std::to_string(ncell));
+    const std::vector<double>& recharge = m_coarse ? m_coarse->restrict(recharge_m3) : recharge_m3;
     const std::int64_t n = m->nvar();
-    for (std::int64_t v = 0; v < n; ++v) m->rate[v] = recharge_m3[m->cell_of_var[v]] / dt_s;
+    for (std::int64_t v = 0; v < n; ++v) m->rate[v] = recharge[m->cell_of_var[v]] / dt_s;
     const double out0 = m->y[n];
     m->advance(dt_s);
     GroundwaterResult r;
     r.outflow_m3 = m->y[n] - out0;
     // Recharge onto a fixed-head cell leaves through that boundary at once.
     for (std::int64_t c = 0; c < m->grid.size(); ++c)
-        if (m->var_of_cell[c] < 0) r.outflow_m3 += recharge_m3[c];
+        if (m->var_of_cell[c] < 0) r.outflow_m3 += recharge[c];
+    if (m_coarse) {
+        seep_coarse(r);
+        return r;
+    }
     r.seepage_m3.assign(static_cast<std::size_t>(m->grid.size()), 0.0);
     bool seeped = false;
     for (std::int64_t v = 0; v < n; ++v) {
@@ -110,6 +134,17 @@ GroundwaterResult Groundwater::step(double dt_s, const std::vector<double>& rech
 }
 
 RasterD Groundwater::head() const {
+    if (m_coarse) {
+        const Coarse& cs = *m_coarse;
+        std::vector<double> hs(static_cast<std::size_t>(cs.aquifer.size()));
+        for (std::int64_t C = 0; C < cs.aquifer.size(); ++C) hs[C] = m->head_of(C, m->y.data());
+        RasterD h(cs.fine);
+        for (int J = 0; J < cs.aquifer.ny; ++J)
+            cs.interpolate_row(hs.data(), J, [&](std::int64_t c, std::int64_t, double v) {
+                h.data()[c] = std::min(v, cs.surface[c]);
+            });
+        return h;
+    }
     RasterD h(m->grid);
     for (std::int64_t c = 0; c < m->grid.size(); ++c) h.data()[c] = m->head_of(c, m->y.data());
     return h;
@@ -141,7 +176,7 @@ void Groundwater::load_state(ArchiveReader& a) {
     if (static_cast<std::int64_t>(y.size()) != m->nvar() + 1)
         throw CheckpointError("groundwater checkpoint: " + std::to_string(y.size()) +
                               " values for " + std::to_string(m->nvar() + 1) +
-                              " unknowns (another terrain?)");
+                              " unknowns (another terrain or aquifer_cell_factor?)");
     std::copy(y.begin(), y.end(), m->y.begin()); // the CVODE vector wraps this buffer
     m->t_now = a.get<double>();
     m->last_step = a.get<double>();

@@ -3,6 +3,7 @@
 // transmissivity and the state (heads of the evolving cells and the cumulative outflow).
 #include "ecoterra/hydro/groundwater.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -53,6 +54,48 @@ struct Groundwater::Impl {
         const double sat = 0.5 * (ha + hb) - 0.5 * (base[a] + base[b]);
         if (sat <= kMinSaturatedThickness) return {kf * kMinSaturatedThickness, 0.0};
         return {kf * sat, 0.5 * kf};
+    }
+};
+
+/// The terrain's grid under an aquifer of cells f x f terrain cells large (aquifer_cell_factor).
+struct Groundwater::Coarse {
+    GridSpec fine;                ///< the terrain's grid
+    GridSpec aquifer;             ///< the aquifer's
+    int f = 1;                    ///< terrain cells to an aquifer cell's side
+    std::vector<double> surface;  ///< of the terrain cells, m
+    std::vector<double> recharge; ///< per aquifer cell over a step, m3
+    std::vector<double> heads;    ///< of every aquifer cell, fixed or evolving, m (scratch)
+    std::vector<double> seep;     ///< per aquifer cell over a step, m3
+
+    Coarse(const RasterD& surface, int factor);
+    /// The aquifer's rasters: each aquifer cell's terrain cells' mean (the surface, the base, the
+    /// initial head) or geometric mean (the conductivity).
+    RasterD mean(const RasterD& r) const;
+    RasterF geometric_mean(const RasterF& k) const;
+    /// The recharge summed over each aquifer cell's terrain cells (in row order within a cell).
+    const std::vector<double>& restrict(const std::vector<double>& fine_m3);
+    /// Calls f(c, C, h) for each terrain cell c of the aquifer row J: C its aquifer cell and h the
+    /// aquifer cells' heads `hs` interpolated bilinearly to its centre (clamped to the outer
+    /// aquifer cells' centres at the edges).
+    template <class F>
+    void interpolate_row(const double* hs, int J, F&& fn) const {
+        const int ax = aquifer.nx, ay = aquifer.ny;
+        for (int j = J * f; j < (J + 1) * f; ++j) {
+            const double y = std::clamp((j + 0.5) / f - 0.5, 0.0, ay - 1.0);
+            const int j0 = std::min(static_cast<int>(y), ay - 1), j1 = std::min(j0 + 1, ay - 1);
+            const double wy = y - j0;
+            for (int i = 0; i < fine.nx; ++i) {
+                const double x = std::clamp((i + 0.5) / f - 0.5, 0.0, ax - 1.0);
+                const int i0 = std::min(static_cast<int>(x), ax - 1), i1 = std::min(i0 + 1, ax - 1);
+                const double wx = x - i0;
+                const double* r0 = hs + static_cast<std::int64_t>(j0) * ax;
+                const double* r1 = hs + static_cast<std::int64_t>(j1) * ax;
+                const double h = (1 - wy) * ((1 - wx) * r0[i0] + wx * r0[i1]) +
+                                 wy * ((1 - wx) * r1[i0] + wx * r1[i1]);
+                fn(static_cast<std::int64_t>(j) * fine.nx + i,
+                   static_cast<std::int64_t>(J) * ax + i / f, h);
+            }
+        }
     }
 };
 

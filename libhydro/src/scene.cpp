@@ -269,8 +269,12 @@ MemoryEstimate memory_estimate(const HydroScene& scene) {
     m.fixed_bytes = kFixedBytes;
     const double cells = static_cast<double>(scene.dem.size());
     m.terms.push_back({"terrain cells", cells, kBytesPerTerrainCell});
-    if (scene.options.groundwater)
-        m.terms.push_back({"groundwater cells", cells, kBytesPerGroundwaterCell});
+    if (scene.options.groundwater) {
+        const double f = scene.options.aquifer_cell_factor;
+        m.terms.push_back({"groundwater cells", cells / (f * f), kBytesPerGroundwaterCell});
+        // The terrain cells' surface and seepage under a coarser aquifer.
+        if (f > 1) m.terms.push_back({"terrain cells over the aquifer", cells, 16});
+    }
     return m;
 }
 

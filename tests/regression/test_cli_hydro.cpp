@@ -140,7 +140,21 @@ TEST_CASE("hydro run writes snapshots and a budget that closes", "[cli][hydro]")
     bad = run(d, "hydro run missing.json -o out.h5");
     CHECK(bad.code != 0);
     CHECK_THAT(bad.out, Catch::Contains("missing.json"));
+    bad = run(d, "hydro run scene.json -o out.h5 --force --set hydrology.aquifer_cell_factor=5");
+    CHECK(bad.code == 2);
+    CHECK_THAT(bad.out,
+               Catch::Contains("hydrology.aquifer_cell_factor = 5") && Catch::Contains("24 x 24"));
     CHECK(std::filesystem::file_size(d / "out.h5") == before);
+    // A divisor runs, on 4 x 4 aquifer cells of 6 x 6 terrain cells, and closes its budget.
+    const Run coarse =
+        run(d, "hydro run scene.json -o coarse.h5 --set hydrology.aquifer_cell_factor=6");
+    INFO(coarse.out);
+    REQUIRE(coarse.code == 0);
+    H5::H5File fc((d / "coarse.h5").string(), H5F_ACC_RDONLY);
+    fc.openGroup("/series/daily")
+        .openAttribute("cumulative_residual_relative")
+        .read(H5::PredType::NATIVE_DOUBLE, &rel);
+    CHECK(rel < 1e-9);
 }
 
 TEST_CASE("The quickstart hydrology scene runs as written", "[cli][hydro]") {

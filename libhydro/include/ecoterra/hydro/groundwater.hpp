@@ -42,6 +42,14 @@ struct GroundwaterNumerics {
     /// The implicit solver's stages stop when the residual stands for at most this root mean
     /// square change of head, m: an order below the error of 2 steps a day against CVODE.
     double head_tolerance_m = 1e-5;
+    /// Aquifer cells are this many terrain cells on a side (1: the terrain's own cells). With a
+    /// factor f > 1 the aquifer is solved on cells f times larger, which must divide the terrain's
+    /// columns and rows: each takes its f x f terrain cells' mean surface, base and initial head,
+    /// the geometric mean of their conductivities and the sum of their recharge; the water table
+    /// of a terrain cell is the aquifer's heads interpolated bilinearly between the aquifer cells'
+    /// centres, and where it stands above the terrain cell's surface that water seeps out there
+    /// and leaves its aquifer cell's storage (docs/hydrology.md s6).
+    int aquifer_cell_factor = 1;
 };
 
 struct GroundwaterResult {
@@ -63,9 +71,12 @@ public:
     Groundwater(Groundwater&&) noexcept;
     Groundwater& operator=(Groundwater&&) noexcept;
 
-    /// Integrates dt seconds with recharge per cell (m3 over the step, spread evenly in time).
+    /// Integrates dt seconds with recharge per terrain cell (m3 over the step, spread evenly in
+    /// time); the seepage is per terrain cell too.
     GroundwaterResult step(double dt_s, const std::vector<double>& recharge_m3);
 
+    /// The water table on the terrain's cells, m (under a coarser aquifer: interpolated, and at
+    /// most the surface).
     RasterD head() const;
     /// S_y (h - b) A summed over the cells that evolve, m3.
     double storage_m3() const;
@@ -79,10 +90,18 @@ public:
     void save_state(ArchiveWriter& a) const;
     void load_state(ArchiveReader& a);
 
-    struct Impl; ///< the aquifer and its heads; each solver derives from it
+    struct Impl;   ///< the aquifer and its heads; each solver derives from it
+    struct Coarse; ///< the terrain's grid under an aquifer of coarser cells
 
 private:
+    void init(const RasterD& surface, const RasterD& base, const RasterD& initial_head,
+              const RasterF& ksat, double sy, std::array<GroundwaterBoundary, 4> sides,
+              GroundwaterNumerics numerics);
+    /// Water-table seepage on the terrain's cells under a coarser aquifer; fills r.seepage_m3.
+    void seep_coarse(GroundwaterResult& r);
+
     std::unique_ptr<Impl> m;
+    std::unique_ptr<Coarse> m_coarse; ///< null when the aquifer uses the terrain's cells
 };
 
 } // namespace ecoterra::hydro

@@ -69,6 +69,7 @@ struct HydrologyOptions {
     GroundwaterSolver groundwater_solver = GroundwaterSolver::implicit;
     int groundwater_steps_per_day = 2;          ///< TR-BDF2 steps a day (implicit solver)
     double groundwater_head_tolerance_m = 1e-5; ///< of a stage's solve (implicit solver)
+    int aquifer_cell_factor = 1; ///< terrain cells to an aquifer cell's side (groundwater.hpp)
     EvapotranspirationMethod evapotranspiration = EvapotranspirationMethod::fao56;
     DrainageMethod drainage = DrainageMethod::gravity;
     InterceptionMethod interception = InterceptionMethod::gash;

@@ -1,9 +1,8 @@
 // Groundwater benchmark: cell-days/s of the implicit solver (multigrid-preconditioned conjugate
 // gradients) from 128^2 to 1024^2 (2048^2 without --quick), on the terrain's 1 m cells and on
 // aquifer cells of 2 and 4 m (aquifer_cell_factor; the rate counts the 1 m terrain cells), the
-// CVODE reference where it is affordable, the ratio of the two at the same grid, and each run's budget residual. Quiet, then
-// beside one busy process.
-// Usage: bench_groundwater [--quick]
+// CVODE reference where it is affordable, the ratio of the two at the same grid, and each run's
+// budget residual. Quiet, then beside one busy process. Usage: bench_groundwater [--quick]
 #include "busy.hpp"
 #include "ecoterra/hydro/groundwater.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
@@ -74,8 +73,8 @@ int main(int argc, char** argv) {
     for (int busy = 0; busy <= 1; ++busy) {
         const pid_t spinner = busy ? bench::start_busy() : 0;
         std::printf("\n%s\n", busy ? "beside one busy process" : "quiet");
-        std::printf("%-34s %11s %5s %9s %14s %12s %10s\n", "solver (TR-BDF2 + CG)", "grid", "days", "time", "rate",
-                    "work/day", "residual");
+        std::printf("%-34s %11s %5s %9s %14s %12s %10s\n", "solver (TR-BDF2 + CG)", "grid", "days",
+                    "time", "rate", "work/day", "residual");
         for (int n : sizes) {
             const RasterD dem = terrain_of(n);
             const int days = n <= 512 ? 60 : 20;

@@ -16,10 +16,10 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
         if (map.factor == 1) {
             for (std::uint32_t s = s0; s < s1; ++s) {
                 const Span& sp = roots.spans[s];
-                for (int x = sp.x0; x <= sp.x1; ++x) {
-                    r.cell.push_back(map.hydro(sp.row, x));
-                    r.share.push_back(inv_n);
-                }
+                r.cell.push_back(map.hydro(sp.row, sp.x0));
+                r.share.push_back(inv_n);
+                r.length.push_back(sp.x1 - sp.x0 + 1);
+                r.additions += sp.x1 - sp.x0 + 1;
             }
         } else {
             // Count the root cells falling in each hydrology cell of the bounding box.
@@ -44,6 +44,7 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
                     if (c == 0) continue;
                     r.cell.push_back(static_cast<std::int64_t>(j) * map.hydro_nx + i);
                     r.share.push_back(c * inv_n);
+                    ++r.additions;
                 }
         }
         r.offset.push_back(static_cast<std::uint32_t>(r.cell.size()));
@@ -56,8 +57,11 @@ void scatter_demand(const RootCells& roots, const std::vector<double>& demand,
     for (std::size_t p = 0; p < roots.size(); ++p) {
         const double d = demand[p];
         if (!(d > 0)) continue;
-        for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e)
-            request[static_cast<std::size_t>(roots.cell[e])] += d * roots.share[e];
+        for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e) {
+            const double v = d * roots.share[e];
+            double* r = request.data() + roots.cell[e];
+            for (std::int32_t k = 0, n = roots.cells_of(e); k < n; ++k) r[k] += v;
+        }
     }
 }
 
@@ -66,8 +70,8 @@ void scatter_pair(const RootCells& roots, const std::vector<double>& a,
                   std::vector<double>& b_cells) {
     // Each quantity's scatter is serial in plant order (the bits of scatter_demand); on large
     // stands the two run side by side, one per thread, where a single thread did both in one pass.
-    const auto entries = static_cast<std::int64_t>(roots.cell.size());
-    if (entries >= parallel_min_items() && omp_get_max_threads() > 1 && !omp_in_parallel()) {
+    if (roots.additions >= parallel_min_items() && omp_get_max_threads() > 1 &&
+        !omp_in_parallel()) {
 #pragma omp parallel num_threads(2)
         {
             // A team of one (a thread limit) does both.
@@ -82,9 +86,12 @@ void scatter_pair(const RootCells& roots, const std::vector<double>& a,
         const bool add_x = x > 0, add_y = y > 0;
         if (!add_x && !add_y) continue;
         for (std::uint32_t e = roots.offset[p]; e < roots.offset[p + 1]; ++e) {
-            const auto c = static_cast<std::size_t>(roots.cell[e]);
-            if (add_x) a_cells[c] += x * roots.share[e];
-            if (add_y) b_cells[c] += y * roots.share[e];
+            const double u = x * roots.share[e], v = y * roots.share[e];
+            double *ra = a_cells.data() + roots.cell[e], *rb = b_cells.data() + roots.cell[e];
+            for (std::int32_t k = 0, n = roots.cells_of(e); k < n; ++k) {
+                if (add_x) ra[k] += u;
+                if (add_y) rb[k] += v;
+            }
         }
     }
 }
@@ -97,8 +104,11 @@ void gather_supply(const RootCells& roots, const std::vector<double>& ratio,
     for (std::int64_t p = 0; p < n; ++p) {
         double acc = 0;
         for (std::uint32_t e = roots.offset[static_cast<std::size_t>(p)];
-             e < roots.offset[static_cast<std::size_t>(p) + 1]; ++e)
-            acc += roots.share[e] * ratio[static_cast<std::size_t>(roots.cell[e])];
+             e < roots.offset[static_cast<std::size_t>(p) + 1]; ++e) {
+            const double s = roots.share[e];
+            const double* q = ratio.data() + roots.cell[e];
+            for (std::int32_t k = 0, m = roots.cells_of(e); k < m; ++k) acc += s * q[k];
+        }
         fraction[static_cast<std::size_t>(p)] = acc;
     }
 }

@@ -265,7 +265,7 @@ TEST_CASE("canopy: structure follows the wood, shade stays in [0, 1], roots shar
     for (std::size_t p = 0; p < w.canopy.roots.size(); ++p) {
         double share = 0;
         for (auto e = w.canopy.roots.offset[p]; e < w.canopy.roots.offset[p + 1]; ++e)
-            share += w.canopy.roots.share[e];
+            share += w.canopy.roots.share[e] * w.canopy.roots.cells_of(e);
         CHECK(share == Approx(1.0));
     }
     // Vegetation density is the crown cover without a ground layer, in [0, 1].

@@ -24,14 +24,20 @@ struct CellMap {
 };
 
 /// Each plant's root cells gathered per hydrology cell: the cells it draws on and the share of its
-/// root cells in each (the shares of a plant sum to 1). Built at each canopy refresh, used daily;
-/// with a plant grid k times finer than the hydrology grid a crown of n cells has about n / k^2
-/// entries, so the daily scatter and gather cost that much less.
+/// root cells in each (the shares of a plant's cells sum to 1). Built at each canopy refresh, used
+/// daily. With a plant grid k times finer than the hydrology grid an entry is one hydrology cell,
+/// and a crown of n cells has about n / k^2 entries. With the plant grid equal to the hydrology
+/// grid an entry is a run of `length` cells along a row (a crown's span), each with the entry's
+/// share 1 / n: 20 B a span where one entry per cell took 16 B a cell.
 struct RootCells {
     std::vector<std::uint32_t> offset{0}; ///< plant p's entries are [offset[p], offset[p + 1])
-    std::vector<std::int64_t> cell;       ///< hydrology cell index
-    std::vector<double> share;            ///< fraction of the plant's root cells in that cell
+    std::vector<std::int64_t> cell;       ///< an entry's (first) hydrology cell
+    std::vector<double> share; ///< fraction of the plant's root cells in each cell of an entry
+    std::vector<std::int32_t> length; ///< cells of each entry; empty when every entry is one cell
+    std::int64_t additions = 0;       ///< cells over all entries: the work of a scatter
     std::size_t size() const { return offset.size() - 1; }
+    /// Cells of entry e.
+    std::int32_t cells_of(std::uint32_t e) const { return length.empty() ? 1 : length[e]; }
 };
 
 RootCells root_cells(const CrownSet& roots, const CellMap& map);

@@ -5,7 +5,8 @@
 // (eco::memory_estimate, which refuses scenes that would not fit).
 //   1 ha quickstart, coupled, 100 years (50^2 terrain cells of 2 m, 1 m plant grid)
 //   1 km2 at 1 m (terrain, hydrology and plant grids), coupled, 300 stems/ha to start, N years
-//   the same with groundwater (the implicit solver), N years
+//   the same with groundwater (the implicit solver), N years, on the terrain's 1 m cells and on
+//   aquifer cells of 4 m (hydrology.aquifer_cell_factor 4)
 // Usage: bench_landscape [--years-1km N] (default 3) [--quiet-only]
 #include "busy.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
@@ -100,6 +101,8 @@ int main(int argc, char** argv) {
     k["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 300}}}};
     json g = k;
     g["hydrology"]["groundwater"] = true;
+    json g4 = g;
+    g4["hydrology"]["aquifer_cell_factor"] = 4;
     std::printf("ecoterra landscape benchmark (humid subtropical broadleaf, coupled, daily steps; "
                 "CPU: 100 %% = one core)\n");
     for (int busy = 0; busy <= (quiet_only ? 0 : 1); ++busy) {
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
         measure("1 ha quickstart (2500 cells, 1 m plants)", q, 100);
         measure("1 km2 at 1 m, 300 stems/ha to start", k, years_1km);
         measure("1 km2 at 1 m, 300 stems/ha, groundwater", g, years_1km);
+        measure("the same, 4 m aquifer cells", g4, years_1km);
         if (spinner) bench::stop_busy(spinner);
     }
     return 0;

@@ -141,7 +141,8 @@ RasterD Groundwater::head() const {
         RasterD h(cs.fine);
         for (int J = 0; J < cs.aquifer.ny; ++J)
             cs.interpolate_row(hs.data(), J, [&](std::int64_t c, std::int64_t, double v) {
-                h.data()[c] = std::min(v, cs.surface[c]);
+                // A seeping terrain cell is where the table meets the surface.
+                h.data()[c] = cs.seeping[c] ? cs.surface[c] : std::min(v, cs.surface[c]);
             });
         return h;
     }
@@ -169,6 +170,7 @@ void Groundwater::save_state(ArchiveWriter& a) const {
     a.put(m->t_now);
     a.put(m->last_step);
     a.put(m->steps);
+    if (m_coarse) a.put_vector(m_coarse->seeping);
 }
 
 void Groundwater::load_state(ArchiveReader& a) {
@@ -181,6 +183,14 @@ void Groundwater::load_state(ArchiveReader& a) {
     m->t_now = a.get<double>();
     m->last_step = a.get<double>();
     m->steps = a.get<long>();
+    if (m_coarse) {
+        auto seeping = a.get_vector<std::uint8_t>();
+        if (seeping.size() != m_coarse->seeping.size())
+            throw CheckpointError("groundwater checkpoint: " + std::to_string(seeping.size()) +
+                                  " seepage flags for " + std::to_string(m_coarse->seeping.size()) +
+                                  " terrain cells");
+        m_coarse->seeping = std::move(seeping);
+    }
     m->heads_changed();
 }
 

@@ -35,6 +35,7 @@ Groundwater::Coarse::Coarse(const RasterD& surf, int factor) : fine(surf.grid())
     recharge.assign(n, 0.0);
     heads.assign(n, 0.0);
     seep.assign(n, 0.0);
+    seeping.assign(static_cast<std::size_t>(fine.size()), 0);
 }
 
 namespace {
@@ -100,7 +101,9 @@ void Groundwater::seep_coarse(GroundwaterResult& r) {
         std::fill_n(cs.seep.begin() + static_cast<std::int64_t>(J) * cs.aquifer.nx, cs.aquifer.nx,
                     0.0);
         cs.interpolate_row(cs.heads.data(), J, [&](std::int64_t c, std::int64_t C, double h) {
-            if (h > cs.surface[c] && m->var_of_cell[C] >= 0) {
+            const bool seeps = h > cs.surface[c] && m->var_of_cell[C] >= 0;
+            cs.seeping[c] = seeps;
+            if (seeps) {
                 const double s = m->sy * (h - cs.surface[c]) * a;
                 r.seepage_m3[c] = s;
                 cs.seep[C] += s;

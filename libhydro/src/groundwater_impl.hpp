@@ -66,6 +66,8 @@ struct Groundwater::Coarse {
     std::vector<double> recharge; ///< per aquifer cell over a step, m3
     std::vector<double> heads;    ///< of every aquifer cell, fixed or evolving, m (scratch)
     std::vector<double> seep;     ///< per aquifer cell over a step, m3
+    /// Terrain cells that seeped at the last step: their water table is at the surface (state).
+    std::vector<std::uint8_t> seeping;
 
     Coarse(const RasterD& surface, int factor);
     /// The aquifer's rasters: each aquifer cell's terrain cells' mean (the surface, the base, the

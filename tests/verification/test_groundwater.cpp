@@ -404,6 +404,7 @@ TEST_CASE("An aquifer of coarser cells follows the terrain-cell solution on frac
     }
     const RasterD ref = runs[0].head();
     std::vector<double> rms;
+    std::vector<int> at_surface(runs.size(), 0); // terrain cells whose table meets the surface
     for (std::size_t k = 0; k < runs.size(); ++k) {
         CAPTURE(k);
         CHECK(runs[k].storage_m3() - storage0[k] + left[k] ==
@@ -417,18 +418,27 @@ TEST_CASE("An aquifer of coarser cells follows the terrain-cell solution on frac
         for (std::int64_t c = 0; c < h.size(); ++c)
             above = std::max(above, h.data()[c] - dem.data()[c]);
         CHECK(above == 0);
+        for (std::int64_t c = 0; c < h.size(); ++c) at_surface[k] += h.data()[c] == dem.data()[c];
         rms.push_back(std::sqrt(ss / n));
     }
     INFO("water table rms off the 1 m solution inside the domain, aquifer cells of 2 m, 4 m and "
          "4 m with cvode: "
          << rms[1] << ", " << rms[2] << ", " << rms[3] << " m; seepage + outflow " << left[1]
          << ", " << left[2] << ", " << left[3] << " m3 against " << left[0]
-         << " m3 of 1 m cells, of " << added << " m3 of recharge");
+         << " m3 of 1 m cells, of " << added << " m3 of recharge; the table at the surface on "
+         << at_surface[2] << " terrain cells with 4 m aquifer cells, " << at_surface[0]
+         << " with 1 m");
     CHECK(rms[1] < 0.06);
     CHECK(rms[2] < 0.12);
     CHECK(rms[1] < rms[2] + 0.005); // smaller cells, closer (white noise: the same to ~3 mm)
     CHECK(std::abs(rms[3] - rms[2]) < 0.01); // the two solvers of the same 4 m aquifer agree
     for (std::size_t k = 1; k < runs.size(); ++k) CHECK(std::abs(left[k] - left[0]) < 0.05 * added);
+    // Where much of the terrain seeps, the wet ground (the table at the surface) covers about as
+    // many terrain cells (a seeping terrain cell is one whose table meets the surface).
+    if (at_surface[0] >= 50) {
+        CHECK(at_surface[2] > 0.8 * at_surface[0]);
+        CHECK(at_surface[2] < 1.2 * at_surface[0]);
+    }
 }
 
 TEST_CASE("An aquifer cell factor that does not divide the terrain is refused", "[groundwater]") {

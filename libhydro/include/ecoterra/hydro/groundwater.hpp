@@ -75,8 +75,8 @@ public:
     /// time); the seepage is per terrain cell too.
     GroundwaterResult step(double dt_s, const std::vector<double>& recharge_m3);
 
-    /// The water table on the terrain's cells, m (under a coarser aquifer: interpolated, and at
-    /// most the surface).
+    /// The water table on the terrain's cells, m (under a coarser aquifer: interpolated, at most
+    /// the surface, and at the surface where the last step seeped).
     RasterD head() const;
     /// S_y (h - b) A summed over the cells that evolve, m3.
     double storage_m3() const;
@@ -85,8 +85,9 @@ public:
     long steps_taken() const;
     GroundwaterSolver solver() const;
 
-    /// Checkpoint: heads, cumulative outflow, integrator time and step-size hint. Both solvers
-    /// write the same layout, so a run may resume with the other solver.
+    /// Checkpoint: heads, cumulative outflow, integrator time and step-size hint (and, under a
+    /// coarser aquifer, which terrain cells seeped). Both solvers write the same layout, so a run
+    /// may resume with the other solver.
     void save_state(ArchiveWriter& a) const;
     void load_state(ArchiveReader& a);
 

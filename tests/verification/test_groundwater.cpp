@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <utility>
 
 using namespace ecoterra;
 using namespace ecoterra::hydro;
@@ -55,6 +56,26 @@ double mound(double x, double t, double L, double D, double T, double W) {
              std::exp(-mp * mp * D * t / (L * L));
     }
     return h;
+}
+
+/// The terrain and conductivity of the comparisons on fractal and white-noise terrain: fBm
+/// (D 2.3, rms `fbm_rms_m`) or white noise (sd 0.3 m, from rng), and K = 5e-6 m/s e^(u - 0.5)
+/// per cell (u uniform in [0, 1), from rng after the noise).
+std::pair<RasterD, RasterF> test_aquifer(const GridSpec& g, int kind, double fbm_rms_m,
+                                         std::uint64_t seed, std::mt19937_64& rng) {
+    RasterD dem =
+        kind == 0
+            ? terrain::fbm_surface(g, terrain::FbmParams::from_dimension(2.3, fbm_rms_m), seed)
+            : RasterD(g, 0.0);
+    if (kind == 1) {
+        std::normal_distribution<double> noise(0.0, 0.3);
+        for (std::int64_t c = 0; c < dem.size(); ++c) dem.data()[c] = noise(rng);
+    }
+    RasterF ks(g, 5e-6f);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (std::int64_t c = 0; c < ks.size(); ++c)
+        ks.data()[c] = static_cast<float>(5e-6 * std::exp(u(rng) - 0.5));
+    return {std::move(dem), std::move(ks)};
 }
 
 } // namespace
@@ -227,19 +248,10 @@ TEST_CASE("The implicit solver follows the CVODE reference on fractal and white-
     const int terrain_kind = GENERATE(0, 1);
     const std::uint64_t seed = GENERATE(1, 2);
     const GridSpec g{32, 32, 1.0, 0, 0};
-    RasterD dem = terrain_kind == 0
-                      ? terrain::fbm_surface(g, terrain::FbmParams::from_dimension(2.3, 0.5), seed)
-                      : RasterD(g, 0.0);
     std::mt19937_64 rng(seed);
-    if (terrain_kind == 1) {
-        std::normal_distribution<double> noise(0.0, 0.3);
-        for (std::int64_t c = 0; c < dem.size(); ++c) dem.data()[c] = noise(rng);
-    }
+    const auto [dem, ks] = test_aquifer(g, terrain_kind, 0.5, seed, rng);
     INFO((terrain_kind == 0 ? "fBm" : "white noise") << " terrain, seed " << seed);
-    RasterF ks(g, 5e-6f);
     std::uniform_real_distribution<double> u(0, 1);
-    for (std::int64_t c = 0; c < ks.size(); ++c)
-        ks.data()[c] = static_cast<float>(5e-6 * std::exp(u(rng) - 0.5));
     std::vector<Groundwater> runs;
     runs.emplace_back(dem, ks, 0.2, 10.0, 1.0, with(GroundwaterSolver::cvode));
     const std::vector<int> substeps = {1, 2, 4, 8};
@@ -370,20 +382,11 @@ TEST_CASE("An aquifer of coarser cells follows the terrain-cell solution on frac
     const bool shallow = GENERATE(true, false);
     const std::uint64_t seed = GENERATE(1, 2);
     const GridSpec g{64, 64, 1.0, 0, 0};
-    RasterD dem = terrain_kind == 0
-                      ? terrain::fbm_surface(g, terrain::FbmParams::from_dimension(2.3, 1.0), seed)
-                      : RasterD(g, 0.0);
     std::mt19937_64 rng(seed);
-    if (terrain_kind == 1) {
-        std::normal_distribution<double> noise(0.0, 0.3);
-        for (std::int64_t c = 0; c < dem.size(); ++c) dem.data()[c] = noise(rng);
-    }
+    const auto [dem, ks] = test_aquifer(g, terrain_kind, 1.0, seed, rng);
     INFO((terrain_kind == 0 ? "fBm" : "white noise")
          << " terrain, seed " << seed << ", " << (shallow ? "shallow" : "deeper") << " table");
-    RasterF ks(g, 5e-6f);
     std::uniform_real_distribution<double> u(0, 1);
-    for (std::int64_t c = 0; c < ks.size(); ++c)
-        ks.data()[c] = static_cast<float>(5e-6 * std::exp(u(rng) - 0.5));
     const double thickness = shallow ? 10 : 20, depth = shallow ? 1 : 3, scale = shallow ? 1 : 0.5;
     std::vector<Groundwater> runs;
     for (int f : {1, 2, 4}) runs.emplace_back(dem, ks, 0.2, thickness, depth, coarse(f));

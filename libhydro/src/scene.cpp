@@ -272,8 +272,8 @@ MemoryEstimate memory_estimate(const HydroScene& scene) {
     if (scene.options.groundwater) {
         const double f = scene.options.aquifer_cell_factor;
         m.terms.push_back({"groundwater cells", cells / (f * f), kBytesPerGroundwaterCell});
-        // The terrain cells' surface and seepage under a coarser aquifer.
-        if (f > 1) m.terms.push_back({"terrain cells over the aquifer", cells, 16});
+        // The terrain cells' surface, seepage and seepage flag under a coarser aquifer.
+        if (f > 1) m.terms.push_back({"terrain cells over the aquifer", cells, 17});
     }
     return m;
 }

@@ -9,12 +9,19 @@
 
 namespace ecoterra::hydro {
 
+namespace {
+void require_one_grid(const RasterD& surf, const RasterD& b, const RasterD& h0, const RasterF& ks) {
+    const GridSpec& g = surf.grid();
+    if (!(b.grid() == g) || !(h0.grid() == g) || !(ks.grid() == g))
+        throw InputError("groundwater: base, head and conductivity rasters must share the "
+                         "terrain's grid");
+}
+} // namespace
+
 Groundwater::Impl::Impl(const RasterD& surf, const RasterD& b, const RasterD& h0, const RasterF& ks,
                         double specific_yield, std::array<GroundwaterBoundary, 4> sides) {
     grid = surf.grid();
-    if (!(b.grid() == grid) || !(h0.grid() == grid) || !(ks.grid() == grid))
-        throw InputError("groundwater: base, head and conductivity rasters must share the "
-                         "terrain's grid");
+    require_one_grid(surf, b, h0, ks);
     if (!(specific_yield > 0 && specific_yield < 1))
         throw InputError("groundwater: specific yield must be in (0, 1)");
     sy = specific_yield;
@@ -85,10 +92,7 @@ void Groundwater::init(const RasterD& surface, const RasterD& base, const Raster
         m = make(surface, base, initial_head, ksat, sy, sides, numerics);
         return;
     }
-    if (!(base.grid() == surface.grid()) || !(initial_head.grid() == surface.grid()) ||
-        !(ksat.grid() == surface.grid()))
-        throw InputError("groundwater: base, head and conductivity rasters must share the "
-                         "terrain's grid");
+    require_one_grid(surface, base, initial_head, ksat);
     m_coarse = std::make_unique<Coarse>(surface, numerics.aquifer_cell_factor);
     const Coarse& cs = *m_coarse;
     m = make(cs.mean(surface), cs.mean(base), cs.mean(initial_head), cs.geometric_mean(ksat), sy,

@@ -86,12 +86,8 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
     if (depth.size() != n)
         throw Error("crown_profile shading needs a crown depth per plant (" +
                     std::to_string(depth.size()) + " for " + std::to_string(n) + " plants)");
-    // The crowns over each cell, tallest first (compressed rows: cell c's are
-    // [start[c], start[c + 1]) of `ids`).
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return height[a] > height[b]; });
+    // The crowns over each cell, tallest first, equal heights in plant order (compressed rows:
+    // cell c's are [start[c], start[c + 1]) of `ids`).
     const auto cells = static_cast<std::size_t>(g.size());
     std::vector<std::uint32_t> start(cells + 1, 0);
     auto for_each_cell = [&](std::uint32_t p, auto&& f) {
@@ -106,8 +102,25 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
     for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
     std::vector<std::uint32_t> ids(start[cells]);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (const std::uint32_t p : order)
+    // Filled in plant order (the plants are sorted by their stem's cell, so this writes
+    // neighbouring cells' lists in turn), then each list put tallest first by a stable insertion
+    // sort: the lists a stable sort of all plants by height would fill, without its random
+    // writes.
+    for (std::uint32_t p = 0; p < n; ++p)
         for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
+    const auto nc = static_cast<std::int64_t>(cells);
+#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(ids.size()) >=            \
+                                              parallel_min_items())
+    for (std::int64_t c = 0; c < nc; ++c) {
+        std::uint32_t* list = ids.data() + start[c];
+        const std::uint32_t len = start[c + 1] - start[c];
+        for (std::uint32_t a = 1; a < len; ++a) {
+            const std::uint32_t p = list[a];
+            std::uint32_t b = a;
+            for (; b > 0 && height[list[b - 1]] < height[p]; --b) list[b] = list[b - 1];
+            list[b] = p;
+        }
+    }
 
     // The crowns visited row band by row band, so that consecutive crowns read neighbouring
     // cells' lists: in plant order they are scattered over the grid and most reads of `start` and

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 namespace ecoterra::eco {
 
@@ -215,6 +216,23 @@ void remove_dead(Population& pop, PlantSums& sums) {
         if (!keep[k]) sums.dead_carbon += pop.wood_kg[k] + pop.reserve_kg[k];
     }
     pop.keep_if(keep);
+}
+
+void sort_by_stem_cell(Population& pop, const GridSpec& grid) {
+    const std::size_t n = pop.size();
+    std::vector<std::int64_t> key(n);
+    bool sorted = true;
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto [i, j] = grid.clamped_cell(pop.x_m[k], pop.y_m[k]);
+        key[k] = static_cast<std::int64_t>(j) * grid.nx + i;
+        sorted = sorted && (k == 0 || key[k - 1] <= key[k]);
+    }
+    if (sorted) return;
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+    pop.permute(order);
 }
 
 double light_only_dbh_m(const Species& s, double age_yr) {

@@ -137,6 +137,7 @@ Ecosystem::Ecosystem(const EcoScene& scene)
     m_yearly = Table::of(yearly_columns());
     m_diag.assign(species.size(), SpeciesLedger{});
     for (const Plant& p : initial_stems(m_scene, pg, nursery())) m_pop.push(p);
+    order_plants();
     refresh_canopy();
     m_hydro->set_vegetation_density(m_canopy.vegetation_density(m_ground, hg));
     for (std::size_t k = 0; k < m_pop.size(); ++k)
@@ -187,6 +188,10 @@ void Ecosystem::sample_growth_factors(const DayClimate& day) {
         l.soil_sum += m_pop.soil_factor[k];
         l.temperature_sum += day.ftemp[sp];
     }
+}
+
+void Ecosystem::order_plants() {
+    if (m_scene.plant_order == PlantOrder::stem_cell) sort_by_stem_cell(m_pop, plant_grid());
 }
 
 void Ecosystem::refresh_canopy() {
@@ -352,6 +357,7 @@ void Ecosystem::year_end_coupled() {
         m_pop.push(r);
     }
     m_sum.births += static_cast<double>(recruits.size());
+    order_plants();
     refresh_canopy();
 }
 
@@ -379,6 +385,7 @@ void Ecosystem::year_end_light_only() {
     take_dead(&dead);
     for (char& d : dead) d = !d;
     m_pop.keep_if(dead);
+    order_plants();
     refresh_canopy();
 }
 

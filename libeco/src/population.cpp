@@ -42,6 +42,13 @@ void keep_entries(std::vector<T>& v, const std::vector<char>& keep) {
 }
 
 template <class T>
+void permute_entries(std::vector<T>& v, const std::vector<std::uint32_t>& order) {
+    std::vector<T> out(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) out[k] = v[order[k]];
+    v.swap(out);
+}
+
+template <class T>
 bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() &&
            (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
@@ -54,6 +61,14 @@ void Population::keep_if(const std::vector<char>& keep) {
 #define ECOTERRA_KEEP(type, name) keep_entries(name, keep);
     ECOTERRA_PLANT_COLUMNS(ECOTERRA_KEEP)
 #undef ECOTERRA_KEEP
+}
+
+void Population::permute(const std::vector<std::uint32_t>& order) {
+    if (order.size() != size())
+        throw Error("internal: permute order length differs from the population");
+#define ECOTERRA_PERMUTE(type, name) permute_entries(name, order);
+    ECOTERRA_PLANT_COLUMNS(ECOTERRA_PERMUTE)
+#undef ECOTERRA_PERMUTE
 }
 
 bool Population::bitwise_equal(const Population& o) const {

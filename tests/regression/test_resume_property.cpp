@@ -331,6 +331,8 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     j["vegetation"]["deadwood"]["enabled"] = false;
     // ... and without storms (the stream had not begun).
     j["vegetation"]["windthrow"]["enabled"] = false;
+    // ... and with the plants in birth order (the only order then).
+    j["vegetation"]["plant_order"] = "birth";
     // ... and with paper 002's growth and shading and the species values of then (a copy of the
     // ecosystem file as it was before the forest calibration of issue 27).
     j["vegetation"]["growth"] = "paper002";

@@ -702,3 +702,35 @@ TEST_CASE("seedbed: under the gap light a recruit's chance scales with its growt
     CHECK(l.failed_light == 2000 - ok);
     CHECK(l.failed_light > 0);
 }
+
+TEST_CASE("the plants stay ordered by their stem's cell through births, deaths and both year ends",
+          "[eco][population]") {
+    // The per-cell passes rely on it for their speed (sort_by_stem_cell); the year's recruits are
+    // appended and must be sorted in before the canopy is rebuilt.
+    // In birth order (vegetation.plant_order = birth) the ids rise instead.
+    const std::string mode = GENERATE("coupled", "light_only");
+    const bool birth = GENERATE(false, true);
+    INFO(mode << (birth ? ", birth order" : ", stem-cell order"));
+    nlohmann::json js = test::small_scene(4, mode);
+    if (birth) js["vegetation"]["plant_order"] = "birth";
+    const auto scene = eco::load_eco_scene(js, test::data_dir() / "scenes");
+    eco::Ecosystem e(scene);
+    const GridSpec& g = e.plant_grid();
+    std::int64_t first_max_id = -1, max_id = -1;
+    for (int y = 0; y <= 4; ++y) {
+        if (y > 0) e.run_year();
+        const eco::Population& pop = e.plants();
+        REQUIRE(pop.size() > 1);
+        std::int64_t last = -1;
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            const auto [i, j] = g.clamped_cell(pop.x_m[k], pop.y_m[k]);
+            const std::int64_t key = birth ? pop.id[k] : static_cast<std::int64_t>(j) * g.nx + i;
+            CHECK(key >= last);
+            last = key;
+        }
+        max_id = *std::max_element(pop.id.begin(), pop.id.end());
+        if (y == 0) first_max_id = max_id;
+    }
+    // Plants were born (ids above the first year's), so the check saw recruits sorted in.
+    CHECK(max_id > first_max_id);
+}

@@ -714,3 +714,52 @@ TEST_CASE("senescence: the size-related mortality rises as a power of the stem d
         CHECK(background_mortality(s, 100.0) == 1.0);
     }
 }
+
+TEST_CASE("sort_by_stem_cell: rows kept whole, ordered by the stem's cell row by row, stable "
+          "within a cell",
+          "[eco][population]") {
+    Rng rng(77, "sort_by_stem_cell");
+    for (int stand = 0; stand < 10; ++stand) {
+        GridSpec g = grid(8 + static_cast<int>(rng.uniform() * 40));
+        g.origin_x_m = -100 + 200 * rng.uniform();
+        g.cell_size_m = 0.5 + rng.uniform();
+        const int n = static_cast<int>(rng.uniform() * 400);
+        Population pop;
+        for (int k = 0; k < n; ++k) {
+            Plant p;
+            p.id = 1000 + k;
+            // Clustered stems (many share a cell) and a few outside the grid (clamped).
+            const double span = (k % 3 == 0 ? 0.2 : 1.1) * g.width_m();
+            p.x_m = g.origin_x_m + span * rng.uniform();
+            p.y_m = g.origin_y_m + span * rng.uniform();
+            p.dbh_m = rng.uniform();
+            p.species = static_cast<std::uint16_t>(k % 5);
+            p.alive = 1;
+            pop.push(p);
+        }
+        const Population before = pop;
+        sort_by_stem_cell(pop, g);
+        REQUIRE(pop.size() == before.size());
+        auto key = [&](const Population& q, std::size_t k) {
+            const auto [i, j] = g.clamped_cell(q.x_m[k], q.y_m[k]);
+            return static_cast<std::int64_t>(j) * g.nx + i;
+        };
+        std::vector<char> seen(before.size(), 0);
+        for (std::size_t k = 0; k < pop.size(); ++k) {
+            // Each row is one of the originals, whole, and none twice.
+            const auto orig = static_cast<std::size_t>(pop.id[k] - 1000);
+            REQUIRE(orig < before.size());
+            CHECK(seen[orig] == 0);
+            seen[orig] = 1;
+            const Plant a = pop.plant(k), b = before.plant(orig);
+            CHECK(std::memcmp(&a, &b, sizeof(Plant)) == 0);
+            if (k == 0) continue;
+            CHECK(key(pop, k - 1) <= key(pop, k));
+            if (key(pop, k - 1) == key(pop, k)) CHECK(pop.id[k - 1] < pop.id[k]); // stable
+        }
+        // Sorting a sorted population changes nothing.
+        const Population once = pop;
+        sort_by_stem_cell(pop, g);
+        CHECK(pop.bitwise_equal(once));
+    }
+}

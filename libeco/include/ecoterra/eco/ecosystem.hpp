@@ -103,6 +103,8 @@ private:
     void ground_layer_day(const hydro::DayWeather& w, const DayClimate& day);
     /// The trees that died (not alive, or with a cause in `causes`) into the dead wood.
     void take_dead(const std::vector<char>* causes);
+    /// Sorts the plants by their stem's cell unless the scene keeps them in birth order.
+    void order_plants();
     /// The year's management operations: marks the trees they cut in `dead` (DeathCause::harvest)
     /// and sums them into m_harvest.
     void harvest(std::vector<char>& dead, bool allometric_mass);

@@ -45,6 +45,8 @@ struct Population {
     Plant plant(std::size_t k) const;
     /// Keeps the plants whose `keep` entry is non-zero, in their order.
     void keep_if(const std::vector<char>& keep);
+    /// Reorders the plants: row k becomes the former row order[k] (order is a permutation).
+    void permute(const std::vector<std::uint32_t>& order);
     /// True when every column holds the same bytes (the resume tests' comparison).
     bool bitwise_equal(const Population& o) const;
 

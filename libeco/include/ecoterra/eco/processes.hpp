@@ -205,6 +205,15 @@ void background_arrivals(const std::vector<Species>& species, const GridSpec& gr
 /// Removes the plants that are not alive, adding their wood and reserve to the dead carbon.
 void remove_dead(Population& pop, PlantSums& sums);
 
+/// Orders the plants by the cell of their stem on `grid`, row by row (stable: plants of one cell
+/// keep their order). Plants do not move, so after the first call only the year's recruits are
+/// out of place. Consecutive plants then touch neighbouring cells, and the per-cell passes (the
+/// roots' scatter and gather, the crown-profile shading) read memory in order instead of at
+/// random. The order decides which plant takes which of a generator's draws (mortality,
+/// seeding), so it is part of a run's state: a run is the same whether resumed or not, since
+/// the checkpoint keeps the sorted order.
+void sort_by_stem_cell(Population& pop, const GridSpec& grid);
+
 // --- light-only mode ---------------------------------------------------------------------------
 
 /// Ageing and growth on the light-only curve D(t) = D95 (1 - exp(-r t)); death at the maximum age

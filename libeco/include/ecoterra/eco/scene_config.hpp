@@ -35,6 +35,11 @@ struct InitialPlants {
     std::filesystem::path file; ///< file: CSV with x_m,y_m,species,dbh_cm[,age_yr]
 };
 
+/// The order the plants are kept in (vegetation.plant_order): by their stem's cell, row by row
+/// (sort_by_stem_cell; the default since 2026-11-28, faster at landscape scale), or by birth
+/// (the order before: runs and checkpoints of earlier versions continue bit for bit).
+enum class PlantOrder { stem_cell, birth };
+
 struct EcoScene {
     hydro::HydroScene hydro;
     EcosystemDef ecosystem;
@@ -52,6 +57,7 @@ struct EcoScene {
     double mavs_plant_density = 1.0;
     double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
     int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
+    PlantOrder plant_order = PlantOrder::stem_cell;
     InitialPlants initial;
     int years = 1;
     std::optional<double> target_basal_area_m2_per_ha;

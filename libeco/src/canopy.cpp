@@ -77,30 +77,34 @@ RasterD ground_cover(const GridSpec& g, const std::vector<std::uint32_t>& start,
     return ground;
 }
 
-std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& crowns,
-                                          const std::vector<double>& height,
-                                          const std::vector<double>& lai,
-                                          const std::vector<double>& depth, double k,
-                                          RasterD* ground) {
+/// The crowns over each cell, tallest first, equal heights in plant order (compressed rows:
+/// cell c's are [start[c], start[c + 1]) of `ids`).
+struct CellLists {
+    std::vector<std::uint32_t> start, ids;
+};
+
+/// Calls f(c) for each cell c of crown p.
+template <class F>
+void for_each_crown_cell(const GridSpec& g, const CrownSet& crowns, std::uint32_t p, F&& f) {
+    for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
+        const Span& sp = crowns.spans[s];
+        const std::size_t row = static_cast<std::size_t>(sp.row) * static_cast<std::size_t>(g.nx);
+        for (int x = sp.x0; x <= sp.x1; ++x) f(row + static_cast<std::size_t>(x));
+    }
+}
+
+CellLists crowns_over_cells(const GridSpec& g, const CrownSet& crowns,
+                            const std::vector<double>& height) {
     const std::size_t n = crowns.size();
-    if (depth.size() != n)
-        throw Error("crown_profile shading needs a crown depth per plant (" +
-                    std::to_string(depth.size()) + " for " + std::to_string(n) + " plants)");
-    // The crowns over each cell, tallest first, equal heights in plant order (compressed rows:
-    // cell c's are [start[c], start[c + 1]) of `ids`).
     const auto cells = static_cast<std::size_t>(g.size());
-    std::vector<std::uint32_t> start(cells + 1, 0);
-    auto for_each_cell = [&](std::uint32_t p, auto&& f) {
-        for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
-            const Span& sp = crowns.spans[s];
-            const std::size_t row =
-                static_cast<std::size_t>(sp.row) * static_cast<std::size_t>(g.nx);
-            for (int x = sp.x0; x <= sp.x1; ++x) f(row + static_cast<std::size_t>(x));
-        }
-    };
+    CellLists out;
+    std::vector<std::uint32_t>& start = out.start;
+    start.assign(cells + 1, 0);
+    auto for_each_cell = [&](std::uint32_t p, auto&& f) { for_each_crown_cell(g, crowns, p, f); };
     for (std::uint32_t p = 0; p < n; ++p) for_each_cell(p, [&](std::size_t c) { ++start[c + 1]; });
     for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
-    std::vector<std::uint32_t> ids(start[cells]);
+    std::vector<std::uint32_t>& ids = out.ids;
+    ids.resize(start[cells]);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     // Filled in plant order (the plants are sorted by their stem's cell, so this writes
     // neighbouring cells' lists in turn), then each list put tallest first by a stable insertion
@@ -121,6 +125,22 @@ std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& cro
             list[b] = p;
         }
     }
+    return out;
+}
+
+std::vector<double> crown_profile_shading(const GridSpec& g, const CrownSet& crowns,
+                                          const std::vector<double>& height,
+                                          const std::vector<double>& lai,
+                                          const std::vector<double>& depth, double k,
+                                          RasterD* ground) {
+    const std::size_t n = crowns.size();
+    if (depth.size() != n)
+        throw Error("crown_profile shading needs a crown depth per plant (" +
+                    std::to_string(depth.size()) + " for " + std::to_string(n) + " plants)");
+    const CellLists lists = crowns_over_cells(g, crowns, height);
+    const std::vector<std::uint32_t>&start = lists.start, &ids = lists.ids;
+    const auto cells = static_cast<std::size_t>(g.size());
+    auto for_each_cell = [&](std::uint32_t p, auto&& f) { for_each_crown_cell(g, crowns, p, f); };
 
     // The crowns visited row band by row band, so that consecutive crowns read neighbouring
     // cells' lists: in plant order they are scattered over the grid and most reads of `start` and

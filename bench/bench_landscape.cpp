@@ -7,6 +7,9 @@
 //   1 km2 at 1 m (terrain, hydrology and plant grids), coupled, 300 stems/ha to start, N years
 //   the same with groundwater (the implicit solver), N years, on the terrain's 1 m cells and on
 //   aquifer cells of 4 m (hydrology.aquifer_cell_factor 4)
+//   1 km2 at 1 m planted with 2000 stems/ha (2e5 plants, the density the century reaches from
+//   year 70), 1 year, with the plants in stem-cell order (the default) and in birth order
+//   (vegetation.plant_order = birth, the layout before 2026-11-28)
 // Usage: bench_landscape [--years-1km N] (default 3) [--quiet-only]
 #include "busy.hpp"
 #include "ecoterra/eco/ecosystem.hpp"
@@ -103,6 +106,10 @@ int main(int argc, char** argv) {
     g["hydrology"]["groundwater"] = true;
     json g4 = g;
     g4["hydrology"]["aquifer_cell_factor"] = 4;
+    json dense = k;
+    dense["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 2000}}}};
+    json dense_birth = dense;
+    dense_birth["vegetation"]["plant_order"] = "birth";
     std::printf("ecoterra landscape benchmark (humid subtropical broadleaf, coupled, daily steps; "
                 "CPU: 100 %% = one core)\n");
     for (int busy = 0; busy <= (quiet_only ? 0 : 1); ++busy) {
@@ -112,6 +119,8 @@ int main(int argc, char** argv) {
         measure("1 km2 at 1 m, 300 stems/ha to start", k, years_1km);
         measure("1 km2 at 1 m, 300 stems/ha, groundwater", g, years_1km);
         measure("the same, 4 m aquifer cells", g4, years_1km);
+        measure("1 km2 at 1 m, 2000 stems/ha", dense, 1);
+        measure("the same, plants in birth order", dense_birth, 1);
         if (spinner) bench::stop_busy(spinner);
     }
     return 0;

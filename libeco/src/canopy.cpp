@@ -113,8 +113,8 @@ CellLists crowns_over_cells(const GridSpec& g, const CrownSet& crowns,
     for (std::uint32_t p = 0; p < n; ++p)
         for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
     const auto nc = static_cast<std::int64_t>(cells);
-#pragma omp parallel for schedule(static) if (static_cast <std::int64_t>(ids.size()) >=            \
-                                              parallel_min_items())
+    const bool parallel = static_cast<std::int64_t>(ids.size()) >= parallel_min_items();
+#pragma omp parallel for schedule(static) if (parallel)
     for (std::int64_t c = 0; c < nc; ++c) {
         std::uint32_t* list = ids.data() + start[c];
         const std::uint32_t len = start[c + 1] - start[c];

@@ -92,6 +92,78 @@ int mfd_shares(const FlowDirections& fd, std::int64_t c,
     return count;
 }
 
+std::vector<std::int64_t> upstream_first_order(const RasterD& dem) {
+    const auto& g = dem.grid();
+    const double* z = dem.data();
+    constexpr std::uint8_t kDone = 255;
+    std::vector<std::uint8_t> higher(static_cast<std::size_t>(g.size()), 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            dem.for_moore(i, j, [&](int a, int b) {
+                higher[cell_index(g, i, j)] += z[cell_index(g, a, b)] > z[cell_index(g, i, j)];
+            });
+    std::vector<std::int64_t> order, stack;
+    order.reserve(static_cast<std::size_t>(g.size()));
+    for (std::int64_t c = 0; c < g.size(); ++c) {
+        if (higher[c] != 0) continue;
+        higher[c] = kDone;
+        stack.push_back(c);
+        while (!stack.empty()) {
+            const std::int64_t x = stack.back();
+            stack.pop_back();
+            order.push_back(x);
+            const int i = static_cast<int>(x % g.nx), j = static_cast<int>(x / g.nx);
+            dem.for_moore(i, j, [&](int a, int b) {
+                const std::int64_t y = cell_index(g, a, b);
+                if (z[y] < z[x] && --higher[y] == 0) {
+                    higher[y] = kDone;
+                    stack.push_back(y);
+                }
+            });
+        }
+    }
+    return order;
+}
+RoutingParts split_by_basin(const FlowDirections& fd, const std::vector<std::int64_t>& order) {
+    const auto cells = static_cast<std::size_t>(fd.size());
+    if (order.size() != cells)
+        throw Error("split_by_basin: the order holds " + std::to_string(order.size()) +
+                    " cells of " + std::to_string(cells));
+    // Each cell's basin (its pit or outlet): the order puts a cell before the cells below it, so
+    // backwards a receiver's basin is known before its donors'.
+    std::vector<std::int32_t> basin(cells, -1), size(cells, 0);
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+        const std::int64_t k = *it;
+        const std::int32_t r = fd.is_outlet(k) ? kNoReceiver : fd.receiver(k);
+        basin[k] = r == kNoReceiver ? static_cast<std::int32_t>(k) : basin[r];
+        ++size[static_cast<std::size_t>(basin[k])];
+    }
+    std::vector<std::int32_t> roots;
+    for (std::size_t c = 0; c < cells; ++c)
+        if (size[c] > 0) roots.push_back(static_cast<std::int32_t>(c));
+    std::stable_sort(roots.begin(), roots.end(),
+                     [&](std::int32_t a, std::int32_t b) { return size[a] > size[b]; });
+    // The part of each basin, kept in `size` (reused): the largest first to the smaller part.
+    std::array<std::int64_t, 2> load{0, 0};
+    for (const std::int32_t b : roots) {
+        const int part = load[1] < load[0] ? 1 : 0;
+        load[part] += size[b];
+        size[b] = part;
+    }
+    RoutingParts parts;
+    for (int p = 0; p < 2; ++p) {
+        parts.cell[p].reserve(static_cast<std::size_t>(load[p]));
+        parts.pos[p].reserve(static_cast<std::size_t>(load[p]));
+    }
+    for (std::size_t i = 0; i < cells; ++i) {
+        const std::int64_t k = order[i];
+        const int p = size[static_cast<std::size_t>(basin[k])];
+        parts.cell[p].push_back(static_cast<std::int32_t>(k));
+        parts.pos[p].push_back(static_cast<std::uint32_t>(i));
+    }
+    return parts;
+}
+
 RoutedWater route_to_pits(const FlowDirections& fd, const std::vector<double>& volume,
                           Routing routing) {
     const auto& g = fd.grid();

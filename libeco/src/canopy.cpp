@@ -9,6 +9,8 @@
 #include <numeric>
 #include <string>
 
+#include <omp.h>
+
 namespace ecoterra::eco {
 
 void CrownSet::add(const GridSpec& g, double x, double y, double r) {
@@ -36,6 +38,41 @@ void CrownSet::add(const GridSpec& g, double x, double y, double r) {
     }
     offset.push_back(static_cast<std::uint32_t>(spans.size()));
     cells.push_back(n);
+}
+
+void CrownSet::append(const CrownSet& other) {
+    if (offset.empty()) offset.push_back(0);
+    const auto base = static_cast<std::uint32_t>(spans.size());
+    spans.insert(spans.end(), other.spans.begin(), other.spans.end());
+    for (std::size_t i = 1; i < other.offset.size(); ++i) offset.push_back(base + other.offset[i]);
+    cells.insert(cells.end(), other.cells.begin(), other.cells.end());
+}
+
+CrownSet crown_set(const GridSpec& g, const std::vector<double>& x, const std::vector<double>& y,
+                   const std::vector<double>& r) {
+    const std::size_t n = x.size();
+    std::vector<CrownSet> part((n + kCrownBlock - 1) / kCrownBlock);
+    const auto blocks = static_cast<std::int64_t>(part.size());
+#pragma omp parallel for schedule(dynamic,                                                         \
+                                  1) if (static_cast <std::int64_t>(n) >= parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        CrownSet& c = part[static_cast<std::size_t>(b)];
+        c.clear();
+        const std::size_t p0 = static_cast<std::size_t>(b) * kCrownBlock;
+        for (std::size_t p = p0; p < std::min(n, p0 + kCrownBlock); ++p) c.add(g, x[p], y[p], r[p]);
+    }
+    CrownSet out;
+    out.clear();
+    std::size_t spans = 0;
+    for (const CrownSet& c : part) spans += c.spans.size();
+    out.spans.reserve(spans);
+    out.offset.reserve(n + 1);
+    out.cells.reserve(n);
+    for (CrownSet& c : part) {
+        out.append(c);
+        c = CrownSet{}; // freed as it goes: the peak is one set, not two
+    }
+    return out;
 }
 
 namespace {
@@ -99,19 +136,39 @@ CellLists crowns_over_cells(const GridSpec& g, const CrownSet& crowns,
     const auto cells = static_cast<std::size_t>(g.size());
     CellLists out;
     std::vector<std::uint32_t>& start = out.start;
-    start.assign(cells + 1, 0);
-    auto for_each_cell = [&](std::uint32_t p, auto&& f) { for_each_crown_cell(g, crowns, p, f); };
-    for (std::uint32_t p = 0; p < n; ++p) for_each_cell(p, [&](std::size_t c) { ++start[c + 1]; });
-    for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
     std::vector<std::uint32_t>& ids = out.ids;
-    ids.resize(start[cells]);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    // Filled in plant order (the plants are sorted by their stem's cell, so this writes
-    // neighbouring cells' lists in turn), then each list put tallest first by a stable insertion
-    // sort: the lists a stable sort of all plants by height would fill, without its random
-    // writes.
-    for (std::uint32_t p = 0; p < n; ++p)
-        for_each_cell(p, [&](std::size_t c) { ids[fill[c]++] = p; });
+    start.assign(cells + 1, 0);
+    std::vector<std::uint32_t> fill;
+    // Each thread counts and fills the lists of its own band of rows, visiting every crown in
+    // plant order, so each list is filled in plant order whatever the thread count. (The plants
+    // are sorted by their stem's cell, so this writes neighbouring cells' lists in turn.) Then
+    // each list is put tallest first by a stable insertion sort: the lists a stable sort of all
+    // plants by height would fill, without its random writes.
+    const bool banded = static_cast<std::int64_t>(crowns.spans.size()) >= parallel_min_items();
+#pragma omp parallel if (banded)
+    {
+        const int t = omp_get_thread_num(), team = omp_get_num_threads();
+        const int r0 = g.ny * t / team, r1 = g.ny * (t + 1) / team;
+        auto for_each_band_cell = [&](auto&& f) {
+            for (std::uint32_t p = 0; p < n; ++p)
+                for (std::uint32_t s = crowns.offset[p]; s < crowns.offset[p + 1]; ++s) {
+                    const Span& sp = crowns.spans[s];
+                    if (sp.row < r0 || sp.row >= r1) continue;
+                    const std::size_t row =
+                        static_cast<std::size_t>(sp.row) * static_cast<std::size_t>(g.nx);
+                    for (int x = sp.x0; x <= sp.x1; ++x) f(p, row + static_cast<std::size_t>(x));
+                }
+        };
+        for_each_band_cell([&](std::uint32_t, std::size_t c) { ++start[c + 1]; });
+#pragma omp barrier
+#pragma omp single
+        {
+            for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+            ids.resize(start[cells]);
+            fill.assign(start.begin(), start.end() - 1);
+        }
+        for_each_band_cell([&](std::uint32_t p, std::size_t c) { ids[fill[c]++] = p; });
+    }
     const auto nc = static_cast<std::int64_t>(cells);
     const bool parallel = static_cast<std::int64_t>(ids.size()) >= parallel_min_items();
 #pragma omp parallel for schedule(static) if (parallel)

@@ -30,10 +30,12 @@ double SoilWater::relative(int i, int j) const {
 void plant_water_demand(const Population& pop, const std::vector<Species>& species,
                         const std::vector<double>& phen, double et0_m, GrowthModel model,
                         std::vector<double>& demand_m3) {
-    const std::size_t n = pop.size();
-    demand_m3.assign(n, 0.0);
+    const auto n = static_cast<std::int64_t>(pop.size());
+    demand_m3.assign(pop.size(), 0.0);
     const bool by_light = model != GrowthModel::paper002;
-    for (std::size_t k = 0; k < n; ++k) {
+#pragma omp parallel for schedule(static) if (n >= parallel_min_items())
+    for (std::int64_t q = 0; q < n; ++q) {
+        const auto k = static_cast<std::size_t>(q);
         if (!pop.alive[k]) continue;
         const auto sp = pop.species[k];
         const double light = by_light ? 1.0 - pop.shade_fraction[k] : 1.0;
@@ -185,9 +187,7 @@ void refresh_structure(Population& pop, const std::vector<Species>& species, Gro
 }
 
 void Canopy::rebuild(const Population& pop) {
-    crowns.clear();
-    for (std::size_t k = 0; k < pop.size(); ++k)
-        crowns.add(plant_grid, pop.x_m[k], pop.y_m[k], pop.crown_radius_m[k]);
+    crowns = crown_set(plant_grid, pop.x_m, pop.y_m, pop.crown_radius_m);
     roots = root_cells(crowns, map);
 }
 

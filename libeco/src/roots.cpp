@@ -6,11 +6,12 @@
 
 namespace ecoterra::eco {
 
-RootCells root_cells(const CrownSet& roots, const CellMap& map) {
-    RootCells r;
-    r.offset.reserve(roots.size() + 1);
+namespace {
+/// Appends the root cells of plants [p0, p1) to r.
+void add_root_cells(const CrownSet& roots, const CellMap& map, std::size_t p0, std::size_t p1,
+                    RootCells& r) {
     std::vector<std::int32_t> count; // per hydrology cell of the crown's bounding box
-    for (std::size_t p = 0; p < roots.size(); ++p) {
+    for (std::size_t p = p0; p < p1; ++p) {
         const double inv_n = 1.0 / roots.cells[p];
         const std::uint32_t s0 = roots.offset[p], s1 = roots.offset[p + 1];
         if (map.factor == 1) {
@@ -48,6 +49,42 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
                 }
         }
         r.offset.push_back(static_cast<std::uint32_t>(r.cell.size()));
+    }
+}
+
+/// Appends `o`'s plants to r.
+void append(RootCells& r, const RootCells& o) {
+    const auto base = static_cast<std::uint32_t>(r.cell.size());
+    for (std::size_t i = 1; i < o.offset.size(); ++i) r.offset.push_back(base + o.offset[i]);
+    r.cell.insert(r.cell.end(), o.cell.begin(), o.cell.end());
+    r.share.insert(r.share.end(), o.share.begin(), o.share.end());
+    r.length.insert(r.length.end(), o.length.begin(), o.length.end());
+    r.additions += o.additions;
+}
+} // namespace
+
+RootCells root_cells(const CrownSet& roots, const CellMap& map) {
+    // In fixed blocks of plants in parallel, joined in order: the entries of one pass.
+    const std::size_t n = roots.size();
+    std::vector<RootCells> part((n + kCrownBlock - 1) / kCrownBlock);
+    const auto blocks = static_cast<std::int64_t>(part.size());
+#pragma omp parallel for schedule(dynamic,                                                         \
+                                  1) if (static_cast <std::int64_t>(n) >= parallel_min_items())
+    for (std::int64_t b = 0; b < blocks; ++b) {
+        const std::size_t p0 = static_cast<std::size_t>(b) * kCrownBlock;
+        add_root_cells(roots, map, p0, std::min(n, p0 + kCrownBlock),
+                       part[static_cast<std::size_t>(b)]);
+    }
+    RootCells r;
+    std::size_t entries = 0;
+    for (const RootCells& o : part) entries += o.cell.size();
+    r.offset.reserve(n + 1);
+    r.cell.reserve(entries);
+    r.share.reserve(entries);
+    if (map.factor == 1) r.length.reserve(entries);
+    for (RootCells& o : part) {
+        append(r, o);
+        o = RootCells{}; // freed as it goes
     }
     return r;
 }

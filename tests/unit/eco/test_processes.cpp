@@ -184,6 +184,67 @@ TEST_CASE("crowns cover the cells whose centres lie within the radius, and the s
     CHECK(c.cells[2] == corner);
 }
 
+TEST_CASE("crown_set and root_cells: built in blocks on 1-3 threads, the crowns and roots of "
+          "one plant at a time",
+          "[eco][canopy][roots]") {
+    // Stands of 3 to 3.5 blocks of plants (kCrownBlock), so that the joins are crossed, on a
+    // plant grid equal to the hydrology grid and on one 2 and 3 times finer.
+    Rng rng(31, "crown_set");
+    for (int stand = 0; stand < 4; ++stand) {
+        const auto g = grid(120 + 30 * stand);
+        const std::size_t n = 3 * kCrownBlock + static_cast<std::size_t>(rng.uniform() * 2000);
+        std::vector<double> x(n), y(n), r(n);
+        for (std::size_t p = 0; p < n; ++p) {
+            x[p] = g.nx * rng.uniform(), y[p] = g.ny * rng.uniform();
+            r[p] = stand % 2 ? 0.05 + 0.3 * rng.uniform() : 0.3 + 5 * rng.uniform();
+        }
+        CrownSet one_by_one;
+        one_by_one.clear();
+        for (std::size_t p = 0; p < n; ++p) one_by_one.add(g, x[p], y[p], r[p]);
+        const int saved_threads = omp_get_max_threads();
+        set_parallel_min_items(1);
+        for (int threads : {1, 2, 3}) {
+            CAPTURE(stand, threads);
+            omp_set_num_threads(threads);
+            const CrownSet c = crown_set(g, x, y, r);
+            REQUIRE(c.offset == one_by_one.offset);
+            REQUIRE(c.cells == one_by_one.cells);
+            REQUIRE(c.spans.size() == one_by_one.spans.size());
+            for (std::size_t s = 0; s < c.spans.size(); ++s) {
+                REQUIRE(c.spans[s].row == one_by_one.spans[s].row);
+                REQUIRE(c.spans[s].x0 == one_by_one.spans[s].x0);
+                REQUIRE(c.spans[s].x1 == one_by_one.spans[s].x1);
+            }
+            for (int factor : {1, 2, 3}) {
+                CellMap map;
+                map.factor = factor;
+                map.hydro_nx = g.nx / factor;
+                const RootCells roots = root_cells(c, map);
+                REQUIRE(roots.size() == n);
+                std::int64_t additions = 0;
+                for (std::size_t p = 0; p < n; p += 97) { // every 97th plant alone
+                    CrownSet single;
+                    single.clear();
+                    single.add(g, x[p], y[p], r[p]);
+                    const RootCells alone = root_cells(single, map);
+                    const std::uint32_t e0 = roots.offset[p];
+                    REQUIRE(roots.offset[p + 1] - e0 == alone.offset[1]);
+                    for (std::uint32_t e = 0; e < alone.offset[1]; ++e) {
+                        REQUIRE(roots.cell[e0 + e] == alone.cell[e]);
+                        REQUIRE(roots.share[e0 + e] == alone.share[e]);
+                        REQUIRE(roots.cells_of(e0 + e) == alone.cells_of(e));
+                    }
+                }
+                for (std::uint32_t e = 0; e < roots.cell.size(); ++e)
+                    additions += roots.cells_of(e);
+                CHECK(roots.additions == additions);
+            }
+        }
+        omp_set_num_threads(saved_threads);
+        set_parallel_min_items(kMinParallelItems);
+    }
+}
+
 TEST_CASE("root water: a cell shared by two root balls is split by their requests",
           "[eco][roots]") {
     // Plant 0 roots in cells 0 and 1, plant 1 in cell 1 only (a 2x1 hydrology grid).

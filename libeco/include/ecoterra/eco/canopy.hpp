@@ -43,7 +43,18 @@ struct CrownSet {
     /// Appends the crown of radius r (m) centred at (x, y) (m).
     void add(const GridSpec& g, double x, double y, double r);
     std::size_t size() const { return cells.size(); }
+    /// Appends `other`'s crowns after these.
+    void append(const CrownSet& other);
 };
+
+/// Plants per block of the parallel builds (crown_set, root_cells): each block's part is built
+/// alone and the parts joined in order.
+inline constexpr std::size_t kCrownBlock = 4096;
+
+/// The crowns of radius r[p] (m) centred at (x[p], y[p]) (m), in plant order: CrownSet::add of
+/// each in turn, built in fixed blocks of plants in parallel and joined (the same set).
+CrownSet crown_set(const GridSpec& g, const std::vector<double>& x, const std::vector<double>& y,
+                   const std::vector<double>& r);
 
 enum class ShadingMode { blocking, beer_lambert, crown_profile };
 

@@ -13,6 +13,45 @@
 
 namespace ecoterra::hydro {
 
+namespace {
+
+/// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
+/// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close
+/// in memory.
+std::vector<std::int64_t> upstream_first_order(const RasterD& dem) {
+    const auto& g = dem.grid();
+    const double* z = dem.data();
+    constexpr std::uint8_t kDone = 255;
+    std::vector<std::uint8_t> higher(static_cast<std::size_t>(g.size()), 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i)
+            dem.for_moore(i, j, [&](int a, int b) {
+                higher[cell_index(g, i, j)] += z[cell_index(g, a, b)] > z[cell_index(g, i, j)];
+            });
+    std::vector<std::int64_t> order, stack;
+    order.reserve(static_cast<std::size_t>(g.size()));
+    for (std::int64_t c = 0; c < g.size(); ++c) {
+        if (higher[c] != 0) continue;
+        higher[c] = kDone;
+        stack.push_back(c);
+        while (!stack.empty()) {
+            const std::int64_t x = stack.back();
+            stack.pop_back();
+            order.push_back(x);
+            const int i = static_cast<int>(x % g.nx), j = static_cast<int>(x / g.nx);
+            dem.for_moore(i, j, [&](int a, int b) {
+                const std::int64_t y = cell_index(g, a, b);
+                if (z[y] < z[x] && --higher[y] == 0) {
+                    higher[y] = kDone;
+                    stack.push_back(y);
+                }
+            });
+        }
+    }
+    return order;
+}
+} // namespace
+
 const std::vector<Column<BudgetRow>>& daily_budget_columns() {
     using R = BudgetRow;
     const char* mm = "mm/day";
@@ -243,10 +282,6 @@ HydrologyModel::HydrologyModel(const RasterD& dem, const SoilMap& soil, const Ra
     m_top_theta = m_theta;
     set_vegetation_density(veg);
     m_order = upstream_first_order(dem);
-    if (opt.routing != Routing::mfd) { // D8 routes by basin, two parts side by side
-        m_parts = split_by_basin(m_catch.flow(), m_order);
-        std::vector<std::int64_t>().swap(m_order);
-    }
     m_runoff.assign(static_cast<std::size_t>(dem.size()), 0.0);
     m_recharge.assign(static_cast<std::size_t>(dem.size()), 0.0);
     init_soil_layers();
@@ -423,10 +458,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
                            m_slope.data(), m_opt.flat_slope, m_veg.data(), m_soil.texture.data()};
         if (gash) rain.intercepted_m = m_intercepted.data();
         partition_rain(m_catch, soil, rain, m_runoff, recharge, f.infiltration);
-        if (m_opt.routing == Routing::mfd)
-            route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
-        else
-            route_runoff_d8(m_catch, soil, m_parts, m_runoff, f.infiltration);
+        route_runoff(m_catch, soil, m_order, m_opt.routing, m_runoff, f.infiltration);
     }
     m_catch.equilibrate();
     // Today's interception (its energy is not the leaves' to transpire); none on a dry day.

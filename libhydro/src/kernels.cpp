@@ -8,10 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <sstream>
-
-#include <omp.h>
 
 namespace ecoterra::hydro {
 
@@ -87,23 +84,10 @@ void partition_rain(const Catchments& lakes, const SoilColumns& soil, const Rain
     infiltration_m3 += sums[0];
 }
 
-namespace {
-/// The run-on `q` (m3) a dry cell k absorbs, up to its ceiling; returns it.
-double absorb_run_on(const SoilColumns& soil, std::int64_t k, double q) {
-    const double depth = soil.depth_m, area = soil.cell_area_m2;
-    double& th = soil.theta[k];
-    const double absorb = std::min(q, std::max(0.0, (soil.ceiling_at(k) - th) * depth * area));
-    if (absorb > 0) {
-        th += absorb / (depth * area);
-        soil.refill_surface(k, absorb);
-    }
-    return absorb;
-}
-} // namespace
-
 void route_runoff(Catchments& lakes, const SoilColumns& soil,
                   const std::vector<std::int64_t>& order, Routing routing,
                   std::vector<double>& runoff, double& infiltration_m3) {
+    const double area = soil.cell_area_m2, depth = soil.depth_m;
     const FlowDirections& fd = lakes.flow();
     for (const std::int64_t k : order) {
         double q = runoff[k];
@@ -116,8 +100,11 @@ void route_runoff(Catchments& lakes, const SoilColumns& soil,
             lakes.add_water(k, q);
             continue;
         }
-        const double absorb = absorb_run_on(soil, k, q);
+        double& th = soil.theta[k];
+        const double absorb = std::min(q, std::max(0.0, (soil.ceiling_at(k) - th) * depth * area));
         if (absorb > 0) {
+            th += absorb / (depth * area);
+            soil.refill_surface(k, absorb);
             infiltration_m3 += absorb;
             q -= absorb;
         }
@@ -134,72 +121,6 @@ void route_runoff(Catchments& lakes, const SoilColumns& soil,
         const int n = mfd_shares(fd, k, shares);
         for (int r = 0; r < n; ++r) runoff[shares[r].first] += q * shares[r].second;
     }
-}
-
-namespace {
-/// What happened at place `pos` of the routing order: water (m3) reached a catchment or the
-/// edge at `cell`, or was absorbed (cell kAbsorbed).
-struct RoutingEvent {
-    std::uint32_t pos;
-    std::int32_t cell;
-    double m3;
-};
-constexpr std::int32_t kAbsorbed = -1;
-
-/// route_runoff (D8) over one part's cells; what reaches the catchments and what is absorbed is
-/// logged, in the part's order, ending with a sentinel after every place.
-void route_part(const Catchments& lakes, const SoilColumns& soil,
-                const std::vector<std::int32_t>& cell, const std::vector<std::uint32_t>& pos,
-                double* runoff, std::vector<RoutingEvent>& log) {
-    const FlowDirections& fd = lakes.flow();
-    for (std::size_t i = 0; i < cell.size(); ++i) {
-        const std::int64_t k = cell[i];
-        double q = runoff[k];
-        if (q <= 0) continue;
-        if (fd.is_outlet(k) || lakes.owner(k) != 0) {
-            log.push_back({pos[i], cell[i], q});
-            continue;
-        }
-        const double absorb = absorb_run_on(soil, k, q);
-        if (absorb > 0) {
-            log.push_back({pos[i], kAbsorbed, absorb});
-            q -= absorb;
-        }
-        if (q <= 0) continue;
-        if (fd.is_pit(k))
-            log.push_back({pos[i], cell[i], q}); // add_water of a dry pit is add_to_pit
-        else
-            runoff[fd.receiver(k)] += q;
-    }
-    log.push_back({std::numeric_limits<std::uint32_t>::max(), kAbsorbed, 0.0});
-}
-} // namespace
-
-void route_runoff_d8(Catchments& lakes, const SoilColumns& soil, const RoutingParts& parts,
-                     std::vector<double>& runoff, double& infiltration_m3) {
-    std::array<std::vector<RoutingEvent>, 2> log;
-    const bool parallel =
-        parts.size() >= parallel_min_items() && omp_get_max_threads() > 1 && !omp_in_parallel();
-#pragma omp parallel for schedule(static, 1) num_threads(2) if (parallel)
-    for (int p = 0; p < 2; ++p)
-        route_part(lakes, soil, parts.cell[p], parts.pos[p], runoff.data(), log[p]);
-    // The two logs merged by place: the absorbed water summed and the catchments' water added in
-    // the routing order, as route_runoff does (the catchments' volumes and the order new ones are
-    // created in depend on it). The parts interleave finely, so the merge picks without a branch.
-    const RoutingEvent *a = log[0].data(), *b = log[1].data();
-    const std::size_t events = log[0].size() + log[1].size() - 2;
-    double absorbed = infiltration_m3;
-    for (std::size_t n = 0; n < events; ++n) {
-        const bool first = a->pos < b->pos;
-        const RoutingEvent* e = first ? a : b;
-        a += first;
-        b += !first;
-        if (e->cell == kAbsorbed)
-            absorbed += e->m3;
-        else
-            lakes.add_water(e->cell, e->m3);
-    }
-    infiltration_m3 = absorbed;
 }
 
 namespace {

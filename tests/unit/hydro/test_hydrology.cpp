@@ -1,12 +1,8 @@
 #include "ecoterra/hydro/hydrology.hpp"
 #include "ecoterra/hydro/kernels.hpp"
-#include "ecoterra/parallel.hpp"
 #include "ecoterra/terrain/weierstrass.hpp"
 
 #include <catch2/catch.hpp>
-
-#include <algorithm>
-#include <random>
 
 using namespace ecoterra;
 using namespace ecoterra::hydro;
@@ -216,109 +212,4 @@ TEST_CASE("kernels alone: rain partition and evapotranspiration conserve water c
     CHECK(transpiration == Approx(given));
     CHECK(transpiration + evaporation == Approx(removed));
     CHECK(transpiration > 0);
-}
-
-namespace {
-/// A DEM of case `c`: multifractal (relief 3 m), white noise or a tilted plane with noise.
-RasterD routing_case_dem(int c, int n) {
-    if (c % 3 == 0) return rough_dem(n, 1.0 + 0.5 * (c % 4));
-    const GridSpec g{n, n + c % 5, 1.0, 0, 0};
-    RasterD dem(g);
-    std::mt19937_64 rng(static_cast<std::uint64_t>(c));
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int j = 0; j < g.ny; ++j)
-        for (int i = 0; i < g.nx; ++i)
-            dem(i, j) = (c % 3 == 1 ? 0.0 : 0.02 * i + 0.01 * j) + u(rng);
-    return dem;
-}
-} // namespace
-
-TEST_CASE("D8 routing by basin in two parts: every cell, catchment and sum as the serial order "
-          "leaves them",
-          "[hydrology][kernels][routing]") {
-    // 24 cases: fractal, white-noise and tilted-noisy DEMs of 17-80 cells a side, both D8 rules,
-    // dry and ponded catchments (new catchments created, or water added to standing ones), on two
-    // threads and on one.
-    for (int c = 0; c < 24; ++c) {
-        const int n = 17 + (c * 7) % 64;
-        const RasterD dem = routing_case_dem(c, n);
-        const GridSpec& g = dem.grid();
-        const Routing routing = c % 2 ? Routing::d8_lowest : Routing::d8;
-        const double ponded_m = (c / 2) % 3 == 0 ? 0.0 : 0.01 * ((c / 2) % 3);
-        INFO("case " << c << ": " << g.nx << " x " << g.ny << ", " << routing_name(routing)
-                     << ", ponded " << ponded_m << " m");
-        const std::vector<std::int64_t> order = upstream_first_order(dem);
-        Catchments serial = pond(dem, ponded_m, routing), split = pond(dem, ponded_m, routing);
-        const RoutingParts parts = split_by_basin(split.flow(), order);
-
-        // The parts: each keeps the order, together they hold every cell once, and no receiver
-        // lies in the other part; the larger is at most the largest basin over half.
-        std::vector<int> part(static_cast<std::size_t>(g.size()), -1);
-        for (int p = 0; p < 2; ++p)
-            for (std::size_t i = 0; i < parts.cell[p].size(); ++i) {
-                REQUIRE(order[parts.pos[p][i]] == parts.cell[p][i]);
-                if (i > 0) REQUIRE(parts.pos[p][i] > parts.pos[p][i - 1]);
-                REQUIRE(part[static_cast<std::size_t>(parts.cell[p][i])] == -1);
-                part[static_cast<std::size_t>(parts.cell[p][i])] = p;
-            }
-        REQUIRE(parts.size() == g.size());
-        const FlowDirections& fd = split.flow();
-        std::vector<std::int64_t> basin_cells(static_cast<std::size_t>(g.size()), 0);
-        for (std::int64_t k = 0; k < g.size(); ++k) {
-            ++basin_cells[static_cast<std::size_t>(fd.terminus(k))];
-            if (!fd.is_outlet(k) && !fd.is_pit(k)) REQUIRE(part[k] == part[fd.receiver(k)]);
-        }
-        const auto largest = *std::max_element(basin_cells.begin(), basin_cells.end());
-        const auto n0 = static_cast<std::int64_t>(parts.cell[0].size());
-        CHECK(std::abs(2 * n0 - g.size()) <= largest);
-
-        // The day's soil and run-off: theta from the wilting point to above the ceiling, run-off
-        // on 80 % of the cells, a surface layer's depletion.
-        const SoilMap soil = uniform_soil(g, SoilComposition{30, 50, 20, 6.5, {}});
-        std::mt19937_64 rng(100 + static_cast<std::uint64_t>(c));
-        std::uniform_real_distribution<double> u(0.0, 1.0);
-        const auto cells = static_cast<std::size_t>(g.size());
-        std::vector<double> theta(cells), runoff(cells), depletion(cells);
-        for (std::size_t k = 0; k < cells; ++k) {
-            const double wp = soil.wilting_point.data()[k], fc = soil.field_capacity.data()[k];
-            theta[k] = wp + 1.1 * u(rng) * (fc - wp);
-            runoff[k] = u(rng) < 0.8 ? 0.02 * u(rng) : 0.0;
-            depletion[k] = 10 * u(rng);
-        }
-        auto theta2 = theta, runoff2 = runoff, depletion2 = depletion;
-        const SoilColumns a{theta.data(),
-                            soil.field_capacity.data(),
-                            soil.wilting_point.data(),
-                            soil.ksat_m_per_s.data(),
-                            0.5,
-                            g.cell_size_m * g.cell_size_m,
-                            nullptr,
-                            depletion.data()};
-        SoilColumns b = a;
-        b.theta = theta2.data(), b.surface_depletion_mm = depletion2.data();
-        double inf_a = 1.0, inf_b = 1.0;
-        route_runoff(serial, a, order, routing, runoff, inf_a);
-        set_parallel_min_items(c % 4 == 3 ? kMinParallelItems : 1);
-        route_runoff_d8(split, b, parts, runoff2, inf_b);
-        set_parallel_min_items(kMinParallelItems);
-
-        for (std::size_t k = 0; k < cells; ++k) {
-            REQUIRE(theta2[k] == theta[k]);
-            REQUIRE(depletion2[k] == depletion[k]);
-        }
-        REQUIRE(inf_b == inf_a); // summed in the same order
-        CHECK(inf_b > 1.0);
-        REQUIRE(split.lost_m3() == serial.lost_m3());
-        for (int settle = 0; settle < 2; ++settle) {
-            const auto &ka = serial.catchments(), &kb = split.catchments();
-            REQUIRE(ka.size() == kb.size());
-            REQUIRE(!ka.empty());
-            for (std::size_t i = 0; i < ka.size(); ++i) {
-                REQUIRE(kb[i].id == ka[i].id);
-                REQUIRE(kb[i].volume_m3 == ka[i].volume_m3);
-                REQUIRE(kb[i].level_m == ka[i].level_m);
-            }
-            serial.equilibrate(), split.equilibrate();
-        }
-    }
 }

@@ -197,8 +197,7 @@ private:
     Catchments m_catch;
     RunoffTable m_table;
     RasterD m_theta, m_slope, m_coef, m_transp_supplied;
-    std::vector<std::int64_t> m_order; ///< every cell after its higher neighbours (MFD routing)
-    RoutingParts m_parts;              ///< the same split by basin (D8 routing)
+    std::vector<std::int64_t> m_order;        ///< every cell after its higher neighbours
     std::vector<double> m_runoff, m_recharge; ///< per-cell scratch of a step, m3
     RasterD m_de;                             ///< surface-layer depletion, mm
     RasterD m_top_theta;                      ///< the critical layer's water content, m3/m3

@@ -34,7 +34,6 @@
 #include "ecoterra/units.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -102,14 +101,6 @@ void partition_rain(const Catchments& lakes, const SoilColumns& soil, const Rain
 void route_runoff(Catchments& lakes, const SoilColumns& soil,
                   const std::vector<std::int64_t>& order, Routing routing,
                   std::vector<double>& runoff, double& infiltration_m3);
-
-/// 4 under D8 routing: route_runoff over `parts`, the two on two threads when there are
-/// parallel_min_items() cells, with route_runoff's results bit for bit: each part logs the water
-/// its cells absorb and pass to the catchments with their places in the order, and the two logs
-/// are merged by place (the sum of the absorbed water and the catchments' additions taken in the
-/// routing order).
-void route_runoff_d8(Catchments& lakes, const SoilColumns& soil, const RoutingParts& parts,
-                     std::vector<double>& runoff, double& infiltration_m3);
 
 /// The evaporative demands of the day, mm.
 struct SurfaceDemand {

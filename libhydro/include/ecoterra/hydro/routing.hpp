@@ -66,25 +66,6 @@ private:
 int mfd_shares(const FlowDirections& fd, std::int64_t c,
                std::array<std::pair<std::int64_t, double>, 8>& shares);
 
-/// Every cell after all its strictly higher neighbours (a topological order of D8 and MFD flow),
-/// built by Kahn's algorithm following each chain downhill, so that consecutive cells are close
-/// in memory.
-std::vector<std::int64_t> upstream_first_order(const RasterD& dem);
-
-/// The cells of a D8 routing order (route_runoff_d8) split by drainage basin (every cell draining
-/// to one pit or outlet in the same part) into two parts of about equal size. Each part keeps the
-/// cells in the routing order and holds each one's place in it (`pos`). No water passes between the
-/// parts, so they route side by side.
-struct RoutingParts {
-    std::array<std::vector<std::int32_t>, 2> cell;
-    std::array<std::vector<std::uint32_t>, 2> pos;
-    std::int64_t size() const { return static_cast<std::int64_t>(cell[0].size() + cell[1].size()); }
-};
-
-/// The parts of `order` (every cell after its higher neighbours) by `fd`'s D8 basins, the largest
-/// basins first to the smaller part (equal sizes in the order of their pit or outlet cell).
-RoutingParts split_by_basin(const FlowDirections& fd, const std::vector<std::int64_t>& order);
-
 struct RoutedWater {
     std::vector<double> at_pit_m3; ///< per cell: volume arriving at that pit (0 elsewhere)
     double lost_m3 = 0.0;          ///< volume that reached an outlet

@@ -52,15 +52,11 @@ CrownSet crown_set(const GridSpec& g, const std::vector<double>& x, const std::v
                    const std::vector<double>& r) {
     const std::size_t n = x.size();
     std::vector<CrownSet> part((n + kCrownBlock - 1) / kCrownBlock);
-    const auto blocks = static_cast<std::int64_t>(part.size());
-#pragma omp parallel for schedule(dynamic,                                                         \
-                                  1) if (static_cast <std::int64_t>(n) >= parallel_min_items())
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        CrownSet& c = part[static_cast<std::size_t>(b)];
+    for_each_plant_block(n, [&](std::size_t b, std::size_t first, std::size_t end) {
+        CrownSet& c = part[b];
         c.clear();
-        const std::size_t p0 = static_cast<std::size_t>(b) * kCrownBlock;
-        for (std::size_t p = p0; p < std::min(n, p0 + kCrownBlock); ++p) c.add(g, x[p], y[p], r[p]);
-    }
+        for (std::size_t p = first; p < end; ++p) c.add(g, x[p], y[p], r[p]);
+    });
     CrownSet out;
     out.clear();
     std::size_t spans = 0;
@@ -70,7 +66,7 @@ CrownSet crown_set(const GridSpec& g, const std::vector<double>& x, const std::v
     out.cells.reserve(n);
     for (CrownSet& c : part) {
         out.append(c);
-        c = CrownSet{}; // freed as it goes: the peak is one set, not two
+        c = CrownSet{}; // each part freed once joined
     }
     return out;
 }

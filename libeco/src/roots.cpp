@@ -67,14 +67,9 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
     // In fixed blocks of plants in parallel, joined in order: the entries of one pass.
     const std::size_t n = roots.size();
     std::vector<RootCells> part((n + kCrownBlock - 1) / kCrownBlock);
-    const auto blocks = static_cast<std::int64_t>(part.size());
-#pragma omp parallel for schedule(dynamic,                                                         \
-                                  1) if (static_cast <std::int64_t>(n) >= parallel_min_items())
-    for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::size_t p0 = static_cast<std::size_t>(b) * kCrownBlock;
-        add_root_cells(roots, map, p0, std::min(n, p0 + kCrownBlock),
-                       part[static_cast<std::size_t>(b)]);
-    }
+    for_each_plant_block(n, [&](std::size_t b, std::size_t first, std::size_t end) {
+        add_root_cells(roots, map, first, end, part[b]);
+    });
     RootCells r;
     std::size_t entries = 0;
     for (const RootCells& o : part) entries += o.cell.size();
@@ -84,7 +79,7 @@ RootCells root_cells(const CrownSet& roots, const CellMap& map) {
     if (map.factor == 1) r.length.reserve(entries);
     for (RootCells& o : part) {
         append(r, o);
-        o = RootCells{}; // freed as it goes
+        o = RootCells{}; // each part freed once joined
     }
     return r;
 }

@@ -18,7 +18,10 @@
 //                 codominant of nearly the same height shades a plant with its upper crown only,
 //                 and each of two equal crowns shades the other.
 // The ground shade raster is 1 where any crown covers a cell (blocking) or 1 - exp(-k L_total).
+#include "ecoterra/parallel.hpp"
 #include "ecoterra/raster.hpp"
+
+#include <algorithm>
 
 #include <cstdint>
 #include <vector>
@@ -50,6 +53,21 @@ struct CrownSet {
 /// Plants per block of the parallel builds (crown_set, root_cells): each block's part is built
 /// alone and the parts joined in order.
 inline constexpr std::size_t kCrownBlock = 4096;
+
+/// Calls f(part, first, end) for each block [first, end) of kCrownBlock plants of n (part is the
+/// block's index), in parallel from parallel_min_items() plants; returns the number of blocks.
+template <class F>
+std::size_t for_each_plant_block(std::size_t n, F&& f) {
+    const std::size_t blocks = (n + kCrownBlock - 1) / kCrownBlock;
+    const bool parallel = static_cast<std::int64_t>(n) >= parallel_min_items();
+    const auto nb = static_cast<std::int64_t>(blocks);
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+    for (std::int64_t b = 0; b < nb; ++b) {
+        const std::size_t first = static_cast<std::size_t>(b) * kCrownBlock;
+        f(static_cast<std::size_t>(b), first, std::min(n, first + kCrownBlock));
+    }
+    return blocks;
+}
 
 /// The crowns of radius r[p] (m) centred at (x[p], y[p]) (m), in plant order: CrownSet::add of
 /// each in turn, built in fixed blocks of plants in parallel and joined (the same set).

@@ -51,7 +51,7 @@ void CrownSet::append(const CrownSet& other) {
 CrownSet crown_set(const GridSpec& g, const std::vector<double>& x, const std::vector<double>& y,
                    const std::vector<double>& r) {
     const std::size_t n = x.size();
-    std::vector<CrownSet> part((n + kCrownBlock - 1) / kCrownBlock);
+    std::vector<CrownSet> part(plant_blocks(n));
     for_each_plant_block(n, [&](std::size_t b, std::size_t first, std::size_t end) {
         CrownSet& c = part[b];
         c.clear();

@@ -66,7 +66,7 @@ void append(RootCells& r, const RootCells& o) {
 RootCells root_cells(const CrownSet& roots, const CellMap& map) {
     // In fixed blocks of plants in parallel, joined in order: the entries of one pass.
     const std::size_t n = roots.size();
-    std::vector<RootCells> part((n + kCrownBlock - 1) / kCrownBlock);
+    std::vector<RootCells> part(plant_blocks(n));
     for_each_plant_block(n, [&](std::size_t b, std::size_t first, std::size_t end) {
         add_root_cells(roots, map, first, end, part[b]);
     });

@@ -22,7 +22,6 @@
 #include "ecoterra/raster.hpp"
 
 #include <algorithm>
-
 #include <cstdint>
 #include <vector>
 
@@ -54,19 +53,22 @@ struct CrownSet {
 /// alone and the parts joined in order.
 inline constexpr std::size_t kCrownBlock = 4096;
 
-/// Calls f(part, first, end) for each block [first, end) of kCrownBlock plants of n (part is the
-/// block's index), in parallel from parallel_min_items() plants; returns the number of blocks.
+/// The number of blocks of kCrownBlock plants that n plants fill.
+inline std::size_t plant_blocks(std::size_t n) {
+    return (n + kCrownBlock - 1) / kCrownBlock;
+}
+
+/// Calls f(block, first, end) for each block [first, end) of kCrownBlock plants of n, in parallel
+/// from parallel_min_items() plants.
 template <class F>
-std::size_t for_each_plant_block(std::size_t n, F&& f) {
-    const std::size_t blocks = (n + kCrownBlock - 1) / kCrownBlock;
+void for_each_plant_block(std::size_t n, F&& f) {
     const bool parallel = static_cast<std::int64_t>(n) >= parallel_min_items();
-    const auto nb = static_cast<std::int64_t>(blocks);
+    const auto nb = static_cast<std::int64_t>(plant_blocks(n));
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
     for (std::int64_t b = 0; b < nb; ++b) {
         const std::size_t first = static_cast<std::size_t>(b) * kCrownBlock;
         f(static_cast<std::size_t>(b), first, std::min(n, first + kCrownBlock));
     }
-    return blocks;
 }
 
 /// The crowns of radius r[p] (m) centred at (x[p], y[p]) (m), in plant order: CrownSet::add of

@@ -75,7 +75,11 @@ namespace {
 /// The leaf area of crown q (lai per crown area, top `top_m`, depth `depth_m`) above height z.
 double leaf_above(double lai, double top_m, double depth_m, double z) {
     if (!(top_m > z)) return 0.0;
-    return depth_m > 0 ? lai * std::min(1.0, (top_m - z) / depth_m) : lai;
+    // A crown wholly above z (the common case under a closed canopy) needs no division: there
+    // (top - z) / depth >= 1 and the minimum is 1, so both branches give the same bits.
+    const double over = top_m - z;
+    if (!(depth_m > 0) || over >= depth_m) return lai;
+    return lai * std::min(1.0, over / depth_m);
 }
 
 /// The crowns ordered by their first row (a stable counting sort).

@@ -7,6 +7,7 @@ find_package(PNG REQUIRED)                             # libpng-dev
 find_package(GDAL CONFIG REQUIRED)                     # libgdal-dev
 find_package(CLI11 CONFIG REQUIRED)                    # libcli11-dev
 find_package(Boost 1.74 REQUIRED)                      # libboost-graph-dev (header-only parts)
+find_package(ZLIB REQUIRED)                            # zlib1g-dev (the HDF5 writer's chunks)
 find_package(SUNDIALS 6 REQUIRED)                      # libsundials-dev (CVODE, KLU)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3) # libfftw3-dev

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsundials-dev libsuitesparse-dev libboost-graph-dev
-  libhdf5-dev nlohmann-json3-dev catch2
+  libhdf5-dev zlib1g-dev nlohmann-json3-dev catch2
   libpng-dev libgdal-dev libfftw3-dev libcli11-dev libcairo2-dev
   libsdformat-dev gdal-bin
   libopenmpi-dev openmpi-bin

@@ -1,8 +1,10 @@
 #include "ecoterra/io/hdf5_writer.hpp"
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -128,6 +130,82 @@ void double_attr(hid_t obj, const std::string& name, double v) {
     put_attr(obj, name, H5T_NATIVE_DOUBLE, &v);
 }
 
+/// Raw chunk bytes compressed by one batch of write_chunks (bounds the copies held at once).
+constexpr std::size_t kBatchBytes = std::size_t{32} << 20;
+/// A batch this large compresses on all threads.
+constexpr std::size_t kParallelBytes = std::size_t{1} << 20;
+
+/// One chunk of `data` (row-major [rows, cols] of `elem`-byte values) as HDF5's filters store it:
+/// padded with zeros to the full chunk, its bytes shuffled (HDF5's shuffle filter: byte j of every
+/// value, then byte j + 1, ...) when `shuffle`, then deflated by zlib's compress2 at kDeflate, as
+/// HDF5's deflate filter calls it. `raw` and `shuffled` are scratch of the chunk's size. False
+/// if zlib fails.
+bool filter_chunk(const unsigned char* data, hsize_t rows, hsize_t cols, std::size_t elem,
+                  hsize_t y0, hsize_t x0, hsize_t crows, hsize_t ccols, bool shuffle,
+                  std::vector<unsigned char>& raw, std::vector<unsigned char>& shuffled,
+                  std::vector<unsigned char>& out) {
+    const std::size_t values = static_cast<std::size_t>(crows * ccols), bytes = values * elem;
+    raw.assign(bytes, 0);
+    const std::size_t n = static_cast<std::size_t>(std::min(ccols, cols - x0)) * elem;
+    for (hsize_t r = 0; r < crows && y0 + r < rows; ++r)
+        std::memcpy(raw.data() + r * ccols * elem, data + ((y0 + r) * cols + x0) * elem, n);
+    const unsigned char* src = raw.data();
+    if (shuffle && elem > 1 && values > 1) {
+        shuffled.resize(bytes);
+        for (std::size_t j = 0; j < elem; ++j)
+            for (std::size_t i = 0; i < values; ++i) shuffled[j * values + i] = raw[i * elem + j];
+        src = shuffled.data();
+    }
+    uLongf len = compressBound(static_cast<uLong>(bytes));
+    out.resize(len);
+    if (compress2(out.data(), &len, src, static_cast<uLong>(bytes), static_cast<int>(kDeflate)) !=
+        Z_OK)
+        return false;
+    out.resize(len);
+    return true;
+}
+
+/// Writes `data` into the chunked dataset `ds` (rank 1 or 2, created with the shuffle filter if
+/// `shuffle` and the deflate filter at kDeflate) chunk by chunk with H5Dwrite_chunk: the chunks
+/// are filtered here as HDF5 would filter them (filter_chunk), on all threads for large data, and
+/// written in order. HDF5 filters on the calling thread alone; output was a tenth of a landscape
+/// run's time. The stored bytes do not depend on the thread count.
+void write_chunks(hid_t ds, int rank, const hsize_t* dims, const hsize_t* chunk, std::size_t elem,
+                  bool shuffle, const unsigned char* data) {
+    const hsize_t rows = rank == 2 ? dims[0] : 1, cols = dims[rank - 1];
+    const hsize_t crows = rank == 2 ? chunk[0] : 1, ccols = chunk[rank - 1];
+    const hsize_t gy = (rows + crows - 1) / crows, gx = (cols + ccols - 1) / ccols;
+    const auto chunks = static_cast<std::int64_t>(gy * gx);
+    const std::size_t chunk_bytes = static_cast<std::size_t>(crows * ccols) * elem;
+    const auto batch =
+        static_cast<std::int64_t>(std::max<std::size_t>(1, kBatchBytes / chunk_bytes));
+    std::vector<std::vector<unsigned char>> out(static_cast<std::size_t>(std::min(batch, chunks)));
+    for (std::int64_t b0 = 0; b0 < chunks; b0 += batch) {
+        const std::int64_t b1 = std::min(chunks, b0 + batch);
+        const bool parallel =
+            b1 - b0 > 1 && static_cast<std::size_t>(b1 - b0) * chunk_bytes >= kParallelBytes;
+        std::atomic<bool> failed{false};
+#pragma omp parallel if (parallel)
+        {
+            std::vector<unsigned char> raw, shuffled;
+#pragma omp for schedule(dynamic, 1)
+            for (std::int64_t c = b0; c < b1; ++c) {
+                const auto cy = static_cast<hsize_t>(c) / gx, cx = static_cast<hsize_t>(c) % gx;
+                if (!filter_chunk(data, rows, cols, elem, cy * crows, cx * ccols, crows, ccols,
+                                  shuffle, raw, shuffled, out[static_cast<std::size_t>(c - b0)]))
+                    failed = true;
+            }
+        }
+        if (failed) throw Failure{"zlib's compress2 failed"};
+        for (std::int64_t c = b0; c < b1; ++c) {
+            const auto cy = static_cast<hsize_t>(c) / gx, cx = static_cast<hsize_t>(c) % gx;
+            const hsize_t offset[2] = {rank == 2 ? cy * crows : cx * ccols, cx * ccols};
+            const auto& o = out[static_cast<std::size_t>(c - b0)];
+            check(H5Dwrite_chunk(ds, H5P_DEFAULT, 0, offset, o.size(), o.data()), "H5Dwrite_chunk");
+        }
+    }
+}
+
 template <class T>
 hid_t native_type() {
     if constexpr (std::is_same_v<T, float>)
@@ -206,7 +284,11 @@ struct Hdf5Writer::Impl {
                                    plist.id(), H5P_DEFAULT),
                         "H5Dcreate"),
                   H5Dclose};
-        if (data) check(H5Dwrite(ds.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
+        if (data && chunk)
+            write_chunks(ds.id(), rank, dims, chunk, sizeof(T), shuffle,
+                         reinterpret_cast<const unsigned char*>(data));
+        else if (data)
+            check(H5Dwrite(ds.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
         attrs(ds.id());
         ds.close("H5Dclose");
     }

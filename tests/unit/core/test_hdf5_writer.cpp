@@ -1,0 +1,196 @@
+// The HDF5 writer filters its chunks itself (shuffle and deflate, on all threads) and stores them
+// with H5Dwrite_chunk. Checked against HDF5's own filter pipeline: every stored chunk must carry
+// the bytes HDF5's H5Dwrite stores for the same data and dataset properties, and HDF5's reader
+// must decode every value, over shapes with and without partial edge chunks, each element size,
+// and one and two threads.
+#include "support/temp_dir.hpp"
+
+#include "ecoterra/io/hdf5_writer.hpp"
+
+#include <catch2/catch.hpp>
+#include <hdf5.h>
+#include <omp.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+using namespace ecoterra;
+namespace fs = std::filesystem;
+
+namespace {
+
+template <class T>
+hid_t h5_type() {
+    if constexpr (std::is_same_v<T, float>)
+        return H5T_NATIVE_FLOAT;
+    else if constexpr (std::is_same_v<T, double>)
+        return H5T_NATIVE_DOUBLE;
+    else if constexpr (std::is_same_v<T, std::int32_t>)
+        return H5T_NATIVE_INT32;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+        return H5T_NATIVE_INT64;
+    else
+        return H5T_NATIVE_UINT8;
+}
+
+/// Values that compress somewhat (a smooth part) and somewhat not (random low bits).
+template <class T>
+std::vector<T> values(std::size_t n, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> noise(0, 50);
+    std::vector<T> v(n);
+    for (std::size_t i = 0; i < n; ++i)
+        v[i] = static_cast<T>(static_cast<double>(i % 977) * 0.25 + noise(rng));
+    return v;
+}
+
+template <class T>
+Raster<T> raster_of(const GridSpec& g, const std::vector<T>& v) {
+    Raster<T> r(g);
+    std::copy(v.begin(), v.end(), r.data());
+    return r;
+}
+
+/// The chunks HDF5 itself stores for `data` in a dataset of the writer's properties: its own
+/// H5Dwrite through its shuffle and deflate (level 4) filters, in a file of its own.
+template <class T>
+void reference_dataset(hid_t file, const std::vector<hsize_t>& dims,
+                       const std::vector<hsize_t>& chunk, bool shuffle,
+                       const std::vector<T>& data) {
+    const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
+    if (shuffle) H5Pset_shuffle(dcpl);
+    H5Pset_deflate(dcpl, 4);
+    const hid_t ds = H5Dcreate2(file, "/d", h5_type<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    REQUIRE(ds >= 0);
+    REQUIRE(H5Dwrite(ds, h5_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) >= 0);
+    H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+}
+
+/// The stored (filtered) bytes of the chunk at `offset`, and its filter mask.
+std::vector<unsigned char> stored_chunk(hid_t ds, const std::vector<hsize_t>& offset,
+                                        std::uint32_t& mask) {
+    hsize_t size = 0;
+    REQUIRE(H5Dget_chunk_storage_size(ds, offset.data(), &size) >= 0);
+    std::vector<unsigned char> bytes(size);
+    mask = 0;
+    REQUIRE(H5Dread_chunk(ds, H5P_DEFAULT, offset.data(), &mask, bytes.data()) >= 0);
+    return bytes;
+}
+
+/// Compares the dataset at `path` of `ours` chunk by chunk with /d of `theirs`, and HDF5's
+/// reading of ours with `data`. Returns the number of chunks compared.
+template <class T>
+int compare(const fs::path& ours, const std::string& path, const fs::path& theirs,
+            const std::vector<hsize_t>& dims, const std::vector<hsize_t>& chunk,
+            const std::vector<T>& data) {
+    const hid_t fa = H5Fopen(ours.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t fb = H5Fopen(theirs.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    REQUIRE(fa >= 0);
+    REQUIRE(fb >= 0);
+    const hid_t a = H5Dopen2(fa, path.c_str(), H5P_DEFAULT);
+    const hid_t b = H5Dopen2(fb, "/d", H5P_DEFAULT);
+    REQUIRE(a >= 0);
+    std::vector<T> back(data.size());
+    if (!back.empty())
+        REQUIRE(H5Dread(a, h5_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, back.data()) >= 0);
+    CHECK(back == data);
+    int compared = 0;
+    const hsize_t rows = dims.size() == 2 ? dims[0] : 1, rstep = dims.size() == 2 ? chunk[0] : 1;
+    for (hsize_t y = 0; y < rows; y += rstep)
+        for (hsize_t x = 0; x < dims.back(); x += chunk.back()) {
+            const std::vector<hsize_t> offset =
+                dims.size() == 2 ? std::vector<hsize_t>{y, x} : std::vector<hsize_t>{x};
+            std::uint32_t ma = 1, mb = 1;
+            const auto sa = stored_chunk(a, offset, ma);
+            const auto sb = stored_chunk(b, offset, mb);
+            CHECK(ma == mb);
+            CHECK(sa == sb);
+            ++compared;
+        }
+    H5Dclose(a);
+    H5Dclose(b);
+    H5Fclose(fa);
+    H5Fclose(fb);
+    return compared;
+}
+
+} // namespace
+
+TEST_CASE("Hdf5Writer: its chunks are the bytes of HDF5's own shuffle and deflate filters, on one "
+          "and two threads",
+          "[core][hdf5]") {
+    test::TempDir dir;
+    const int threads_before = omp_get_max_threads();
+    int shape = 0, chunks = 0;
+    // Rasters of 256 x 256 chunks (shuffled): whole chunks, partial edge chunks in either
+    // direction or both, a single cell, and a grid large enough to compress on both threads.
+    const std::vector<std::pair<int, int>> grids = {{1, 1},     {3, 1000},  {256, 256},
+                                                    {257, 255}, {300, 513}, {700, 700}};
+    for (const int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        for (const auto& [ny, nx] : grids) {
+            ++shape;
+            GridSpec g;
+            g.nx = nx;
+            g.ny = ny;
+            const std::vector<hsize_t> dims = {static_cast<hsize_t>(ny), static_cast<hsize_t>(nx)};
+            const std::vector<hsize_t> chunk = {std::min<hsize_t>(256, dims[0]),
+                                                std::min<hsize_t>(256, dims[1])};
+            const auto f = values<float>(static_cast<std::size_t>(g.size()), 11u * shape);
+            const auto i = values<std::int32_t>(static_cast<std::size_t>(g.size()), 13u * shape);
+            const auto u = values<std::uint8_t>(static_cast<std::size_t>(g.size()), 17u * shape);
+            const fs::path ours = dir / ("ours" + std::to_string(shape) + ".h5");
+            io::Hdf5Writer w(ours);
+            w.raster("/g/f", raster_of(g, f), "m", "float");
+            w.raster("/g/i", raster_of(g, i), "1", "int32");
+            w.raster("/g/u", raster_of(g, u), "1", "uint8");
+            w.commit();
+            auto check_one = [&](const std::string& path, const auto& data) {
+                const fs::path ref = dir / ("ref" + std::to_string(shape) + path.substr(3) + ".h5");
+                const hid_t rf = H5Fcreate(ref.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+                reference_dataset(rf, dims, chunk, true, data);
+                H5Fclose(rf);
+                chunks += compare(ours, path, ref, dims, chunk, data);
+            };
+            check_one("/g/f", f);
+            check_one("/g/i", i);
+            check_one("/g/u", u);
+        }
+        // Series of 4096-value chunks (not shuffled): empty, one value, one short of a chunk,
+        // one over, and long (a checkpoint's bytes).
+        for (const std::size_t n :
+             {std::size_t{1}, std::size_t{4095}, std::size_t{4097}, std::size_t{1} << 20}) {
+            ++shape;
+            const auto d = values<double>(n, 19u * shape);
+            const auto l = values<std::int64_t>(n, 23u * shape);
+            const auto b = values<std::uint8_t>(n, 29u * shape);
+            const fs::path ours = dir / ("ours" + std::to_string(shape) + ".h5");
+            io::Hdf5Writer w(ours);
+            w.series("/s/d", d, "m", "double");
+            w.series("/s/l", l, "1", "int64");
+            w.series("/s/b", b, "1", "bytes");
+            w.series("/s/empty", std::vector<double>{}, "1", "no values");
+            w.commit();
+            const std::vector<hsize_t> dims = {n}, chunk = {std::min<hsize_t>(4096, n)};
+            auto check_one = [&](const std::string& path, const auto& data) {
+                const fs::path ref = dir / ("ref" + std::to_string(shape) + path.substr(3) + ".h5");
+                const hid_t rf = H5Fcreate(ref.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+                reference_dataset(rf, dims, chunk, false, data);
+                H5Fclose(rf);
+                chunks += compare(ours, path, ref, dims, chunk, data);
+            };
+            check_one("/s/d", d);
+            check_one("/s/l", l);
+            check_one("/s/b", b);
+        }
+    }
+    omp_set_num_threads(threads_before);
+    // 6 grids of 1, 4, 1, 2, 6 and 9 chunks, three types; 4 series of 1, 1, 2 and 256 chunks,
+    // three types; on each thread count.
+    CHECK(chunks == 2 * (3 * (1 + 4 + 1 + 2 + 6 + 9) + 3 * (1 + 1 + 2 + 256)));
+}

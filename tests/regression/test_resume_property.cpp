@@ -333,6 +333,8 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     j["vegetation"]["windthrow"]["enabled"] = false;
     // ... and with the plants in birth order (the only order then).
     j["vegetation"]["plant_order"] = "birth";
+    // ... and with the canopy refreshed weekly (the default then).
+    j["vegetation"]["canopy_interval_days"] = 7;
     // ... and with paper 002's growth and shading and the species values of then (a copy of the
     // ecosystem file as it was before the forest calibration of issue 27).
     j["vegetation"]["growth"] = "paper002";

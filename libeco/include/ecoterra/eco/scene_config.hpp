@@ -55,8 +55,8 @@ struct EcoScene {
     /// MAVS's "Plant Density" (its random scene's growth factor): multiplies every species'
     /// arrivals in the mavs light-only model.
     double mavs_plant_density = 1.0;
-    double plant_cell_m = 1.0;    ///< plant (crown/root) grid cell, divides the terrain cell
-    int canopy_interval_days = 7; ///< structure, crowns and shading refresh cadence
+    double plant_cell_m = 1.0;     ///< plant (crown/root) grid cell, divides the terrain cell
+    int canopy_interval_days = 14; ///< structure, crowns and shading refresh cadence
     PlantOrder plant_order = PlantOrder::stem_cell;
     InitialPlants initial;
     int years = 1;

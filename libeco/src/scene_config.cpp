@@ -68,10 +68,8 @@ const ParamCatalog<EcoScene>& vegetation_catalog() {
                    "terrain.cell_m instead (docs/formats.md, DEM windows)")
              .with_note("min(1, terrain cell)"),
          integer<E>("canopy_interval_days", &E::canopy_interval_days, "day", 1, 365,
-                    "days between refreshes of structure, crowns, roots, shading and the ground "
-                    "layer's cover: 14 since 2026-11-29 (the stand's statistics over 10 seeds as "
-                    "with 7, 1.1-1.2 x faster, docs/validation.md s2b); 7 reproduces earlier "
-                    "runs"),
+                    "days between refreshes of structure, crowns, roots, shading and ground cover "
+                    "(14; 7 before 2026-11-29 reproduces earlier runs, docs/validation.md s2b)"),
          choice<E>("plant_order", &E::plant_order,
                    std::vector<std::pair<std::string, PlantOrder>>{
                        {"stem_cell", PlantOrder::stem_cell}, {"birth", PlantOrder::birth}},

@@ -119,6 +119,21 @@ int compare(const fs::path& ours, const std::string& path, const fs::path& their
     return compared;
 }
 
+/// Writes HDF5's own dataset of `data` (reference_dataset) into a file of its own in `dir` and
+/// compares `path` of `ours` with it (compare). Returns the number of chunks compared.
+template <class T>
+int check_against_hdf5(const test::TempDir& dir, const fs::path& ours, const std::string& path,
+                       int shape, const std::vector<hsize_t>& dims,
+                       const std::vector<hsize_t>& chunk, bool shuffle,
+                       const std::vector<T>& data) {
+    const fs::path ref = dir / ("ref" + std::to_string(shape) + path.substr(3) + ".h5");
+    const hid_t rf = H5Fcreate(ref.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    REQUIRE(rf >= 0);
+    reference_dataset(rf, dims, chunk, shuffle, data);
+    H5Fclose(rf);
+    return compare(ours, path, ref, dims, chunk, data);
+}
+
 } // namespace
 
 TEST_CASE("Hdf5Writer: its chunks are the bytes of HDF5's own shuffle and deflate filters, on one "
@@ -150,16 +165,9 @@ TEST_CASE("Hdf5Writer: its chunks are the bytes of HDF5's own shuffle and deflat
             w.raster("/g/i", raster_of(g, i), "1", "int32");
             w.raster("/g/u", raster_of(g, u), "1", "uint8");
             w.commit();
-            auto check_one = [&](const std::string& path, const auto& data) {
-                const fs::path ref = dir / ("ref" + std::to_string(shape) + path.substr(3) + ".h5");
-                const hid_t rf = H5Fcreate(ref.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-                reference_dataset(rf, dims, chunk, true, data);
-                H5Fclose(rf);
-                chunks += compare(ours, path, ref, dims, chunk, data);
-            };
-            check_one("/g/f", f);
-            check_one("/g/i", i);
-            check_one("/g/u", u);
+            chunks += check_against_hdf5(dir, ours, "/g/f", shape, dims, chunk, true, f);
+            chunks += check_against_hdf5(dir, ours, "/g/i", shape, dims, chunk, true, i);
+            chunks += check_against_hdf5(dir, ours, "/g/u", shape, dims, chunk, true, u);
         }
         // Series of 4096-value chunks (not shuffled): empty, one value, one short of a chunk,
         // one over, and long (a checkpoint's bytes).
@@ -177,16 +185,9 @@ TEST_CASE("Hdf5Writer: its chunks are the bytes of HDF5's own shuffle and deflat
             w.series("/s/empty", std::vector<double>{}, "1", "no values");
             w.commit();
             const std::vector<hsize_t> dims = {n}, chunk = {std::min<hsize_t>(4096, n)};
-            auto check_one = [&](const std::string& path, const auto& data) {
-                const fs::path ref = dir / ("ref" + std::to_string(shape) + path.substr(3) + ".h5");
-                const hid_t rf = H5Fcreate(ref.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-                reference_dataset(rf, dims, chunk, false, data);
-                H5Fclose(rf);
-                chunks += compare(ours, path, ref, dims, chunk, data);
-            };
-            check_one("/s/d", d);
-            check_one("/s/l", l);
-            check_one("/s/b", b);
+            chunks += check_against_hdf5(dir, ours, "/s/d", shape, dims, chunk, false, d);
+            chunks += check_against_hdf5(dir, ours, "/s/l", shape, dims, chunk, false, l);
+            chunks += check_against_hdf5(dir, ours, "/s/b", shape, dims, chunk, false, b);
         }
     }
     omp_set_num_threads(threads_before);

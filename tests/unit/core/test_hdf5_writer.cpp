@@ -41,7 +41,8 @@ std::vector<T> values(std::size_t n, std::uint32_t seed) {
     std::uniform_int_distribution<int> noise(0, 50);
     std::vector<T> v(n);
     for (std::size_t i = 0; i < n; ++i)
-        v[i] = static_cast<T>(static_cast<double>(i % 977) * 0.25 + noise(rng));
+        v[i] =
+            static_cast<T>(static_cast<double>(i % 797) * 0.25 + noise(rng)); // < 250: fits uint8
     return v;
 }
 

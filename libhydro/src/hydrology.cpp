@@ -380,6 +380,7 @@ void HydrologyModel::update_runoff_coefficients() {
 }
 
 double HydrologyModel::soil_storage_m3() const {
+    if (!std::isnan(m_soil_storage_end_m3)) return m_soil_storage_end_m3;
     const double* th = m_theta.data();
     // Blocked sums are off by ~1e-9 m3 a day at 512^2 here (soil water is a small fraction of
     // each cell), far inside the budget's tolerance; the groundwater storage, large and nearly
@@ -412,6 +413,7 @@ DailyFluxes HydrologyModel::step(const DayWeather& w, const RasterD* transp_mm, 
     const std::int64_t cells = m_dem.grid().size();
     const double soil0 = soil_storage_m3(), surf0 = m_catch.total_volume_m3(),
                  gw0 = groundwater_storage_m3(), lost0 = m_catch.lost_m3();
+    m_soil_storage_end_m3 = std::nan(""); // theta changes from here; close_budget sets it
     const bool fao = m_opt.evapotranspiration == EvapotranspirationMethod::fao56;
     const bool gash = m_opt.interception == InterceptionMethod::gash;
     const et::DailyWeather dw = et_weather(w, m_climate);
@@ -613,6 +615,7 @@ void HydrologyModel::close_budget(DailyFluxes& f, const DayWeather& w, double so
           << m_cum_throughput << " m3";
         throw Error(s.str());
     }
+    m_soil_storage_end_m3 = soil1; // the same sum as soil_storage_m3's: the next day's start
 }
 
 } // namespace ecoterra::hydro
@@ -638,6 +641,7 @@ void HydrologyModel::load_state(ArchiveReader& a, std::uint32_t version) {
     if (!(theta.grid() == m_dem.grid()) || !(supplied.grid() == m_dem.grid()))
         throw CheckpointError("hydrology checkpoint: its grid differs from the terrain's");
     m_theta = std::move(theta);
+    m_soil_storage_end_m3 = std::nan("");
     m_transp_supplied = std::move(supplied);
     m_catch.load_state(a);
     const bool gw = a.get<bool>();

@@ -32,6 +32,7 @@
 #include "ecoterra/hydro/weather.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -214,6 +215,11 @@ private:
     double m_area;
     double m_cum_residual = 0, m_cum_throughput = 0;
     int m_day = 0;
+    /// The root zone's storage at the end of the last step (m3), which soil_storage_m3 returns
+    /// until theta changes: step() sums the same blocks in the same order, so the same bits
+    /// without another pass over the cells. Only step() changes theta (and load_state); NaN while
+    /// it is not known.
+    double m_soil_storage_end_m3 = std::nan("");
 };
 
 } // namespace ecoterra::hydro

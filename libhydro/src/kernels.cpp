@@ -84,12 +84,22 @@ void partition_rain(const Catchments& lakes, const SoilColumns& soil, const Rain
     infiltration_m3 += sums[0];
 }
 
+/// How far ahead in the run-on's order route_runoff fetches a cell's runoff and water.
+constexpr std::size_t kRunOnPrefetch = 16;
+
 void route_runoff(Catchments& lakes, const SoilColumns& soil,
                   const std::vector<std::int64_t>& order, Routing routing,
                   std::vector<double>& runoff, double& infiltration_m3) {
     const double area = soil.cell_area_m2, depth = soil.depth_m;
     const FlowDirections& fd = lakes.flow();
-    for (const std::int64_t k : order) {
+    const std::size_t cells = order.size();
+    for (std::size_t i = 0; i < cells; ++i) {
+        const std::int64_t k = order[i];
+        if (i + kRunOnPrefetch < cells) {
+            const std::int64_t ahead = order[i + kRunOnPrefetch];
+            __builtin_prefetch(runoff.data() + ahead);
+            __builtin_prefetch(soil.theta + ahead);
+        }
         double q = runoff[k];
         if (q <= 0) continue;
         if (fd.is_outlet(k)) {

@@ -56,13 +56,13 @@ fs::path replacing_path(const fs::path& out, const std::string& suffix = "") {
 /// the middle of writing a file; a failure at any step puts the earlier run back as it was.
 void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work,
                  const fs::path& snap_dir, const json& prov,
-                 const std::vector<std::string>& checksums) {
+                 const std::vector<std::string>& checksums, io::ChunkCache& cache) {
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     const fs::path final_dir = parent / snapshot_dir_name(out);
     const fs::path old_dir = io::staging_path(parent, snapshot_dir_name(out), "old");
     // ".STEM.replacing-HOST-PID.ready.h5": swept with the other staging files if the process dies.
     const fs::path ready = replacing_path(out, ".ready");
-    write_main(eco, ready, prov, checksums, snapshot_dir_name(out));
+    write_main(eco, ready, prov, checksums, snapshot_dir_name(out), &cache);
     std::error_code ec;
     fs::remove_all(old_dir, ec);
     const bool had_snapshots = fs::exists(final_dir, ec);
@@ -131,6 +131,7 @@ private:
     json m_prov;
     int m_snapshots = 0, m_years_total = 0, m_first_year = 0, m_to_run = 0;
     std::vector<std::string> m_checksums; ///< of the snapshot files, one each
+    io::ChunkCache m_chunks; ///< the run file's chunks, reused where the next write repeats them
     Methods m_methods;
     bool m_staged = false;
     fs::path m_work, m_snap_dir, m_picture_dir;
@@ -235,7 +236,9 @@ void RunJob::grow() {
             write_snapshot(*m_eco, file, m_snapshots);
             m_checksums.push_back(file_checksum(file));
             ++m_snapshots;
-            write_main(*m_eco, m_work, m_prov, m_checksums);
+            // A staged run's last run file would be written again by replace_run with the final
+            // folder's links: it writes it once, there (a kill before leaves only staging files).
+            if (!(last && m_staged)) write_main(*m_eco, m_work, m_prov, m_checksums, "", &m_chunks);
         }
         report_progress(st);
         if (reached) {
@@ -258,7 +261,7 @@ void RunJob::grow_and_replace() {
     const std::string kept = ": the new run failed and the earlier run is kept: ";
     try {
         grow();
-        replace_run(*m_eco, m_out, m_work, m_snap_dir, m_prov, m_checksums);
+        replace_run(*m_eco, m_out, m_work, m_snap_dir, m_prov, m_checksums, m_chunks);
     } catch (const IoError& e) {
         discard();
         throw IoError(m_out.string() + kept + e.what());
@@ -383,7 +386,8 @@ void write_run_file(const Ecosystem& eco, const fs::path& out, const json& prove
     try {
         const fs::path file = snap_dir / snapshot_file_name(0);
         write_snapshot(eco, file, 0);
-        replace_run(eco, out, work, snap_dir, prov, {file_checksum(file)});
+        io::ChunkCache chunks;
+        replace_run(eco, out, work, snap_dir, prov, {file_checksum(file)}, chunks);
     } catch (...) {
         fs::remove_all(snap_dir, ec);
         throw;

@@ -116,9 +116,10 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index) {
 }
 
 void write_main(const Ecosystem& eco, const fs::path& path, const json& provenance,
-                const std::vector<std::string>& snapshot_checksums, const std::string& link_dir) {
+                const std::vector<std::string>& snapshot_checksums, const std::string& link_dir,
+                io::ChunkCache* cache) {
     const int snapshots = static_cast<int>(snapshot_checksums.size());
-    io::Hdf5Writer h5(path);
+    io::Hdf5Writer h5 = cache ? io::Hdf5Writer(path, *cache) : io::Hdf5Writer(path);
     const EcoScene& sc = eco.scene();
     h5.raster(terrain::io::kRunTerrainDataset, sc.hydro.dem, "m",
               "terrain elevation (hydrology grid)");

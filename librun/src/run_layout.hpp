@@ -8,6 +8,7 @@
 //   RUN.snapshots/NNNN.h5      one file per snapshot, written atomically once and never touched
 //                              again; /snapshots/NNNN in RUN.h5 is an HDF5 external link to it
 #include "ecoterra/eco/ecosystem.hpp"
+#include "ecoterra/io/hdf5_writer.hpp"
 #include "ecoterra/run/records.hpp"
 
 #include <H5Cpp.h>
@@ -41,10 +42,12 @@ void write_snapshot(const Ecosystem& eco, const fs::path& path, int index);
 /// the snapshot files, one per checksum (`/snapshots` attribute `checksums_fnv1a64`, one decimal
 /// FNV-1a 64 of each snapshot file's bytes a line; an empty line for a snapshot written before
 /// snapshots had checksums).
-/// `link_dir` names the snapshot folder the links point into (default: the one of `path`).
+/// `link_dir` names the snapshot folder the links point into (default: the one of `path`). With
+/// `cache`, the chunks the last run file written with it holds unchanged (its terrain, soil maps,
+/// the series' earlier rows) are not compressed again (io::ChunkCache: the same bytes).
 void write_main(const Ecosystem& eco, const fs::path& path, const nlohmann::json& provenance,
                 const std::vector<std::string>& snapshot_checksums,
-                const std::string& link_dir = "");
+                const std::string& link_dir = "", io::ChunkCache* cache = nullptr);
 /// FNV-1a 64 of a file's bytes, in decimal; IoError naming it if it cannot be read.
 std::string file_checksum(const fs::path& file);
 /// The snapshot checksums a run file holds (empty strings where it has none: runs written before

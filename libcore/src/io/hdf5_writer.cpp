@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <map>
 #include <unistd.h>
 #include <utility>
 #include <vector>
@@ -135,15 +136,47 @@ constexpr std::size_t kBatchBytes = std::size_t{32} << 20;
 /// A batch this large compresses on all threads.
 constexpr std::size_t kParallelBytes = std::size_t{1} << 20;
 
+/// A chunk's bytes as they went into zlib (padded, shuffled) and what zlib made of them.
+struct KeptChunk {
+    std::vector<unsigned char> input, output;
+};
+} // namespace
+
+/// One dataset's kept chunks (ChunkCache): `generation` is the last writer's that wrote it.
+struct ChunkCache::Impl {
+    struct Dataset {
+        std::vector<KeptChunk> chunks;
+        std::uint64_t generation = 0;
+        int writes = 0;
+        bool keep = true; ///< false once a write reused none of its chunks
+    };
+    std::map<std::string, Dataset> datasets;
+    std::uint64_t generation = 0;
+    Counts counts;
+};
+
+ChunkCache::ChunkCache() : m_impl(std::make_unique<Impl>()) {}
+ChunkCache::~ChunkCache() = default;
+
+ChunkCache::Counts ChunkCache::counts() const {
+    Counts c = m_impl->counts;
+    c.bytes_held = 0;
+    for (const auto& [path, d] : m_impl->datasets)
+        for (const auto& k : d.chunks) c.bytes_held += k.input.size() + k.output.size();
+    return c;
+}
+
+namespace {
 /// One chunk of `data` (row-major [rows, cols] of `elem`-byte values) as HDF5's filters store it:
 /// padded with zeros to the full chunk, its bytes shuffled (HDF5's shuffle filter: byte j of every
 /// value, then byte j + 1, ...) when `shuffle`, then deflated by zlib's compress2 at kDeflate, as
-/// HDF5's deflate filter calls it. `raw` and `shuffled` are scratch of the chunk's size. False
-/// if zlib fails.
+/// HDF5's deflate filter calls it. `raw` and `shuffled` are scratch of the chunk's size. With
+/// `kept`, zlib's input is compared with the kept one's: if equal the kept output is taken
+/// (`reused`), else the chunk is compressed and kept. False if zlib fails.
 bool filter_chunk(const unsigned char* data, hsize_t rows, hsize_t cols, std::size_t elem,
                   hsize_t y0, hsize_t x0, hsize_t crows, hsize_t ccols, bool shuffle,
                   std::vector<unsigned char>& raw, std::vector<unsigned char>& shuffled,
-                  std::vector<unsigned char>& out) {
+                  std::vector<unsigned char>& out, KeptChunk* kept, bool& reused) {
     const std::size_t values = static_cast<std::size_t>(crows * ccols), bytes = values * elem;
     raw.assign(bytes, 0);
     const std::size_t n = static_cast<std::size_t>(std::min(ccols, cols - x0)) * elem;
@@ -156,12 +189,22 @@ bool filter_chunk(const unsigned char* data, hsize_t rows, hsize_t cols, std::si
             for (std::size_t i = 0; i < values; ++i) shuffled[j * values + i] = raw[i * elem + j];
         src = shuffled.data();
     }
+    reused =
+        kept && kept->input.size() == bytes && std::memcmp(kept->input.data(), src, bytes) == 0;
+    if (reused) {
+        out = kept->output;
+        return true;
+    }
     uLongf len = compressBound(static_cast<uLong>(bytes));
     out.resize(len);
     if (compress2(out.data(), &len, src, static_cast<uLong>(bytes), static_cast<int>(kDeflate)) !=
         Z_OK)
         return false;
     out.resize(len);
+    if (kept) {
+        kept->input.assign(src, src + bytes);
+        kept->output = out;
+    }
     return true;
 }
 
@@ -169,9 +212,12 @@ bool filter_chunk(const unsigned char* data, hsize_t rows, hsize_t cols, std::si
 /// `shuffle` and the deflate filter at kDeflate) chunk by chunk with H5Dwrite_chunk: the chunks
 /// are filtered here as HDF5 would filter them (filter_chunk), on all threads for large data, and
 /// written in order. HDF5 filters on the calling thread alone (9 % of a dense 1 km2 year's CPU
-/// time, docs/scaling.md). The stored bytes do not depend on the thread count.
-void write_chunks(hid_t ds, int rank, const hsize_t* dims, const hsize_t* chunk, std::size_t elem,
-                  bool shuffle, const unsigned char* data) {
+/// time, docs/scaling.md). The stored bytes do not depend on the thread count. With `kept` (sized
+/// here to the chunk count), each chunk is compared with and refreshes its kept one; returns the
+/// number of chunks reused.
+std::int64_t write_chunks(hid_t ds, int rank, const hsize_t* dims, const hsize_t* chunk,
+                          std::size_t elem, bool shuffle, const unsigned char* data,
+                          std::vector<KeptChunk>* kept) {
     const hsize_t rows = rank == 2 ? dims[0] : 1, cols = dims[rank - 1];
     const hsize_t crows = rank == 2 ? chunk[0] : 1, ccols = chunk[rank - 1];
     const hsize_t gy = (rows + crows - 1) / crows, gx = (cols + ccols - 1) / ccols;
@@ -179,24 +225,31 @@ void write_chunks(hid_t ds, int rank, const hsize_t* dims, const hsize_t* chunk,
     const std::size_t chunk_bytes = static_cast<std::size_t>(crows * ccols) * elem;
     const auto batch =
         static_cast<std::int64_t>(std::max<std::size_t>(1, kBatchBytes / chunk_bytes));
+    if (kept) kept->resize(static_cast<std::size_t>(chunks));
     std::vector<std::vector<unsigned char>> out(static_cast<std::size_t>(std::min(batch, chunks)));
+    std::int64_t reused_total = 0;
     for (std::int64_t b0 = 0; b0 < chunks; b0 += batch) {
         const std::int64_t b1 = std::min(chunks, b0 + batch);
         const bool parallel =
             b1 - b0 > 1 && static_cast<std::size_t>(b1 - b0) * chunk_bytes >= kParallelBytes;
         std::atomic<bool> failed{false};
-#pragma omp parallel if (parallel)
+        std::int64_t reused_here = 0;
+#pragma omp parallel if (parallel) reduction(+ : reused_here)
         {
             std::vector<unsigned char> raw, shuffled;
 #pragma omp for schedule(dynamic, 1)
             for (std::int64_t c = b0; c < b1; ++c) {
                 const auto cy = static_cast<hsize_t>(c) / gx, cx = static_cast<hsize_t>(c) % gx;
+                bool reused = false;
                 if (!filter_chunk(data, rows, cols, elem, cy * crows, cx * ccols, crows, ccols,
-                                  shuffle, raw, shuffled, out[static_cast<std::size_t>(c - b0)]))
+                                  shuffle, raw, shuffled, out[static_cast<std::size_t>(c - b0)],
+                                  kept ? &(*kept)[static_cast<std::size_t>(c)] : nullptr, reused))
                     failed = true;
+                reused_here += reused;
             }
         }
         if (failed) throw Failure{"zlib's compress2 failed"};
+        reused_total += reused_here;
         for (std::int64_t c = b0; c < b1; ++c) {
             const auto cy = static_cast<hsize_t>(c) / gx, cx = static_cast<hsize_t>(c) % gx;
             const hsize_t offset[2] = {rank == 2 ? cy * crows : cx * ccols, cx * ccols};
@@ -204,6 +257,7 @@ void write_chunks(hid_t ds, int rank, const hsize_t* dims, const hsize_t* chunk,
             check(H5Dwrite_chunk(ds, H5P_DEFAULT, 0, offset, o.size(), o.data()), "H5Dwrite_chunk");
         }
     }
+    return reused_total;
 }
 
 template <class T>
@@ -225,6 +279,45 @@ struct Hdf5Writer::Impl {
     Handle file;
     std::string where;
     int fd = -1; ///< the temporary file, opened at once so that an unwritable folder fails early
+    ChunkCache::Impl* cache = nullptr; ///< kept chunks (Hdf5Writer(target, cache)), or none
+    std::uint64_t generation = 0;      ///< this writer's in `cache`
+
+    /// write_chunks through the cache's kept chunks of `path` where there is a cache, the
+    /// dataset is not too large and its chunks are still kept (ChunkCache).
+    void write_cached(const std::string& path, int rank, const hsize_t* dims, const hsize_t* chunk,
+                      std::size_t elem, bool shuffle, hid_t ds, const unsigned char* data) {
+        std::size_t bytes = elem;
+        std::int64_t chunks = 1;
+        for (int d = 0; d < rank; ++d) {
+            bytes *= static_cast<std::size_t>(dims[d]);
+            chunks *= static_cast<std::int64_t>((dims[d] + chunk[d] - 1) / chunk[d]);
+        }
+        if (!cache || bytes > ChunkCache::kMaxDatasetBytes) {
+            if (cache) cache->datasets.erase(path);
+            write_chunks(ds, rank, dims, chunk, elem, shuffle, data, nullptr);
+            return;
+        }
+        ChunkCache::Impl::Dataset& kept = cache->datasets[path];
+        kept.generation = generation;
+        const std::int64_t reused = write_chunks(ds, rank, dims, chunk, elem, shuffle, data,
+                                                 kept.keep ? &kept.chunks : nullptr);
+        cache->counts.reused += reused;
+        cache->counts.compressed += chunks - reused;
+        // A dataset of several chunks none of which a second write repeated changes throughout
+        // (a checkpoint's bytes): keeping its chunks would cost memory for nothing. (One of a
+        // single chunk may be a short series that grows into chunks the next writes repeat.)
+        if (kept.keep && ++kept.writes >= 2 && reused == 0 && chunks >= 4) {
+            kept.keep = false;
+            std::vector<KeptChunk>().swap(kept.chunks);
+        }
+    }
+
+    /// After a commit: the cache keeps only the datasets this writer wrote.
+    void forget_others() {
+        if (!cache) return;
+        std::erase_if(cache->datasets,
+                      [&](const auto& d) { return d.second.generation != generation; });
+    }
 
     ~Impl() {
         if (fd >= 0) ::close(fd);
@@ -285,7 +378,7 @@ struct Hdf5Writer::Impl {
                         "H5Dcreate"),
                   H5Dclose};
         if (data && chunk)
-            write_chunks(ds.id(), rank, dims, chunk, sizeof(T), shuffle,
+            write_cached(path, rank, dims, chunk, sizeof(T), shuffle, ds.id(),
                          reinterpret_cast<const unsigned char*>(data));
         else if (data)
             check(H5Dwrite(ds.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "H5Dwrite");
@@ -360,6 +453,12 @@ struct Hdf5Writer::Impl {
         }
     }
 };
+
+Hdf5Writer::Hdf5Writer(const std::filesystem::path& target, ChunkCache& cache)
+    : Hdf5Writer(target) {
+    m_impl->cache = cache.m_impl.get();
+    m_impl->generation = ++m_impl->cache->generation;
+}
 
 Hdf5Writer::Hdf5Writer(const std::filesystem::path& target) : m_out(target) {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
@@ -466,6 +565,7 @@ void Hdf5Writer::commit() {
     }
     m_impl->write_image(image);
     m_out.commit();
+    m_impl->forget_others();
 }
 
 std::string hdf5_run_kind(const std::filesystem::path& file) {

@@ -196,3 +196,74 @@ TEST_CASE("Hdf5Writer: its chunks are the bytes of HDF5's own shuffle and deflat
     // three types; on each thread count.
     CHECK(chunks == 2 * (3 * (1 + 4 + 1 + 2 + 6 + 9) + 3 * (1 + 1 + 2 + 256)));
 }
+
+TEST_CASE("Hdf5Writer with a ChunkCache: a rewritten file reuses exactly the chunks it repeats and "
+          "is byte for byte HDF5's",
+          "[core][hdf5]") {
+    test::TempDir dir;
+    io::ChunkCache cache;
+    GridSpec g;
+    g.nx = 300;
+    g.ny = 513; // 2 x 3 chunks of 256 x 256, partial at the edges
+    const auto terrain = values<float>(static_cast<std::size_t>(g.size()), 3);
+    auto grown = values<double>(9000, 5);     // a series that grows: 3 chunks of 4096, then 4
+    auto changing = values<double>(20000, 7); // 5 chunks, all changed at every write
+    const fs::path first = dir / "first.h5";
+    {
+        io::Hdf5Writer w(first, cache);
+        w.raster("/terrain", raster_of(g, terrain), "m", "unchanged");
+        w.series("/grown", grown, "m", "grows");
+        w.series("/changing", changing, "1", "changes throughout");
+        w.series("/dropped", values<double>(5000, 9), "1", "not in the next file");
+        w.commit();
+    }
+    const io::ChunkCache::Counts c1 = cache.counts();
+    CHECK(c1.reused == 0);
+    CHECK(c1.compressed == 6 + 3 + 5 + 2);
+    CHECK(c1.bytes_held > 0);
+
+    // The next file: the raster repeats (6 chunks), the series grows by 4000 values (its first two
+    // chunks repeat; the third, once partial, is now full), the changing one changes everywhere.
+    for (auto& x : changing) x += 1;
+    const auto more = values<double>(4000, 11);
+    grown.insert(grown.end(), more.begin(), more.end());
+    const fs::path second = dir / "second.h5";
+    {
+        io::Hdf5Writer w(second, cache);
+        w.raster("/terrain", raster_of(g, terrain), "m", "unchanged");
+        w.series("/grown", grown, "m", "grows");
+        w.series("/changing", changing, "1", "changes throughout");
+        w.commit();
+    }
+    const io::ChunkCache::Counts c2 = cache.counts();
+    CHECK(c2.reused - c1.reused == 6 + 2);
+    CHECK(c2.compressed - c1.compressed == 2 + 5);
+    // The changing series (5 chunks, none repeated) and the dropped one are no longer held:
+    // what is held is the raster's and the grown series' chunks, at most their raw bytes twice.
+    const std::size_t raster_raw = 2 * 3 * 256 * 256 * sizeof(float);
+    const std::size_t series_raw = 4 * 4096 * sizeof(double);
+    CHECK(c2.bytes_held <= 2 * (raster_raw + series_raw));
+    CHECK(c2.bytes_held >= raster_raw + series_raw);
+
+    // Every chunk of the second file is what HDF5's own filters store for the same data.
+    int chunks = 0;
+    chunks +=
+        check_against_hdf5(dir, second, "/terrain", 100, {513, 300}, {256, 256}, true, terrain);
+    chunks += check_against_hdf5(dir, second, "/grown", 101, {13000}, {4096}, false, grown);
+    chunks += check_against_hdf5(dir, second, "/changing", 102, {20000}, {4096}, false, changing);
+    CHECK(chunks == 6 + 4 + 5);
+
+    // A third file changing one raster chunk reuses the other five and stores the new one right.
+    auto edited = terrain;
+    edited[static_cast<std::size_t>(300 * 400 + 10)] += 1; // row 400: the second row of chunks
+    const fs::path third = dir / "third.h5";
+    {
+        io::Hdf5Writer w(third, cache);
+        w.raster("/terrain", raster_of(g, edited), "m", "one chunk changed");
+        w.commit();
+    }
+    CHECK(cache.counts().reused - c2.reused == 5);
+    CHECK(cache.counts().compressed - c2.compressed == 1);
+    CHECK(check_against_hdf5(dir, third, "/terrain", 103, {513, 300}, {256, 256}, true, edited) ==
+          6);
+}

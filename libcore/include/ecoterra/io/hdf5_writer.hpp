@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -14,9 +15,39 @@
 
 namespace ecoterra::io {
 
+/// Compressed chunks kept from one file to the next written with the same cache: a file that is
+/// written again and again with mostly the same content (a run's main file, rewritten at every
+/// snapshot with its series grown and its terrain unchanged) compresses only the chunks that
+/// changed. A chunk is reused only when its bytes, as they go into zlib, equal the stored ones
+/// (compared in full), so every file is byte for byte what it would be without the cache. Only
+/// the datasets of the last file written are kept; not kept are datasets over kMaxDatasetBytes and
+/// those of four chunks or more of which a later write reused none (a checkpoint's bytes change
+/// throughout). One writer at a time may use a cache.
+class ChunkCache {
+public:
+    static constexpr std::size_t kMaxDatasetBytes = std::size_t{64} << 20;
+    struct Counts {
+        std::int64_t reused = 0, compressed = 0; ///< chunks since the cache was made
+        std::size_t bytes_held = 0;              ///< the stored chunks' input and output bytes
+    };
+    ChunkCache();
+    ~ChunkCache();
+    ChunkCache(const ChunkCache&) = delete;
+    ChunkCache& operator=(const ChunkCache&) = delete;
+    Counts counts() const;
+    struct Impl;
+
+private:
+    friend class Hdf5Writer;
+    std::unique_ptr<Impl> m_impl;
+};
+
 class Hdf5Writer {
 public:
     explicit Hdf5Writer(const std::filesystem::path& target);
+    /// The same, reusing and refreshing the compressed chunks of `cache` (see ChunkCache); the
+    /// cache must outlive the writer.
+    Hdf5Writer(const std::filesystem::path& target, ChunkCache& cache);
     ~Hdf5Writer();
     Hdf5Writer(const Hdf5Writer&) = delete;
     Hdf5Writer& operator=(const Hdf5Writer&) = delete;

@@ -148,7 +148,7 @@ struct ChunkCache::Impl {
         std::vector<KeptChunk> chunks;
         std::uint64_t generation = 0;
         int writes = 0;
-        bool keep = true; ///< false once a write reused none of its chunks
+        bool keep = true; ///< false once it is not worth keeping (write_cached)
     };
     std::map<std::string, Dataset> datasets;
     std::uint64_t generation = 0;
@@ -292,7 +292,9 @@ struct Hdf5Writer::Impl {
             bytes *= static_cast<std::size_t>(dims[d]);
             chunks *= static_cast<std::int64_t>((dims[d] + chunk[d] - 1) / chunk[d]);
         }
-        if (!cache || bytes > ChunkCache::kMaxDatasetBytes) {
+        const std::size_t most =
+            rank == 1 ? ChunkCache::kMaxSeriesBytes : ChunkCache::kMaxRasterBytes;
+        if (!cache || bytes > most) {
             if (cache) cache->datasets.erase(path);
             write_chunks(ds, rank, dims, chunk, elem, shuffle, data, nullptr);
             return;

@@ -266,4 +266,20 @@ TEST_CASE("Hdf5Writer with a ChunkCache: a rewritten file reuses exactly the chu
     CHECK(cache.counts().compressed - c2.compressed == 1);
     CHECK(check_against_hdf5(dir, third, "/terrain", 103, {513, 300}, {256, 256}, true, edited) ==
           6);
+
+    // A raster over 1 MiB is written, not kept: what is held does not grow.
+    const std::size_t held = cache.counts().bytes_held;
+    GridSpec big;
+    big.nx = big.ny = 600; // 1.44 MB of float32
+    const auto large = values<float>(static_cast<std::size_t>(big.size()), 13);
+    const fs::path fourth = dir / "fourth.h5";
+    {
+        io::Hdf5Writer w(fourth, cache);
+        w.raster("/terrain", raster_of(g, edited), "m", "one chunk changed");
+        w.raster("/large", raster_of(big, large), "m", "too large to keep");
+        w.commit();
+    }
+    CHECK(cache.counts().bytes_held == held);
+    CHECK(cache.counts().reused - c2.reused == 5 + 6);
+    CHECK(check_against_hdf5(dir, fourth, "/large", 104, {600, 600}, {256, 256}, true, large) == 9);
 }

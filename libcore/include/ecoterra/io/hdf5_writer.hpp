@@ -20,12 +20,15 @@ namespace ecoterra::io {
 /// snapshot with its series grown and its terrain unchanged) compresses only the chunks that
 /// changed. A chunk is reused only when its bytes, as they go into zlib, equal the stored ones
 /// (compared in full), so every file is byte for byte what it would be without the cache. Only
-/// the datasets of the last file written are kept; not kept are datasets over kMaxDatasetBytes and
-/// those of four chunks or more of which a later write reused none (a checkpoint's bytes change
-/// throughout). One writer at a time may use a cache.
+/// the datasets of the last file written are kept; not kept are series over kMaxSeriesBytes
+/// (2,000 years of daily values fit), rasters over kMaxRasterBytes (a large scene's rasters would
+/// cost more memory than their compression costs time) and datasets of four chunks or more of
+/// which a later write reused none (a checkpoint's bytes change throughout). One writer at a time
+/// may use a cache.
 class ChunkCache {
 public:
-    static constexpr std::size_t kMaxDatasetBytes = std::size_t{64} << 20;
+    static constexpr std::size_t kMaxSeriesBytes = std::size_t{16} << 20;
+    static constexpr std::size_t kMaxRasterBytes = std::size_t{1} << 20;
     struct Counts {
         std::int64_t reused = 0, compressed = 0; ///< chunks since the cache was made
         std::size_t bytes_held = 0;              ///< the stored chunks' input and output bytes

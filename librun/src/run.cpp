@@ -56,13 +56,13 @@ fs::path replacing_path(const fs::path& out, const std::string& suffix = "") {
 /// the middle of writing a file; a failure at any step puts the earlier run back as it was.
 void replace_run(const Ecosystem& eco, const fs::path& out, const fs::path& work,
                  const fs::path& snap_dir, const json& prov,
-                 const std::vector<std::string>& checksums, io::ChunkCache& cache) {
+                 const std::vector<std::string>& checksums, io::ChunkCache* cache = nullptr) {
     const fs::path parent = out.has_parent_path() ? out.parent_path() : fs::path(".");
     const fs::path final_dir = parent / snapshot_dir_name(out);
     const fs::path old_dir = io::staging_path(parent, snapshot_dir_name(out), "old");
     // ".STEM.replacing-HOST-PID.ready.h5": swept with the other staging files if the process dies.
     const fs::path ready = replacing_path(out, ".ready");
-    write_main(eco, ready, prov, checksums, snapshot_dir_name(out), &cache);
+    write_main(eco, ready, prov, checksums, snapshot_dir_name(out), cache);
     std::error_code ec;
     fs::remove_all(old_dir, ec);
     const bool had_snapshots = fs::exists(final_dir, ec);
@@ -261,7 +261,7 @@ void RunJob::grow_and_replace() {
     const std::string kept = ": the new run failed and the earlier run is kept: ";
     try {
         grow();
-        replace_run(*m_eco, m_out, m_work, m_snap_dir, m_prov, m_checksums, m_chunks);
+        replace_run(*m_eco, m_out, m_work, m_snap_dir, m_prov, m_checksums, &m_chunks);
     } catch (const IoError& e) {
         discard();
         throw IoError(m_out.string() + kept + e.what());
@@ -386,8 +386,7 @@ void write_run_file(const Ecosystem& eco, const fs::path& out, const json& prove
     try {
         const fs::path file = snap_dir / snapshot_file_name(0);
         write_snapshot(eco, file, 0);
-        io::ChunkCache chunks;
-        replace_run(eco, out, work, snap_dir, prov, {file_checksum(file)}, chunks);
+        replace_run(eco, out, work, snap_dir, prov, {file_checksum(file)});
     } catch (...) {
         fs::remove_all(snap_dir, ec);
         throw;

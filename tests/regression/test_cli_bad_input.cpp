@@ -356,7 +356,7 @@ std::vector<std::uint8_t> checkpoint_bytes(const fs::path& run) {
 } // namespace
 
 TEST_CASE("a run killed at any moment and resumed ends bit for bit as one run",
-          "[cli][kill][property]") {
+          "[cli][kill][property][slow]") {
     // kill -9 lands anywhere: in a year, in a snapshot write, in the run file's rewrite. Whatever
     // the moment, the run file left behind is whole, and resuming it to the end gives the state
     // of the run that was never killed.

@@ -194,7 +194,7 @@ void write_weather_csv(const fs::path& p, int y0, int y1, int first_doy = 1) {
 
 TEST_CASE(
     "run: observed weather cycles by calendar year, and with groundwater, resume is bit for bit",
-    "[eco][cli][resume]") {
+    "[eco][cli][resume][slow]") {
     test::TempDir dir;
     write_weather_csv(dir / "weather.csv", 2003, 2004); // 365 + 366 days
     json sc = small_scene(3);
@@ -598,7 +598,8 @@ json run_diagnosis(const fs::path& run) {
 }
 } // namespace
 
-TEST_CASE("A run that grows nothing says why, and --strict makes it fail", "[eco][diagnosis]") {
+TEST_CASE("A run that grows nothing says why, and --strict makes it fail",
+          "[eco][diagnosis][slow]") {
     test::TempDir dir;
     const std::string scene = (test::data_dir() / "scenes/quickstart.json").string();
     const std::string pine =
@@ -801,7 +802,7 @@ TEST_CASE("Soil rasters of a coarse grid are put on a DEM window's grid, or refu
     CHECK(!fs::exists(dir / "run2.h5"));
 }
 
-TEST_CASE("A user's one-species file grows a stand or is told why not", "[eco][diagnosis]") {
+TEST_CASE("A user's one-species file grows a stand or is told why not", "[eco][diagnosis][slow]") {
     test::TempDir dir;
     // The user's file: the pine ecosystem's loblolly pine alone, under the user's own name.
     json e = parse_json(

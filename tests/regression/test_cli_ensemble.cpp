@@ -155,7 +155,7 @@ TEST_CASE("ensemble: members are the same bytes with 1 or 2 processes and under 
     CHECK(seed_of_replicate[0] != seed_of_replicate[1]);
 }
 
-TEST_CASE("ensemble: the summary is the members' figures, gathered", "[ensemble][cli]") {
+TEST_CASE("ensemble: the summary is the members' figures, gathered", "[ensemble][cli][slow]") {
     test::TempDir d;
     write(d / "m.json", small_manifest());
     REQUIRE(test::run(d, "ensemble m.json -o out").code == 0);

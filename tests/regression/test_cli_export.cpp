@@ -757,7 +757,7 @@ TEST_CASE("export layers: the input DEM's coordinate system is carried through t
 }
 
 TEST_CASE("export: shrubs and objects keep their stems, the ground layer becomes tufts and a layer",
-          "[export][cli][lifeform]") {
+          "[export][cli][lifeform][slow]") {
     // A tree, a shrub, a grass and a MAVS cube on 40 m x 40 m for 10 years.
     auto entry = [](const std::string& mesh, const std::string& name, double arrivals, double hmax,
                     double ratio) {

@@ -273,7 +273,7 @@ TEST_CASE("soil strength: a snapshot holds the rating cone index of its critical
     CHECK(s["smg_mean_m_per_s"].get<double>() > 0.9 * n["smg_mean_m_per_s"].get<double>());
 }
 
-TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli]") {
+TEST_CASE("terrain traverse: the issue's invocation works as written", "[mobility][cli][slow]") {
     test::TempDir dir;
     REQUIRE(test::run(dir, "terrain generate --method fbm --D 2.3 --size 1000 --cell 0.05 "
                            "--rms 0.1 --seed 2 -o mf.h5")

@@ -27,7 +27,7 @@ std::string slurp(const std::filesystem::path& p) {
 }
 } // namespace
 
-TEST_CASE("The issue's terrain invocations work as written", "[cli][regression]") {
+TEST_CASE("The issue's terrain invocations work as written", "[cli][regression][slow]") {
     TempDir d;
     const char* cmds[] = {
         "terrain generate --preset majhor2023 --d-high 2.45 --seed 7 -o mf.h5",

@@ -163,7 +163,8 @@ TEST_CASE("Run pictures hold their labels, ticks and crowns", "[pictures]") {
     }
 }
 
-TEST_CASE("Mobility, traverse and analysis pictures hold their labels and scales", "[pictures]") {
+TEST_CASE("Mobility, traverse and analysis pictures hold their labels and scales",
+          "[pictures][slow]") {
     for (const int lines : {10, 200}) {
         CAPTURE(lines);
         test::TempDir dir;
@@ -238,7 +239,7 @@ TEST_CASE("Mobility, traverse and analysis pictures hold their labels and scales
     }
 }
 
-TEST_CASE("The export picture holds its titles, scales and crowns", "[pictures]") {
+TEST_CASE("The export picture holds its titles, scales and crowns", "[pictures][slow]") {
     for (const int size : {20, 150}) {
         CAPTURE(size);
         test::TempDir dir;

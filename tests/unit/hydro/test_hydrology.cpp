@@ -138,7 +138,7 @@ TEST_CASE("Hydrology input is checked", "[hydrology][errors]") {
 }
 
 TEST_CASE("A 30-year run keeps its budget residual below 1e-9 of the throughput",
-          "[hydrology][budget]") {
+          "[hydrology][budget][slow]") {
     // The closure criterion over 30 years (10950 daily steps), with groundwater.
     const RasterD dem = rough_dem(16, 2.0);
     const GridSpec& g = dem.grid();

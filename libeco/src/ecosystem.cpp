@@ -1,11 +1,14 @@
 #include "ecoterra/eco/ecosystem.hpp"
 #include "ecoterra/fastmath.hpp"
+#include "ecoterra/hash.hpp"
 
 #include "ecoterra/hydro/penman.hpp"
 #include "ecoterra/parallel.hpp"
 #include "ecoterra/units.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
@@ -31,7 +34,9 @@ constexpr std::uint32_t kSectionCanopy = 1; // the ground shade
 constexpr std::uint32_t kSectionGround = 1; // the ground layer's cover
 // the hydrology's state and vegetation density (2: with the surface layer's depletion)
 constexpr std::uint32_t kSectionHydro = hydro::HydrologyModel::kStateVersion;
-constexpr std::uint32_t kSectionSeries = 1;    // the daily and yearly series, by column name
+// the daily and yearly series, by column name (2: or, for a run file, each column's row count and
+// hash, its values in the run file's /series)
+constexpr std::uint32_t kSectionSeries = 2;
 constexpr std::uint32_t kSectionBudget = 1;    // the year's sums and the carbon ledger
 constexpr std::uint32_t kSectionWindthrow = 1; // the storm stream and the last thinning
 constexpr std::uint32_t kSectionDiagnosis = 1; // the species ledgers (optional: none before it)
@@ -640,7 +645,55 @@ double Ecosystem::carbon_residual_relative() const {
            std::max(m_ledger.cumulative_throughput_kg, 1e-300);
 }
 
-void Ecosystem::save_state(ArchiveWriter& a) const {
+namespace {
+/// Whether column `c` of `t` is stored as integers in a run file (hydro::write_table).
+bool integer_column(const Table& t, std::size_t c) {
+    return c < t.types.size() &&
+           (t.types[c] == ColumnType::int64 || t.types[c] == ColumnType::int32);
+}
+
+/// Whether every integer column of `t` reads back from a run file as itself: whole numbers within
+/// a double's exact integers, and no negative zero.
+bool round_trips(const Table& t) {
+    for (std::size_t c = 0; c < t.names.size(); ++c) {
+        if (!integer_column(t, c)) continue;
+        for (const double x : t.columns[c])
+            if (!(std::abs(x) <= 9007199254740992.0) || x != std::trunc(x) ||
+                (x == 0 && std::signbit(x)))
+                return false;
+    }
+    return true;
+}
+
+/// FNV-1a over a column's values as a run file stores them: whole numbers, or the doubles' bits.
+std::uint64_t column_hash(const std::vector<double>& v, bool integer) {
+    std::uint64_t h = kFnvOffsetBasis;
+    for (const double x : v)
+        h = fnv1a64_fold(h, integer ? static_cast<std::uint64_t>(static_cast<std::int64_t>(x))
+                                    : std::bit_cast<std::uint64_t>(x));
+    return h;
+}
+
+/// The series section: a flag (1: the values are in the run file), then per table its columns by
+/// name, each with its values, or with its row count and hash.
+void save_series(ArchiveWriter& s, const std::array<const Table*, 2>& tables, bool outside) {
+    s.put<std::uint8_t>(outside ? 1 : 0);
+    for (const Table* t : tables) {
+        s.put<std::uint64_t>(t->names.size());
+        for (std::size_t c = 0; c < t->names.size(); ++c) {
+            s.put_string(t->names[c]);
+            if (!outside) {
+                s.put_vector(t->columns[c]);
+                continue;
+            }
+            s.put<std::uint64_t>(t->columns[c].size());
+            s.put<std::uint64_t>(column_hash(t->columns[c], integer_column(*t, c)));
+        }
+    }
+}
+} // namespace
+
+void Ecosystem::save_state(ArchiveWriter& a, SeriesIn series) const {
     if (m_ground.pending())
         throw Error("internal: a checkpoint with ground-layer days not yet applied");
     a.put(kCheckpointMagic);
@@ -670,14 +723,10 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
         m_hydro->save_state(s);
         s.put_raster(m_hydro->vegetation_density());
     });
+    const bool outside =
+        series == SeriesIn::run_file && round_trips(m_daily) && round_trips(m_yearly);
     w.section("series", kSectionSeries, [&](ArchiveWriter& s) {
-        for (const Table* t : {&m_daily, &m_yearly}) {
-            s.put<std::uint64_t>(t->names.size());
-            for (std::size_t c = 0; c < t->names.size(); ++c) {
-                s.put_string(t->names[c]);
-                s.put_vector(t->columns[c]);
-            }
-        }
+        save_series(s, {&m_daily, &m_yearly}, outside);
     });
     w.section("budget", kSectionBudget, [&](ArchiveWriter& s) {
         s.put(m_sum);
@@ -689,21 +738,43 @@ void Ecosystem::save_state(ArchiveWriter& a) const {
 }
 
 namespace {
-/// Reads a series table by column name: a column the checkpoint lacks (added since) is NaN in the
-/// rows before the resume; one this ecoterra lacks is an error naming it.
-void load_table(ArchiveReader& a, Table& t, const char* which) {
+/// The index of column `name` in `t`; CheckpointError naming it when this ecoterra lacks it.
+std::size_t column_index(const Table& t, const std::string& name, const char* which) {
+    const auto it = std::find(t.names.begin(), t.names.end(), name);
+    if (it == t.names.end())
+        throw CheckpointError(std::string("checkpoint section 'series': the ") + which +
+                              " series has a column '" + name + "' this ecoterra does not write");
+    return static_cast<std::size_t>(it - t.names.begin());
+}
+
+/// Reads a series table by column name, the values from the checkpoint or, when `source` is
+/// given, from the run file (checked against the row count and hash the checkpoint holds): a
+/// column the checkpoint lacks (added since) is NaN in the rows before the resume; one this
+/// ecoterra lacks is an error naming it.
+void load_table(ArchiveReader& a, Table& t, const char* which,
+                const Ecosystem::SeriesSource* source) {
     const auto n = a.get<std::uint64_t>();
     std::vector<bool> seen(t.names.size(), false);
     std::size_t rows = 0;
     for (std::uint64_t k = 0; k < n; ++k) {
         const std::string name = a.get_string();
-        auto values = a.get_vector<double>();
-        const auto it = std::find(t.names.begin(), t.names.end(), name);
-        if (it == t.names.end())
-            throw CheckpointError(std::string("checkpoint section 'series': the ") + which +
-                                  " series has a column '" + name +
-                                  "' this ecoterra does not write");
-        const auto c = static_cast<std::size_t>(it - t.names.begin());
+        if (!source) {
+            const std::size_t c = column_index(t, name, which);
+            t.columns[c] = a.get_vector<double>();
+            rows = t.columns[c].size();
+            seen[c] = true;
+            continue;
+        }
+        const auto saved_rows = a.get<std::uint64_t>();
+        const auto hash = a.get<std::uint64_t>();
+        const std::size_t c = column_index(t, name, which);
+        auto values = (*source)(which, name);
+        if (values.size() != saved_rows || column_hash(values, integer_column(t, c)) != hash)
+            throw CheckpointError(
+                std::string("the run file's /series/") + which + "/" + name +
+                " is not the column its checkpoint was saved with (" +
+                std::to_string(values.size()) + " rows against " + std::to_string(saved_rows) +
+                (values.size() == saved_rows ? ", other values" : "") + "): it is damaged");
         rows = values.size();
         t.columns[c] = std::move(values);
         seen[c] = true;
@@ -713,12 +784,12 @@ void load_table(ArchiveReader& a, Table& t, const char* which) {
 }
 } // namespace
 
-void Ecosystem::load_state(ArchiveReader& a) {
+void Ecosystem::load_state(ArchiveReader& a, const SeriesSource& series) {
     if (a.get<std::uint32_t>() != kCheckpointMagic)
         throw CheckpointError("the checkpoint is not an ecoterra ecosystem checkpoint");
     const auto version = a.get<std::uint32_t>();
     if (version == kCheckpointVersion)
-        load_sections(a);
+        load_sections(a, series);
     else if (version == kLastUnsectionedVersion)
         load_version6(a);
     else
@@ -731,7 +802,7 @@ void Ecosystem::load_state(ArchiveReader& a) {
     m_canopy.shade_per_cell();
 }
 
-void Ecosystem::load_sections(ArchiveReader& a) {
+void Ecosystem::load_sections(ArchiveReader& a, const SeriesSource& series) {
     SectionReader r(a, "the checkpoint");
     r.read("clock", kSectionClock, kSectionClock, [&](ArchiveReader& s, std::uint32_t) {
         m_years_done = s.get<int>();
@@ -765,10 +836,15 @@ void Ecosystem::load_sections(ArchiveReader& a) {
         m_hydro->load_state(s, version);
         m_hydro->set_vegetation_density(s.get_raster<double>());
     });
-    r.read("series", kSectionSeries, kSectionSeries, [&](ArchiveReader& s, std::uint32_t) {
-        load_table(s, m_daily, "daily");
+    r.read("series", 1, kSectionSeries, [&](ArchiveReader& s, std::uint32_t version) {
+        const bool outside = version >= 2 && s.get<std::uint8_t>() == 1;
+        if (outside && !series)
+            throw CheckpointError("checkpoint section 'series': the series are kept in the run "
+                                  "file's /series, and none were given (resume from the run "
+                                  "file)");
+        load_table(s, m_daily, "daily", outside ? &series : nullptr);
         if (hydro_version < 2) zero_surface_layer_era_columns(m_daily);
-        load_table(s, m_yearly, "yearly");
+        load_table(s, m_yearly, "yearly", outside ? &series : nullptr);
         // Checkpoints from before the yearly water columns: their sums are in the daily series.
         if (std::isnan(m_yearly.rows() ? m_yearly.column("rain_mm").front() : 0.0))
             yearly_water_from_daily(m_daily, m_yearly, 0);

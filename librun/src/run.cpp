@@ -16,6 +16,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstring>
+#include <optional>
 #include <unistd.h>
 
 namespace ecoterra::run {
@@ -360,7 +361,13 @@ std::unique_ptr<Ecosystem> load_run_engine(const fs::path& run) {
     auto eco = std::make_unique<Ecosystem>(sc);
     const std::vector<std::uint8_t> bytes = read_run_checkpoint(run, sc).bytes;
     ArchiveReader r(bytes.data(), bytes.size(), run.string());
-    with_context(run.string() + ": /checkpoint", [&] { eco->load_state(r); });
+    // The series of a checkpoint that keeps them in the run file, opened only if it does.
+    std::optional<H5::H5File> file;
+    const Ecosystem::SeriesSource series = [&](const std::string& table, const std::string& col) {
+        if (!file) file = open_run(run);
+        return read_series_column(*file, run, table, col);
+    };
+    with_context(run.string() + ": /checkpoint", [&] { eco->load_state(r, series); });
     return eco;
 }
 

@@ -150,7 +150,7 @@ void write_main(const Ecosystem& eco, const fs::path& path, const json& provenan
     hydro::write_table(h5, "/series/yearly", eco.yearly());
     hydro::write_table(h5, "/series/daily", eco.daily());
     ArchiveWriter a;
-    eco.save_state(a);
+    eco.save_state(a, Ecosystem::SeriesIn::run_file); // the series once, in /series
     h5.series("/checkpoint/state", a.bytes(), "1",
               "full model state at the last snapshot (binary, ecoterra checkpoint format)");
     h5.integer_attribute("/checkpoint", "year", eco.years_done());
@@ -284,6 +284,17 @@ RunCheckpoint read_run_checkpoint(const fs::path& run, const EcoScene& sc, bool 
         throw InputError(run.string() + ": the terrain rebuilt from the stored scene differs "
                                         "from the run's (was the terrain file changed?)");
     return c;
+}
+
+std::vector<double> read_series_column(const H5::H5File& f, const fs::path& run,
+                                       const std::string& table, const std::string& column) {
+    const std::string name = "/series/" + table + "/" + column;
+    try {
+        return read_vector<double>(f.openGroup("/series/" + table), column,
+                                   H5::PredType::NATIVE_DOUBLE);
+    } catch (const H5::Exception& e) {
+        throw InputError(run.string() + ": cannot read " + name + " (" + e.getDetailMsg() + ")");
+    }
 }
 
 /// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.

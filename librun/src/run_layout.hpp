@@ -68,6 +68,10 @@ struct RunCheckpoint {
     int year = 0;
 };
 RunCheckpoint read_run_checkpoint(const fs::path& run, const eco::EcoScene& sc, bool state = true);
+/// Column `column` of the run file's /series/`table` (integers as doubles): what a checkpoint that
+/// keeps its series in the run file resumes from. InputError naming the dataset if it is missing.
+std::vector<double> read_series_column(const H5::H5File& f, const fs::path& run,
+                                       const std::string& table, const std::string& column);
 /// Creates `dir` if needed and writes and removes a file in it: IoError naming it if that fails.
 void require_writable_folder(const fs::path& dir, const std::string& what);
 

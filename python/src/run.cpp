@@ -40,7 +40,8 @@ private:
     std::shared_ptr<eco::Ecosystem> m_eco;
 };
 
-/// The state as a checkpoint's bytes (what a run file stores in /checkpoint/state).
+/// The state as a checkpoint's bytes, its series inside (a run file's /checkpoint/state keeps them
+/// in the file's /series).
 py::bytes state_bytes(PyRun& r) {
     ArchiveWriter a;
     r.engine().save_state(a);

@@ -47,8 +47,9 @@ def cli(*args):
 
 
 def checkpoint(path):
-    with h5py.File(path) as f:
-        return f["checkpoint/state"][()].tobytes()
+    """The whole state a run file holds, as one checkpoint: its /checkpoint/state keeps the series
+    in /series, and Run.from_run_file(...).state() puts them back in."""
+    return ecoterra.Run.from_run_file(path).state()
 
 
 # 1. A run stepped from Python equals `ecoterra run` bit for bit, by days, by years, resumed.

@@ -345,12 +345,25 @@ TEST_CASE("a picture folder that cannot be made is refused before the run, and l
 }
 
 namespace {
-/// The checkpoint bytes of a run file.
+/// The state a run file holds: its checkpoint's bytes, then the bytes of every column of its
+/// series (the checkpoint keeps only their hashes).
 std::vector<std::uint8_t> checkpoint_bytes(const fs::path& run) {
     H5::H5File f(run.string(), H5F_ACC_RDONLY);
     H5::DataSet ds = f.openDataSet("/checkpoint/state");
     std::vector<std::uint8_t> v(static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
     ds.read(v.data(), H5::PredType::NATIVE_UINT8);
+    for (const char* table : {"/series/daily", "/series/yearly"}) {
+        const H5::Group g = f.openGroup(table);
+        for (hsize_t k = 0; k < g.getNumObjs(); ++k) {
+            const std::string name = g.getObjnameByIdx(k);
+            H5::DataSet c = g.openDataSet(name);
+            std::vector<double> x(static_cast<std::size_t>(c.getSpace().getSimpleExtentNpoints()));
+            c.read(x.data(), H5::PredType::NATIVE_DOUBLE);
+            v.insert(v.end(), name.begin(), name.end());
+            const auto* b = reinterpret_cast<const std::uint8_t*>(x.data());
+            v.insert(v.end(), b, b + x.size() * sizeof(double));
+        }
+    }
     return v;
 }
 } // namespace
@@ -626,6 +639,41 @@ TEST_CASE("snapshots are checksummed: a byte changed anywhere in one is refused 
     }
     CHECK(test::run(dir, "stand a.h5 --snapshot 0").code == 0);
     CHECK(test::run(dir, "run --resume a.h5 --years 1 --no-pictures").code == 0);
+}
+
+TEST_CASE("resume: a run file's series changed or missing are refused, naming the column",
+          "[cli][bad-input][checksum]") {
+    // The run file's checkpoint keeps its series' hashes, their values are in /series.
+    test::TempDir dir;
+    write(dir / "s.json", tiny_scene(2, 1).dump());
+    REQUIRE(test::run(dir, "run s.json -o a.h5 --no-pictures").code == 0);
+    std::vector<double> rain;
+    const auto rewrite_rain = [&](double add) {
+        H5::H5File f((dir / "a.h5").string(), H5F_ACC_RDWR);
+        H5::DataSet ds = f.openDataSet("/series/daily/rain_mm");
+        rain.resize(static_cast<std::size_t>(ds.getSpace().getSimpleExtentNpoints()));
+        if (add != 0) ds.read(rain.data(), H5::PredType::NATIVE_DOUBLE);
+        std::vector<double> v = rain;
+        v[v.size() / 2] += add;
+        ds.write(v.data(), H5::PredType::NATIVE_DOUBLE);
+    };
+    rewrite_rain(1.0);
+    std::string before = read(dir / "a.h5");
+    auto r = test::run(dir, "run --resume a.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("a.h5") && Catch::Contains("/series/daily/rain_mm") &&
+                          Catch::Contains("damaged"));
+    CHECK(read(dir / "a.h5") == before);
+    rewrite_rain(0.0); // the values it had
+    {
+        H5::H5File f((dir / "a.h5").string(), H5F_ACC_RDWR);
+        f.unlink("/series/yearly/rain_mm");
+    }
+    before = read(dir / "a.h5");
+    r = test::run(dir, "run --resume a.h5 --years 1 --no-pictures");
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("a.h5: cannot read /series/yearly/rain_mm"));
+    CHECK(read(dir / "a.h5") == before);
 }
 
 TEST_CASE("HDF5 inputs that are not rasters, damaged files and huge numbers get clear errors",

@@ -29,6 +29,7 @@
 #include "ecoterra/hydro/weather.hpp"
 #include "ecoterra/random.hpp"
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -78,11 +79,25 @@ public:
     const Table& daily() const { return m_daily; }
     double carbon_residual_relative() const;
 
+    /// Where a checkpoint keeps the daily and yearly series: in itself, or in the run file beside
+    /// it (its /series, written from the same tables), the checkpoint then holding each column's
+    /// name, row count and a hash of its values to check them by on a resume. A run file rewritten
+    /// at every snapshot so no longer compresses the series twice.
+    enum class SeriesIn { checkpoint, run_file };
+    /// One column of the run file's series, by table ("daily" or "yearly") and column name, its
+    /// integers as doubles: what a checkpoint saved with SeriesIn::run_file resumes from.
+    using SeriesSource =
+        std::function<std::vector<double>(const std::string& table, const std::string& column)>;
+
     /// The checkpoint: a magic tag, the container version and one section per part of the state
-    /// (see docs/formats.md).
-    void save_state(ArchiveWriter& a) const;
-    /// Reads a checkpoint save_state() wrote, or one of format version 6 (before sections).
-    void load_state(ArchiveReader& a);
+    /// (see docs/formats.md). With SeriesIn::run_file the series stay in the checkpoint all the
+    /// same when a column would not read back exactly from the run file (an integer column with a
+    /// value that is not a whole number, NaN included).
+    void save_state(ArchiveWriter& a, SeriesIn series = SeriesIn::checkpoint) const;
+    /// Reads a checkpoint save_state() wrote, or one of format version 6 (before sections). A
+    /// checkpoint whose series are in its run file needs `series`; CheckpointError without it, or
+    /// when a column is missing or differs from the one saved with the checkpoint.
+    void load_state(ArchiveReader& a, const SeriesSource& series = {});
 
     /// Why the stand is what it is, from the run's ledger (diagnosis.hpp).
     Diagnosis diagnosis() const;
@@ -135,7 +150,7 @@ private:
     void sample_growth_factors(const DayClimate& day);
     /// A hash of the observed weather series (0 with the generator), checked on resume.
     std::uint64_t observed_weather_hash() const;
-    void load_sections(ArchiveReader& a);
+    void load_sections(ArchiveReader& a, const SeriesSource& series);
     void load_version6(ArchiveReader& a);
 
     EcoScene m_scene;

@@ -2,7 +2,7 @@
 # The sanitizer pass (docs/testing.md): builds everything with clang under AddressSanitizer +
 # UndefinedBehaviorSanitizer (LeakSanitizer included) and libFuzzer coverage in ./build-sanitize,
 # runs the whole test suite there (every finding fails it), then fuzzes each reader for
-# ECOTERRA_FUZZ_SECONDS seconds (default 15) from its corpus in fuzz/corpus/, one reader per core
+# ECOTERRA_FUZZ_SECONDS seconds (default 10) from its corpus in fuzz/corpus/, one reader per core
 # at a time. An input that makes a fuzzer fail is saved in fuzz/crashes/<target>/ and fails the
 # pass: keep it there, fixed, as a regression test (the suite replays that folder).
 set -euo pipefail
@@ -32,7 +32,7 @@ exclude=(-LE slow)
 [ "${ECOTERRA_SANITIZE_SLOW:-0}" = 1 ] && exclude=()
 (cd "$build" && ctest --output-on-failure -j "$jobs" "${exclude[@]}")
 
-seconds="${ECOTERRA_FUZZ_SECONDS:-15}"
+seconds="${ECOTERRA_FUZZ_SECONDS:-10}"
 [ "$seconds" -gt 0 ] || exit 0
 # hdf5_dem is left out: libhdf5 1.10.8 itself crashes on some damaged files
 # (fuzz/library-defects/README.md); its corpus is still replayed by the suite above.

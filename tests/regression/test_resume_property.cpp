@@ -540,13 +540,14 @@ TEST_CASE("resume: a checkpoint that keeps its series in the run file resumes fr
             const std::string name = t.names[c];
             CAPTURE(table, name);
             const auto changed = [&](bool shorter) {
-                return series_of(e, [&](const std::string& tb, const std::string& col, auto& v) {
-                    if (tb != table || col != name) return;
-                    if (shorter)
-                        v.pop_back();
-                    else
-                        v[v.size() / 2] = v[v.size() / 2] + 1.0;
-                });
+                return series_of(
+                    e, [&, shorter](const std::string& tb, const std::string& col, auto& v) {
+                        if (tb != table || col != name) return;
+                        if (shorter)
+                            v.pop_back();
+                        else
+                            v[v.size() / 2] = v[v.size() / 2] + 1.0;
+                    });
             };
             const std::string where = std::string("/series/") + table + "/" + name;
             CHECK_THROWS_WITH(load(bytes, changed(false)),

@@ -242,7 +242,7 @@ TEST_CASE("dead wood: the checkpoint gives back the same pieces, stream and sums
 }
 
 TEST_CASE("dead wood in the engine: the living stand is the same, the dead wood's budget closes",
-          "[eco][deadwood][engine]") {
+          "[eco][deadwood][engine][slow]") {
     for (const std::string mode : {"coupled", "light_only"}) {
         CAPTURE(mode);
         const int years = 30;

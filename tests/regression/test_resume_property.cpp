@@ -29,6 +29,14 @@ using nlohmann::json;
 
 namespace {
 
+/// The quickstart scene on a terrain of `size` x `size` cells.
+eco::EcoScene quickstart_scene(int size) {
+    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+    json j = json::parse(f);
+    j["terrain"]["generate"]["size"] = size;
+    return eco::load_eco_scene(j, test::data_dir() / "scenes");
+}
+
 std::vector<std::uint8_t> checkpoint(const eco::Ecosystem& e) {
     ArchiveWriter a;
     e.save_state(a);
@@ -394,10 +402,7 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
 
 TEST_CASE("resume: checkpoint sections are checked one by one, naming the section",
           "[eco][resume][checkpoint]") {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
-    j["terrain"]["generate"]["size"] = 12;
-    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    const auto scene = quickstart_scene(12);
     eco::Ecosystem e(scene);
     e.run_year();
     const auto bytes = checkpoint(e);
@@ -505,10 +510,7 @@ std::vector<std::uint8_t> run_file_checkpoint(const eco::Ecosystem& e) {
 TEST_CASE("resume: a checkpoint that keeps its series in the run file resumes from them, and "
           "refuses them changed",
           "[eco][resume][checkpoint]") {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
-    j["terrain"]["generate"]["size"] = 24;
-    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    const auto scene = quickstart_scene(24);
     eco::Ecosystem e(scene);
     for (int y = 0; y < 2; ++y) e.run_year();
     const auto inside = checkpoint(e);
@@ -567,10 +569,7 @@ TEST_CASE("resume: series that would not read back exactly from the run file sta
     // then keeps such series itself, and reads without the run file's. Such a checkpoint is made
     // here by renaming, in a checkpoint's series, the integer column snags_fallen to a float
     // column's name of the same length (stems_per_ha), so that snags_fallen is missing from it.
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
-    j["terrain"]["generate"]["size"] = 12;
-    const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
+    const auto scene = quickstart_scene(12);
     eco::Ecosystem e(scene);
     e.run_year();
     auto old = checkpoint(e);

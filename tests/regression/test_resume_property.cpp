@@ -29,10 +29,15 @@ using nlohmann::json;
 
 namespace {
 
+/// The shipped quickstart scene's JSON, for a test to change.
+json quickstart_json() {
+    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
+    return json::parse(f);
+}
+
 /// The quickstart scene on a terrain of `size` x `size` cells.
 eco::EcoScene quickstart_scene(int size) {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["terrain"]["generate"]["size"] = size;
     return eco::load_eco_scene(j, test::data_dir() / "scenes");
 }
@@ -145,8 +150,7 @@ std::size_t check_every_split(const eco::EcoScene& scene, int years, int every) 
 
 TEST_CASE("resume: the quickstart split at every snapshot ends bit for bit as one run",
           "[eco][resume][property][slow]") {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["simulation"]["years"] = 30;
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     CHECK(check_every_split(scene, 30, 5) > 0);
@@ -154,8 +158,7 @@ TEST_CASE("resume: the quickstart split at every snapshot ends bit for bit as on
 
 TEST_CASE("resume: a groundwater scene split at every year ends bit for bit as one run",
           "[eco][resume][property][slow]") {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["terrain"]["generate"]["size"] = 24;
     j["hydrology"]["groundwater"] = true;
     // On the terrain's cells and on aquifer cells of 3 x 3 terrain cells.
@@ -181,8 +184,7 @@ TEST_CASE("resume: undergrowth and MAVS objects split at every year end bit for 
          {(test::data_dir() / "ecosystems/humid_subtropical_broadleaf_undergrowth.json").string(),
           std::string(ECOTERRA_TESTS_DIR) + "/data/mavs_ecosystem_files/forest_with_cubes.json"}) {
         CAPTURE(eco);
-        std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-        json j = json::parse(f);
+        json j = quickstart_json();
         j["terrain"]["generate"]["size"] = 24;
         j["vegetation"]["ecosystem"] = eco;
         j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 600}, {"max_dbh_m", 0.1}}}};
@@ -254,8 +256,7 @@ TEST_CASE("threads: a run gives the same bytes on 1, 2, 3 and 7 threads",
     // two cores: those run every small parallel loop slowly (a sleeping thread is woken for each),
     // so 7 threads run the first year only (4 threads, dropped, and 7 for two years took over two
     // minutes of CI).
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["terrain"]["generate"]["size"] = 32;
     j["hydrology"]["groundwater"] = true;
     const int factor = GENERATE(1, 4); // the aquifer on the terrain's cells, and on 4 x 4 of them
@@ -300,8 +301,7 @@ TEST_CASE("threads: a run gives the same bytes on 1, 2, 3 and 7 threads",
 
 TEST_CASE("resume: a checkpoint that does not fit the engine is a CheckpointError, bad input",
           "[eco][resume][errors]") {
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     const auto scene = eco::load_eco_scene(j, test::data_dir() / "scenes");
     eco::Ecosystem e(scene);
     const auto bytes = checkpoint(e);
@@ -338,8 +338,7 @@ TEST_CASE("resume: a checkpoint of format 6 (before sections) resumes into the s
     // must also be, bit for bit, the year-1 state of today's engine and, resumed for two years,
     // end where a run of three years ends. (A clang build rounds some of the year's arithmetic
     // differently in the last bit, so there the comparison is of the stand, to 1e-9.)
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["terrain"]["generate"]["size"] = 12;
     j["vegetation"]["initial"] = {{"random", {{"stems_per_ha", 3000}}}};
     j["simulation"]["years"] = 1;
@@ -461,8 +460,7 @@ TEST_CASE("write_run_file: an engine written at any day and read back continues 
           "[resume][run]") {
     // The library path of the Python module's Run.write and Run.from_run_file: split points at
     // year ends and mid-year, and a replaced file.
-    std::ifstream f(test::data_dir() / "scenes/quickstart.json");
-    json j = json::parse(f);
+    json j = quickstart_json();
     j["terrain"]["generate"]["size"] = 20;
     j["simulation"]["years"] = 3;
     const eco::EcoScene sc = eco::load_eco_scene(j, test::data_dir() / "scenes");
